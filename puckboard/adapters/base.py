@@ -1,0 +1,428 @@
+"""The adapter contract: one robot, whatever is behind it.
+
+This is the source framework's DifferentialWheels → EPuck abstraction. A concrete adapter
+(embedded simulator, CoppeliaSim, real e-puck, fake) implements four small hooks; this
+base class supplies everything users call, and supplies it the same way for every
+backend:
+
+* ``sense_all()`` reads every enabled sensor in one round trip (the source framework's
+  senseAllTogether) and writes the records to the robot's blackboard namespace in one
+  atomic write, so a snapshot never mixes two sensing cycles;
+* ``refresh(sensor)`` reads one sensor;
+* ``set_wheel_speeds(left, right)`` in rad/s, clamped to the profile's limit with a
+  warning;
+* ``camera_image()``;
+* for simulators, synchronous stepping through a shared :class:`Stepper`;
+* a background sensing thread and camera thread with their own periods, and observers
+  that learn which sensors changed or receive each new image;
+* ``close()``, which zeroes the wheels first.
+
+Every call into the transport goes through one lock per adapter. The source framework
+crashed when a sensing thread's remote call overlapped the controller's wheel command
+(its §5.1.4); here the hooks are only ever called with that lock held, so the overlap is
+impossible by construction, not by discipline.
+"""
+
+from __future__ import annotations
+
+import abc
+import logging
+import threading
+import time
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
+
+from ..blackboard import Blackboard, InstanceOf, Namespace
+from ..errors import AdapterClosedError, NotSupportedError
+from ..profile import EPUCK2, RobotProfile
+from ..records import RECORD_TYPES, CameraImage, Sensor, WheelCommand
+
+__all__ = ["RobotAdapter", "Stepper", "declare_robot_keys"]
+
+log = logging.getLogger(__name__)
+
+SensorObserver = Callable[["RobotAdapter", frozenset[Sensor]], None]
+CameraObserver = Callable[["RobotAdapter", CameraImage], None]
+
+
+class Stepper(abc.ABC):
+    """A synchronously stepped simulation shared by all robots in it.
+
+    One stepper per world: with two robots in one simulation, the control loop steps the
+    world once per cycle, not once per robot.
+    """
+
+    @property
+    @abc.abstractmethod
+    def dt(self) -> float:
+        """Length of one simulation step (s)."""
+
+    @property
+    @abc.abstractmethod
+    def time(self) -> float:
+        """Current simulation time (s)."""
+
+    @abc.abstractmethod
+    def start(self) -> None:
+        """Start (or resume) the simulation in stepping mode."""
+
+    @abc.abstractmethod
+    def step(self, n: int = 1) -> None:
+        """Advance ``n`` steps and return when they are done."""
+
+    @abc.abstractmethod
+    def stop(self) -> None:
+        """Stop the simulation."""
+
+
+def declare_robot_keys(ns: Namespace, max_age: float | None = None) -> None:
+    """Declare the schema of every sensor key (and the command keys) in ``ns``.
+
+    A value of the wrong type (a bare array instead of a :class:`~puckboard.records.Proximity`
+    record, say) is then refused with an error naming the key.
+    """
+    for sensor, cls in RECORD_TYPES.items():
+        age = None if sensor is Sensor.CAMERA else max_age  # images come at their own pace
+        ns.declare(sensor.key, schema=InstanceOf(cls), max_age=age)
+    ns.declare("command/wheels", schema=InstanceOf(WheelCommand))
+    ns.declare("command/layer", schema=InstanceOf(str))
+
+
+class RobotAdapter(abc.ABC):
+    """Base class of every robot backend; see the module docstring.
+
+    Subclasses implement :meth:`_read_sensors`, :meth:`_write_wheels`,
+    :meth:`_read_camera` and :meth:`_close`, and say which sensors they have in
+    :attr:`available_sensors`. The hooks are always called with :attr:`io_lock` held.
+    """
+
+    #: Sensors this backend can deliver (subclasses narrow it).
+    available_sensors: frozenset[Sensor] = frozenset(Sensor)
+    #: The backend's name as used by ``--backend``.
+    backend_name: str = "abstract"
+
+    def __init__(
+        self,
+        name: str = "epuck",
+        *,
+        profile: RobotProfile = EPUCK2,
+        blackboard: Blackboard | Namespace | None = None,
+        stepper: Stepper | None = None,
+        command_timeout: float | None = None,
+    ) -> None:
+        self.name = name
+        self.profile = profile
+        self.stepper = stepper
+        self.command_timeout = command_timeout
+        self.io_lock = threading.RLock()
+        self._enabled: set[Sensor] = set(self.available_sensors) - {Sensor.CAMERA}
+        self._closed = False
+        self._clamp_warned = False
+        self._last_command_time: float | None = None
+        self._wheels_moving = False
+        self._sensor_observers: list[SensorObserver] = []
+        self._camera_observers: list[CameraObserver] = []
+        self._threads: list[_PeriodicThread] = []
+        self.ns: Namespace = self._make_namespace(blackboard)
+
+    # -- blackboard ------------------------------------------------------------------------
+    def _make_namespace(self, board: Blackboard | Namespace | None) -> Namespace:
+        if isinstance(board, Namespace):
+            ns = board
+        else:
+            if board is None:
+                clock = (lambda: self.stepper.time) if self.stepper is not None else time.monotonic
+                board = Blackboard(clock=clock)
+            ns = board.namespace(self.name)
+        declare_robot_keys(ns)
+        return ns
+
+    def attach(self, board: Blackboard | Namespace) -> Namespace:
+        """Write into ``board`` (under this robot's name, or into the given namespace)."""
+        self.ns = self._make_namespace(board)
+        return self.ns
+
+    @property
+    def blackboard(self) -> Blackboard:
+        return self.ns.board
+
+    def now(self) -> float:
+        """Time stamp for new readings: simulation time, else the blackboard's clock."""
+        return self.stepper.time if self.stepper is not None else self.ns.board.clock()
+
+    # -- sensors ---------------------------------------------------------------------------
+    def enable(self, *sensors: Sensor | str) -> None:
+        """Enable sensors for ``sense_all`` and the sensing thread (the camera is opt-in)."""
+        for s in map(_as_sensor, sensors):
+            if s not in self.available_sensors:
+                raise NotSupportedError(
+                    f"{self.backend_name} robot {self.name!r} has no {s.value} sensor; "
+                    f"available: {', '.join(sorted(x.value for x in self.available_sensors))}"
+                )
+            self._enabled.add(s)
+
+    def disable(self, *sensors: Sensor | str) -> None:
+        for s in map(_as_sensor, sensors):
+            self._enabled.discard(s)
+
+    @property
+    def enabled_sensors(self) -> frozenset[Sensor]:
+        return frozenset(self._enabled)
+
+    def sense_all(self) -> dict[Sensor, Any]:
+        """Read every enabled sensor (camera excepted) in one round trip; write the records.
+
+        Returns the records by sensor. Sensor observers are told which sensors changed.
+        """
+        wanted = frozenset(self._enabled - {Sensor.CAMERA})
+        with self.io_lock:
+            self._ensure_open()
+            records = self._read_sensors(wanted)
+            stamp = self.now()
+        self._publish(records, stamp)
+        self._check_watchdog()
+        return records
+
+    def refresh(self, sensor: Sensor | str) -> Any:
+        """Read one sensor now (a separate round trip) and write its record."""
+        s = _as_sensor(sensor)
+        if s is Sensor.CAMERA:
+            return self.camera_image()
+        if s not in self.available_sensors:
+            raise NotSupportedError(f"{self.backend_name} robot {self.name!r} has no {s.value}")
+        with self.io_lock:
+            self._ensure_open()
+            records = self._read_sensors(frozenset({s}))
+            stamp = self.now()
+        self._publish(records, stamp)
+        return records[s]
+
+    def camera_image(self) -> CameraImage:
+        """Grab an upright camera image, write it to the blackboard and tell camera observers."""
+        if Sensor.CAMERA not in self.available_sensors:
+            raise NotSupportedError(f"{self.backend_name} robot {self.name!r} has no camera")
+        with self.io_lock:
+            self._ensure_open()
+            image = self._read_camera()
+            stamp = self.now()
+        self.ns.put(Sensor.CAMERA.key, image, stamp=stamp, writer=self.name)
+        for obs in list(self._camera_observers):
+            _call_observer(obs, self, image)
+        return image
+
+    def _publish(self, records: Mapping[Sensor, Any], stamp: float) -> None:
+        if not records:
+            return
+        self.ns.put_many({s.key: r for s, r in records.items()}, stamp=stamp, writer=self.name)
+        if self._sensor_observers:
+            changed = frozenset(records)
+            for obs in list(self._sensor_observers):
+                _call_observer(obs, self, changed)
+
+    # -- actuators -------------------------------------------------------------------------
+    def set_wheel_speeds(self, left: float, right: float) -> WheelCommand:
+        """Command the wheels (rad/s). Beyond the profile's limit the speed is clamped and a
+        warning is logged once. Returns the command actually sent."""
+        cmd = self._clamp(WheelCommand(float(left), float(right)))
+        with self.io_lock:
+            self._ensure_open()
+            self._write_wheels(cmd.left, cmd.right)
+        self._last_command_time = time.monotonic()
+        self._wheels_moving = cmd.left != 0.0 or cmd.right != 0.0
+        return cmd
+
+    def stop_wheels(self) -> None:
+        """Command both wheels to zero."""
+        self.set_wheel_speeds(0.0, 0.0)
+
+    def _clamp(self, cmd: WheelCommand) -> WheelCommand:
+        limit = self.profile.max_wheel_speed
+        if abs(cmd.left) <= limit and abs(cmd.right) <= limit:
+            return cmd
+        if not self._clamp_warned:
+            log.warning(
+                "robot %r: wheel command (%.3f, %.3f) rad/s exceeds the %s limit of %.3f rad/s; "
+                "clamping (this warning is shown once per robot)",
+                self.name, cmd.left, cmd.right, self.profile.name, limit,
+            )  # fmt: skip
+            self._clamp_warned = True
+        return WheelCommand(max(-limit, min(limit, cmd.left)), max(-limit, min(limit, cmd.right)))
+
+    def _check_watchdog(self) -> None:
+        """Stop the wheels when the last command is older than ``command_timeout`` (wall s)."""
+        if self.command_timeout is None or not self._wheels_moving or self._closed:
+            return
+        last = self._last_command_time
+        if last is not None and time.monotonic() - last > self.command_timeout:
+            log.warning(
+                "robot %r: no wheel command for %.2f s; stopping the wheels",
+                self.name,
+                self.command_timeout,
+            )
+            self.stop_wheels()
+
+    # -- stepping --------------------------------------------------------------------------
+    def _require_stepper(self) -> Stepper:
+        if self.stepper is None:
+            raise NotSupportedError(
+                f"{self.backend_name} robot {self.name!r} runs in real time and cannot be "
+                "stepped; use a wall-clock ControlLoop (period=...) instead"
+            )
+        return self.stepper
+
+    def start_simulation(self) -> None:
+        self._require_stepper().start()
+
+    def step(self, n: int = 1) -> None:
+        """Advance the shared simulation ``n`` steps (every robot in it moves)."""
+        self._require_stepper().step(n)
+
+    def stop_simulation(self) -> None:
+        self._require_stepper().stop()
+
+    # -- threads and observers -------------------------------------------------------------
+    def add_sensor_observer(self, observer: SensorObserver) -> None:
+        """``observer(adapter, changed_sensors)`` after every sensing cycle."""
+        self._sensor_observers.append(observer)
+
+    def add_camera_observer(self, observer: CameraObserver) -> None:
+        """``observer(adapter, image)`` after every new camera image."""
+        self._camera_observers.append(observer)
+
+    def remove_observer(self, observer: Callable[..., None]) -> None:
+        for lst in (self._sensor_observers, self._camera_observers):
+            while observer in lst:
+                lst.remove(observer)  # type: ignore[arg-type]
+
+    def start_sensing_thread(self, period: float = 0.05) -> None:
+        """Run ``sense_all`` every ``period`` wall-clock seconds in a background thread."""
+        self._start_thread("sensing", period, self.sense_all)
+
+    def start_camera_thread(self, period: float = 0.2) -> None:
+        """Refresh the camera image every ``period`` wall-clock seconds in a background thread."""
+        self._start_thread("camera", period, self.camera_image)
+
+    def _start_thread(self, what: str, period: float, fn: Callable[[], Any]) -> None:
+        if period <= 0:
+            raise ValueError(f"{what} thread period must be positive seconds, got {period}")
+        self._ensure_open()
+        if any(t.what == what and t.is_alive() for t in self._threads):
+            raise RuntimeError(f"robot {self.name!r} already has a {what} thread")
+        thread = _PeriodicThread(f"{self.name}-{what}", what, period, fn)
+        self._threads.append(thread)
+        thread.start()
+
+    def stop_threads(self, timeout: float = 2.0) -> None:
+        threads, self._threads = self._threads, []
+        for t in threads:
+            t.stop()
+        for t in threads:
+            if t is not threading.current_thread():
+                t.join(timeout)
+
+    # -- lifecycle -------------------------------------------------------------------------
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    def close(self) -> None:
+        """Stop the threads, zero the wheels (best effort), release the transport. Idempotent."""
+        if self._closed:
+            return
+        self.stop_threads()
+        try:
+            with self.io_lock:
+                self._write_wheels(0.0, 0.0)
+        except Exception as exc:  # the transport may already be gone
+            log.warning("robot %r: could not zero the wheels on close: %s", self.name, exc)
+        finally:
+            self._closed = True
+            with self.io_lock:
+                self._close()
+
+    def __enter__(self) -> RobotAdapter:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _ensure_open(self) -> None:
+        if self._closed:
+            raise AdapterClosedError(f"robot {self.name!r} ({self.backend_name}) is closed")
+
+    def __repr__(self) -> str:
+        state = "closed" if self._closed else "open"
+        return f"<{type(self).__name__} {self.name!r} {self.profile.name} {state}>"
+
+    # -- hooks for subclasses (called with io_lock held) -----------------------------------
+    @abc.abstractmethod
+    def _read_sensors(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
+        """Read ``sensors`` in as few round trips as possible; return SI records."""
+
+    @abc.abstractmethod
+    def _write_wheels(self, left: float, right: float) -> None:
+        """Send wheel speeds (rad/s, already clamped)."""
+
+    def _read_camera(self) -> CameraImage:
+        raise NotSupportedError(f"{self.backend_name} has no camera")
+
+    def _close(self) -> None:  # noqa: B027 - optional hook, a no-op by default
+        """Release the transport."""
+
+
+class _PeriodicThread(threading.Thread):
+    """Calls ``fn`` every ``period`` seconds until stopped; logs (and survives) failures."""
+
+    def __init__(self, name: str, what: str, period: float, fn: Callable[[], Any]) -> None:
+        super().__init__(name=name, daemon=True)
+        self.what = what
+        self.period = period
+        self.fn = fn
+        self._stop_event = threading.Event()
+
+    def stop(self) -> None:
+        self._stop_event.set()
+
+    def run(self) -> None:
+        next_time = time.monotonic()
+        failures = 0
+        while not self._stop_event.is_set():
+            try:
+                self.fn()
+                failures = 0
+            except AdapterClosedError:
+                return
+            except Exception:
+                failures += 1
+                log.exception("%s thread %s failed (%d in a row)", self.what, self.name, failures)
+                if failures >= 10:
+                    log.error("%s thread %s gives up after 10 failures", self.what, self.name)
+                    return
+            next_time += self.period
+            delay = next_time - time.monotonic()
+            if delay < 0:  # overran: do not try to catch up with a burst
+                next_time = time.monotonic()
+                delay = 0
+            self._stop_event.wait(delay)
+
+
+def _call_observer(observer: Callable[..., None], *args: Any) -> None:
+    try:
+        observer(*args)
+    except Exception:
+        log.exception("observer %r failed", observer)
+
+
+def _as_sensor(s: Sensor | str) -> Sensor:
+    if isinstance(s, Sensor):
+        return s
+    try:
+        return Sensor(s)
+    except ValueError:
+        known = ", ".join(x.value for x in Sensor)
+        raise ValueError(f"unknown sensor {s!r}; known sensors: {known}") from None
+
+
+def sensors_from(names: Iterable[str | Sensor]) -> frozenset[Sensor]:
+    """Parse sensor names (e.g. from a command line)."""
+    return frozenset(_as_sensor(n) for n in names)

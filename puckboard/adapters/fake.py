@@ -1,0 +1,175 @@
+"""A fake robot that ships with the package, for tests, notebooks and first steps.
+
+Like gpiozero's mock pin factory: no simulator, no robot, yet every call of the adapter
+contract works. The robot integrates its pose from the commanded wheel speeds (perfect
+kinematics, no obstacles) and reports whatever sensor readings you set, so you can put a
+controller in front of a situation you describe::
+
+    fake = FakeAdapter()
+    fake.set_proximity(front_left=0.02)        # something 2 cm ahead on the left
+    fake.set_ground(left=0.1)                  # the line under the left ground sensor
+    ...
+
+A :class:`FakeAdapter` can also replay recorded readings: pass ``replay``, a sequence of
+``{sensor: record}`` dicts, and each ``sense_all`` returns the next one.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import numpy as np
+
+from ..blackboard import Blackboard, Namespace
+from ..profile import EPUCK2, RobotProfile
+from ..records import (
+    GROUND_NAMES,
+    PROX_NAMES,
+    Acceleration,
+    CameraImage,
+    Ground,
+    Light,
+    Pose,
+    Proximity,
+    Sensor,
+    WheelEncoders,
+    WheelSpeeds,
+)
+from .base import RobotAdapter, Stepper
+
+__all__ = ["FakeAdapter", "FakeClock"]
+
+
+class FakeClock(Stepper):
+    """A stepper that only advances time and integrates its robots' kinematics."""
+
+    def __init__(self, dt: float = 0.05) -> None:
+        if dt <= 0:
+            raise ValueError(f"dt must be positive seconds, got {dt}")
+        self._dt = dt
+        self._time = 0.0
+        self._running = False
+        self.robots: list[FakeAdapter] = []
+
+    @property
+    def dt(self) -> float:
+        return self._dt
+
+    @property
+    def time(self) -> float:
+        return self._time
+
+    def start(self) -> None:
+        self._running = True
+
+    def step(self, n: int = 1) -> None:
+        for _ in range(n):
+            for robot in self.robots:
+                robot._integrate(self._dt)
+            self._time += self._dt
+
+    def stop(self) -> None:
+        self._running = False
+
+
+class FakeAdapter(RobotAdapter):
+    """A robot with settable sensors and ideal kinematics; see the module docstring."""
+
+    backend_name = "fake"
+
+    def __init__(
+        self,
+        name: str = "epuck",
+        *,
+        profile: RobotProfile = EPUCK2,
+        blackboard: Blackboard | Namespace | None = None,
+        clock: FakeClock | None = None,
+        pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        replay: Iterable[Mapping[Sensor, Any]] | None = None,
+        command_timeout: float | None = None,
+    ) -> None:
+        self.clock = clock if clock is not None else FakeClock()
+        self.clock.robots.append(self)
+        super().__init__(
+            name,
+            profile=profile,
+            blackboard=blackboard,
+            stepper=self.clock,
+            command_timeout=command_timeout,
+        )
+        self.x, self.y, self.theta = pose
+        self.encoders = [0.0, 0.0]
+        self.wheels = (0.0, 0.0)
+        self.commands: list[tuple[float, float, float]] = []  # (time, left, right) sent
+        self._prox = Proximity.nothing(profile.prox_range)
+        self._ground = Ground(np.ones(3), np.full(3, 1000.0))
+        self._image = CameraImage(np.full((39, 52, 3), 200, dtype=np.uint8))
+        self._replay = iter(replay) if replay is not None else None
+
+    # -- scripting the world ---------------------------------------------------------------
+    def set_proximity(self, **distances: float) -> None:
+        """Set obstacle distances (m) by sensor name; unnamed sensors see nothing."""
+        rng = self.profile.prox_range
+        d = np.full(8, rng)
+        for name, value in distances.items():
+            if name not in PROX_NAMES:
+                raise ValueError(f"unknown proximity sensor {name!r}; names: {', '.join(PROX_NAMES)}")
+            d[PROX_NAMES.index(name)] = min(max(float(value), 0.0), rng)
+        raw = np.where(d < rng, 4095.0 * (1.0 - d / rng) ** 2, 0.0)
+        self._prox = Proximity(d, raw, rng)
+
+    def set_ground(self, **values: float) -> None:
+        """Set ground brightness 0 (black) .. 1 (white) by name; unnamed sensors see white."""
+        v = np.ones(3)
+        for name, value in values.items():
+            if name not in GROUND_NAMES:
+                raise ValueError(f"unknown ground sensor {name!r}; names: {', '.join(GROUND_NAMES)}")
+            v[GROUND_NAMES.index(name)] = float(value)
+        self._ground = Ground(v, v * 1023.0)
+
+    def set_image(self, pixels: np.ndarray) -> None:
+        self._image = CameraImage(pixels)
+
+    # -- kinematics ------------------------------------------------------------------------
+    def _integrate(self, dt: float) -> None:
+        left, right = self.wheels
+        v, w = self.profile.body_velocity(left, right)
+        mid = self.theta + w * dt / 2.0
+        self.x += v * dt * math.cos(mid)
+        self.y += v * dt * math.sin(mid)
+        self.theta = math.remainder(self.theta + w * dt, math.tau)
+        self.encoders[0] += left * dt
+        self.encoders[1] += right * dt
+
+    # -- hooks -----------------------------------------------------------------------------
+    def _read_sensors(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
+        if self._replay is not None:
+            frame = next(self._replay, None)
+            if frame is not None:
+                return {s: r for s, r in frame.items() if s in sensors}
+        out: dict[Sensor, Any] = {}
+        for s in sensors:
+            if s is Sensor.PROXIMITY:
+                out[s] = self._prox
+            elif s is Sensor.GROUND:
+                out[s] = self._ground
+            elif s is Sensor.LIGHT:
+                out[s] = Light(np.full(8, 3000.0))
+            elif s is Sensor.ACCELERATION:
+                out[s] = Acceleration(0.0, 0.0, 9.81)
+            elif s is Sensor.ENCODERS:
+                out[s] = WheelEncoders(*self.encoders)
+            elif s is Sensor.WHEEL_SPEEDS:
+                out[s] = WheelSpeeds(*self.wheels)
+            elif s is Sensor.POSE:
+                out[s] = Pose(self.x, self.y, self.theta, ground_truth=True)
+        return out
+
+    def _write_wheels(self, left: float, right: float) -> None:
+        self.wheels = (left, right)
+        self.commands.append((self.clock.time, left, right))
+
+    def _read_camera(self) -> CameraImage:
+        return self._image

@@ -1,0 +1,33 @@
+"""Behaviour layers, the subsumption arbiter, and the ready-made controllers.
+
+A layer knows the blackboard and nothing of the backend behind it: this package imports
+neither :mod:`puckboard.adapters` nor :mod:`puckboard.sim`.
+"""
+
+from .controller import NO_LAYER, Controller
+from .controllers import CONTROLLERS, improved, load_controller, stock
+from .cruise import DEFAULT_SPEED, Cruise
+from .layer import Frame, Layer
+from .line_follow import LineFollow
+from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
+from .suppression import HoldFor
+from .wall_keep import SideWallKeep
+
+__all__ = [
+    "CONTROLLERS",
+    "DEFAULT_SPEED",
+    "NO_LAYER",
+    "Controller",
+    "Cruise",
+    "Frame",
+    "FrontBraitenbergAvoid",
+    "FrontObstacleLeftTurn",
+    "HoldFor",
+    "Layer",
+    "LineFollow",
+    "SideWallKeep",
+    "improved",
+    "load_controller",
+    "obstacle_in_front",
+    "stock",
+]

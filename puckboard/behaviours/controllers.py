@@ -1,0 +1,132 @@
+"""Ready-made controllers and the ``MODULE:FACTORY`` loader.
+
+``stock`` ports the V-REP e-puck scene's Lua controller (thesis Code 4.13), ``improved``
+the thesis's fix (Code 4.14). Both use the script's speed, ``maxVel`` = 120 °/s, and its
+thresholds and weights unchanged. As subsumption layers, highest priority first:
+
+=========  ======================================  =====================================
+priority   stock                                   improved
+=========  ======================================  =====================================
+1          FrontBraitenbergAvoid                   FrontObstacleLeftTurn
+2          LineFollow (inner wheel 25 %)           LineFollow (20 %, recovery turns)
+3          SideWallKeep (left and right)           SideWallKeep (right only)
+4          Cruise                                  Cruise
+=========  ======================================  =====================================
+
+The source script is one if/else cascade; its conditions are exactly these priorities
+(line following runs only when no obstacle is in front; side keeping only when there is
+neither a line nor an obstacle in front), so the port is behaviour-for-behaviour.
+
+A controller factory is any callable returning a :class:`Controller` (or a list of
+layers). Keyword parameters given to :func:`load_controller` are passed to the factory.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+from .controller import Controller
+from .cruise import DEFAULT_SPEED, Cruise
+from .layer import Layer
+from .line_follow import LineFollow
+from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn
+from .wall_keep import SideWallKeep
+
+__all__ = ["CONTROLLERS", "improved", "load_controller", "stock"]
+
+ControllerFactory = Callable[..., "Controller | Sequence[Layer]"]
+
+
+def stock(speed: float = DEFAULT_SPEED) -> Controller:
+    """The V-REP scene's own controller (thesis Code 4.13); fails the two-robot pass."""
+    return Controller(
+        [
+            FrontBraitenbergAvoid(speed),
+            LineFollow(speed, inner_factor=0.25),
+            SideWallKeep(("left", "right"), speed=speed),
+            Cruise(speed),
+        ],
+        name="stock",
+        requires=("proximity",),
+    )
+
+
+def improved(speed: float = DEFAULT_SPEED) -> Controller:
+    """The thesis's improved controller (Code 4.14): always turn left first."""
+    return Controller(
+        [
+            FrontObstacleLeftTurn(speed),
+            LineFollow(speed, inner_factor=0.20, recovery=True),
+            SideWallKeep(("right",), speed=speed),
+            Cruise(speed),
+        ],
+        name="improved",
+        requires=("proximity",),
+    )
+
+
+CONTROLLERS: dict[str, ControllerFactory] = {"stock": stock, "improved": improved}
+
+
+def load_controller(spec: str | ControllerFactory, **params: Any) -> Controller:
+    """Build a fresh controller from ``spec``.
+
+    ``spec`` is ``"stock"``, ``"improved"``, ``"package.module:factory"``,
+    ``"path/to/file.py:factory"`` or a factory callable. Every call builds new layers,
+    so each robot gets its own controller state.
+    """
+    factory = resolve_factory(spec)
+    try:
+        result = factory(**params)
+    except TypeError as exc:
+        raise ValueError(f"controller {spec!r} does not accept parameters {params}: {exc}") from exc
+    if isinstance(result, Controller):
+        return result
+    if isinstance(result, Sequence) and result and all(isinstance(x, Layer) for x in result):
+        return Controller(list(result), name=str(getattr(factory, "__name__", spec)))
+    raise TypeError(
+        f"controller factory {spec!r} returned {type(result).__name__}; it must return a "
+        "Controller or a list of Layer objects"
+    )
+
+
+def resolve_factory(spec: str | ControllerFactory) -> ControllerFactory:
+    """Turn a controller spec into its factory, with errors that say how to fix the spec."""
+    if callable(spec):
+        return spec
+    if spec in CONTROLLERS:
+        return CONTROLLERS[spec]
+    if ":" not in spec:
+        known = ", ".join(CONTROLLERS)
+        raise ValueError(
+            f"unknown controller {spec!r}; use one of {known}, or MODULE:FACTORY "
+            "(e.g. mypackage.mycontroller:make or path/to/file.py:make)"
+        )
+    module_part, _, attr = spec.rpartition(":")
+    if not attr:
+        raise ValueError(f"controller spec {spec!r} has no factory name after ':'")
+    if module_part.endswith(".py") or "/" in module_part or "\\" in module_part:
+        path = Path(module_part)
+        if not path.is_file():
+            raise ValueError(f"controller file {str(path)!r} does not exist")
+        mod_name = f"puckboard_user_{path.stem}_{abs(hash(path.resolve()))}"
+        module_spec = importlib.util.spec_from_file_location(mod_name, path)
+        if module_spec is None or module_spec.loader is None:
+            raise ValueError(f"cannot load controller file {str(path)!r}")
+        module = importlib.util.module_from_spec(module_spec)
+        sys.modules[mod_name] = module
+        module_spec.loader.exec_module(module)
+    else:
+        try:
+            module = importlib.import_module(module_part)
+        except ImportError as exc:
+            raise ValueError(f"cannot import controller module {module_part!r}: {exc}") from exc
+    factory = getattr(module, attr, None)
+    if factory is None or not callable(factory):
+        raise ValueError(f"controller module {module_part!r} has no callable {attr!r}")
+    return factory  # type: ignore[no-any-return]

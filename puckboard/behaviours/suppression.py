@@ -1,0 +1,73 @@
+"""Timed suppression: a layer keeps control for a while after its trigger ends.
+
+Brooks' suppressor nodes hold their output for a fixed time after the last input, so a
+brief trigger produces a whole manoeuvre (back off for 0.5 s, say) instead of a twitch.
+py_trees has no such decorator; :class:`HoldFor` is one. While the wrapped layer applies
+it passes through; for ``duration`` seconds after it stops applying, the decorator keeps
+the wheels and keeps asking the layer for its command.
+
+Time comes from ``clock`` when given (tests inject one), else from the tick's frame, which
+is simulation time in a simulator and the robot's clock on a real robot.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import py_trees
+from py_trees.common import Status
+
+from .layer import Layer
+
+__all__ = ["HoldFor"]
+
+
+class HoldFor(py_trees.decorators.Decorator):
+    """Keep ``layer`` in control for ``duration`` s after it last applied."""
+
+    def __init__(
+        self,
+        layer: Layer,
+        duration: float,
+        *,
+        clock: Callable[[], float] | None = None,
+        name: str | None = None,
+    ) -> None:
+        if duration < 0:
+            raise ValueError(f"HoldFor duration must be >= 0 seconds, got {duration}")
+        if not isinstance(layer, Layer):
+            raise TypeError(f"HoldFor wraps a Layer, got {type(layer).__name__}")
+        super().__init__(name=name or f"HoldFor({layer.name}, {duration:g}s)", child=layer)
+        self.layer = layer
+        self.duration = duration
+        self.clock = clock
+        self.reads = layer.reads
+        self._last_active: float | None = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.controller = kwargs.get("controller")
+
+    def _now(self) -> float:
+        if self.clock is not None:
+            return self.clock()
+        ctrl = self.controller
+        assert ctrl is not None and ctrl.frame is not None
+        return ctrl.frame.time
+
+    def update(self) -> Status:
+        now = self._now()
+        if self.decorated.status == Status.RUNNING:
+            self._last_active = now
+            return Status.RUNNING
+        if self._last_active is not None and now - self._last_active < self.duration:
+            ctrl = self.controller
+            assert ctrl is not None and ctrl.frame is not None
+            ctrl.propose(self.layer, self.layer.command(ctrl.frame))
+            return Status.RUNNING
+        self._last_active = None
+        return Status.FAILURE
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:  # pre-empted by a higher layer: forget the hold
+            self._last_active = None

@@ -1,0 +1,411 @@
+"""The thread-safe blackboard: one lock, immutable records, explicit staleness.
+
+Why not py_trees' own blackboard? It is a process-wide global with no lock: threads lose
+updates and introspection crashes while keys are registered. Robot adapters write from
+sensing threads while the behaviour tree ticks, so puckboard keeps the thread boundary
+here, in one small store:
+
+* every write replaces a whole immutable :class:`Record`, so a reader can never see half
+  a value, and one lock makes a multi-key :meth:`Blackboard.snapshot` consistent: the
+  values a decision uses all come from one time frame;
+* subscribers are called *after* the lock is released, one failing subscriber is logged
+  and never breaks the writer;
+* a key can declare a maximum age: a snapshot then tells fresh, stale and missing
+  values apart instead of silently handing out old data.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from .record import Record
+from .schema import Schema, check
+
+__all__ = [
+    "Blackboard",
+    "MissingValueError",
+    "Namespace",
+    "Snapshot",
+    "StaleValueError",
+    "Subscription",
+]
+
+log = logging.getLogger(__name__)
+
+Subscriber = Callable[[Record], None]
+
+
+class MissingValueError(KeyError):
+    """A key was read that nobody has written yet."""
+
+    def __str__(self) -> str:  # KeyError quotes its argument; we want a sentence
+        return str(self.args[0]) if self.args else "missing value"
+
+
+class StaleValueError(LookupError):
+    """A key's newest value is older than the key's declared maximum age."""
+
+
+@dataclass
+class _Slot:
+    schema: Schema | None = None
+    max_age: float | None = None
+    record: Record | None = None
+    history: deque[Record] | None = None
+    seq: int = 0
+
+
+@dataclass(frozen=True)
+class Subscription:
+    """Handle returned by :meth:`Blackboard.subscribe`; call :meth:`cancel` to stop."""
+
+    pattern: str
+    callback: Subscriber
+    _board: Blackboard = field(repr=False)
+    _id: int = field(repr=False)
+
+    def cancel(self) -> None:
+        self._board._unsubscribe(self)
+
+
+class Snapshot(Mapping[str, Record]):
+    """A consistent view of several keys taken under one lock at time ``now``.
+
+    ``snap[key]`` returns the fresh record or raises :class:`MissingValueError` /
+    :class:`StaleValueError`; ``snap.get(key)`` returns ``None`` for both;
+    ``snap.status(key)`` says which of ``"fresh"``, ``"stale"`` and ``"missing"`` it is.
+    """
+
+    __slots__ = ("_max_age", "_records", "now")
+
+    def __init__(
+        self, records: dict[str, Record | None], max_age: dict[str, float | None], now: float
+    ) -> None:
+        self._records = records
+        self._max_age = max_age
+        self.now = now
+
+    def status(self, key: str) -> str:
+        rec = self._records.get(key)
+        if rec is None:
+            return "missing"
+        limit = self._max_age.get(key)
+        if limit is not None and self.now - rec.stamp > limit:
+            return "stale"
+        return "fresh"
+
+    def __getitem__(self, key: str) -> Record:
+        status = self.status(key)
+        if status == "fresh":
+            return self._records[key]  # type: ignore[return-value]
+        if status == "missing":
+            raise MissingValueError(f"no value has been written to blackboard key {key!r} yet")
+        rec = self._records[key]
+        assert rec is not None
+        raise StaleValueError(
+            f"blackboard key {key!r} is stale: its newest value is {self.now - rec.stamp:.3f} s "
+            f"old, the key allows {self._max_age[key]} s"
+        )
+
+    def get(self, key: str, default: Any = None) -> Any:  # type: ignore[override]
+        """The fresh record, or ``default`` when missing or stale."""
+        return self._records[key] if self.status(key) == "fresh" else default  # type: ignore[return-value]
+
+    def value(self, key: str, default: Any = None) -> Any:
+        """The fresh value, or ``default`` when missing or stale."""
+        rec = self.get(key)
+        return default if rec is None else rec.value
+
+    def record(self, key: str) -> Record | None:
+        """The newest record whatever its age (``None`` if missing)."""
+        return self._records.get(key)
+
+    def __iter__(self):  # type: ignore[no-untyped-def]
+        return iter(self._records)
+
+    def __len__(self) -> int:
+        return len(self._records)
+
+    def __repr__(self) -> str:
+        parts = ", ".join(f"{k}: {self.status(k)}" for k in self._records)
+        return f"Snapshot(now={self.now:.3f}, {parts})"
+
+
+class Blackboard:
+    """A thread-safe key/value store of timestamped, immutable records.
+
+    Keys are ``/``-separated paths; :meth:`namespace` gives a view that prefixes every key
+    with a robot's name, so two robots in one process never share keys by accident.
+
+    ``clock`` is the time base of stamps and staleness. A simulation passes its
+    simulation clock (so staleness means simulated seconds, whatever the speed-up); the
+    default is the host's monotonic clock.
+    """
+
+    def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
+        self.clock = clock
+        self._lock = threading.Lock()
+        self._changed = threading.Condition(self._lock)
+        self._slots: dict[str, _Slot] = {}
+        self._subscribers: dict[str, dict[int, Subscriber]] = {}
+        self._sub_ids = itertools.count(1)
+
+    # -- declarations ----------------------------------------------------------------------
+    def declare(
+        self,
+        key: str,
+        *,
+        schema: Schema | None = None,
+        max_age: float | None = None,
+        history: int = 0,
+    ) -> None:
+        """Declare a key's schema, maximum age (s) and history length (newest kept).
+
+        Declaring again replaces the settings and keeps the current value.
+        """
+        _check_key(key)
+        if max_age is not None and max_age <= 0:
+            raise ValueError(f"max_age of {key!r} must be positive seconds, got {max_age}")
+        if history < 0:
+            raise ValueError(f"history of {key!r} must be >= 0, got {history}")
+        with self._lock:
+            slot = self._slots.setdefault(key, _Slot())
+            slot.schema = schema
+            slot.max_age = max_age
+            if history:
+                old = list(slot.history or ())
+                slot.history = deque(old[-history:], maxlen=history)
+            else:
+                slot.history = None
+
+    # -- writing ---------------------------------------------------------------------------
+    def put(self, key: str, value: Any, *, stamp: float | None = None, writer: str = "") -> Record:
+        """Write one value; returns the record stored. Subscribers run after the lock."""
+        return self.put_many({key: value}, stamp=stamp, writer=writer)[0]
+
+    def put_many(
+        self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
+    ) -> list[Record]:
+        """Write several values atomically: a snapshot sees all of them or none."""
+        items = list(values.items())
+        for key, _ in items:
+            _check_key(key)
+        received = time.monotonic()
+        if stamp is None:
+            stamp = self.clock()
+        written: list[Record] = []
+        with self._lock:
+            slots = [self._slots.get(key) for key, _ in items]
+            for (key, value), slot in zip(items, slots):  # validate all before writing any
+                if slot is not None and slot.schema is not None:
+                    check(key, slot.schema, value)
+            for (key, value), slot in zip(items, slots):
+                if slot is None:
+                    slot = self._slots[key] = _Slot()
+                slot.seq += 1
+                rec = Record(key, value, stamp, received, slot.seq, writer)
+                slot.record = rec
+                if slot.history is not None:
+                    slot.history.append(rec)
+                written.append(rec)
+            self._changed.notify_all()
+            callbacks = self._callbacks_for(written) if self._subscribers else ()
+        for callback, rec in callbacks:
+            try:
+                callback(rec)
+            except Exception:
+                log.exception("blackboard subscriber %r failed on key %r", callback, rec.key)
+        return written
+
+    # -- reading ---------------------------------------------------------------------------
+    def get(self, key: str) -> Record:
+        """The newest record of ``key`` whatever its age; raises if never written."""
+        with self._lock:
+            slot = self._slots.get(key)
+            rec = slot.record if slot is not None else None
+        if rec is None:
+            raise MissingValueError(f"no value has been written to blackboard key {key!r} yet")
+        return rec
+
+    def value(self, key: str) -> Any:
+        """The current value of ``key``; raises if missing or stale."""
+        return self.snapshot([key])[key].value
+
+    def snapshot(self, keys: Iterable[str] | None = None, *, prefix: str = "") -> Snapshot:
+        """A consistent view of ``keys`` (or of every key under ``prefix``) at one instant."""
+        with self._lock:
+            now = self.clock()
+            if keys is None:
+                keys = [k for k in self._slots if k.startswith(prefix)]
+            records: dict[str, Record | None] = {}
+            ages: dict[str, float | None] = {}
+            for key in keys:
+                slot = self._slots.get(key)
+                records[key] = slot.record if slot is not None else None
+                ages[key] = slot.max_age if slot is not None else None
+        return Snapshot(records, ages, now)
+
+    def history(self, key: str) -> tuple[Record, ...]:
+        """The kept history of ``key``, oldest first (empty if none is kept)."""
+        with self._lock:
+            slot = self._slots.get(key)
+            return tuple(slot.history) if slot is not None and slot.history else ()
+
+    def keys(self, prefix: str = "") -> list[str]:
+        """Every key that holds a value, sorted."""
+        with self._lock:
+            return sorted(k for k, s in self._slots.items() if s.record and k.startswith(prefix))
+
+    def wait_for(self, key: str, *, after_seq: int = 0, timeout: float | None = None) -> Record:
+        """Block until ``key`` holds a record newer than ``after_seq``; return it.
+
+        This is the blackboard architecture's promise: asking for data that is not there
+        yet returns once another module writes it. Raises ``TimeoutError`` after
+        ``timeout`` seconds (wall clock).
+        """
+        deadline = None if timeout is None else time.monotonic() + timeout
+        with self._lock:
+            while True:
+                slot = self._slots.get(key)
+                if slot is not None and slot.record is not None and slot.record.seq > after_seq:
+                    return slot.record
+                remaining = None if deadline is None else deadline - time.monotonic()
+                if remaining is not None and remaining <= 0:
+                    raise TimeoutError(
+                        f"no value newer than seq {after_seq} arrived at blackboard key "
+                        f"{key!r} within {timeout} s"
+                    )
+                self._changed.wait(remaining)
+
+    # -- subscriptions ---------------------------------------------------------------------
+    def subscribe(self, pattern: str, callback: Subscriber) -> Subscription:
+        """Call ``callback(record)`` after every write to ``pattern``.
+
+        ``pattern`` is a key, or a prefix ending in ``/*`` (``"epuck0/*"``) for every key
+        below it, or ``"*"`` for all keys. Callbacks run in the writer's thread, outside
+        the lock, so they may read or write the blackboard themselves.
+        """
+        if not callable(callback):
+            raise TypeError(f"subscriber for {pattern!r} must be callable, got {callback!r}")
+        sub_id = next(self._sub_ids)
+        with self._lock:
+            self._subscribers.setdefault(pattern, {})[sub_id] = callback
+        return Subscription(pattern, callback, self, sub_id)
+
+    def _unsubscribe(self, sub: Subscription) -> None:
+        with self._lock:
+            subs = self._subscribers.get(sub.pattern)
+            if subs is not None:
+                subs.pop(sub._id, None)
+                if not subs:
+                    del self._subscribers[sub.pattern]
+
+    def _callbacks_for(self, records: list[Record]) -> list[tuple[Subscriber, Record]]:
+        out: list[tuple[Subscriber, Record]] = []
+        for rec in records:
+            for pattern, subs in self._subscribers.items():
+                if _matches(pattern, rec.key):
+                    out.extend((cb, rec) for cb in subs.values())
+        return out
+
+    # -- namespaces ------------------------------------------------------------------------
+    def namespace(self, name: str) -> Namespace:
+        """A view whose keys are all below ``name/``."""
+        return Namespace(self, name)
+
+
+class Namespace:
+    """A blackboard view that prefixes every key with ``name/``.
+
+    Adapters and layers of one robot share one namespace; they never spell the robot's
+    name in a key, so the same controller code serves any robot.
+    """
+
+    __slots__ = ("board", "name", "prefix")
+
+    def __init__(self, board: Blackboard, name: str) -> None:
+        _check_key(name)
+        self.board = board
+        self.name = name
+        self.prefix = name + "/"
+
+    def key(self, key: str) -> str:
+        """The absolute key of a relative one."""
+        return self.prefix + key
+
+    def declare(self, key: str, **settings: Any) -> None:
+        self.board.declare(self.prefix + key, **settings)
+
+    def put(self, key: str, value: Any, *, stamp: float | None = None, writer: str = "") -> Record:
+        return self.board.put(self.prefix + key, value, stamp=stamp, writer=writer)
+
+    def put_many(
+        self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
+    ) -> list[Record]:
+        p = self.prefix
+        return self.board.put_many(
+            {p + k: v for k, v in values.items()}, stamp=stamp, writer=writer
+        )
+
+    def get(self, key: str) -> Record:
+        return self.board.get(self.prefix + key)
+
+    def value(self, key: str) -> Any:
+        return self.board.value(self.prefix + key)
+
+    def snapshot(self, keys: Iterable[str] | None = None) -> Snapshot:
+        """A consistent snapshot; keys in the result are relative to this namespace."""
+        p = self.prefix
+        snap = (
+            self.board.snapshot(prefix=p)
+            if keys is None
+            else self.board.snapshot([p + k for k in keys])
+        )
+        n = len(p)
+        return Snapshot(
+            {k[n:]: r for k, r in snap._records.items()},
+            {k[n:]: a for k, a in snap._max_age.items()},
+            snap.now,
+        )
+
+    def history(self, key: str) -> tuple[Record, ...]:
+        return self.board.history(self.prefix + key)
+
+    def keys(self) -> list[str]:
+        n = len(self.prefix)
+        return [k[n:] for k in self.board.keys(self.prefix)]
+
+    def wait_for(self, key: str, *, after_seq: int = 0, timeout: float | None = None) -> Record:
+        return self.board.wait_for(self.prefix + key, after_seq=after_seq, timeout=timeout)
+
+    def subscribe(self, key: str, callback: Subscriber) -> Subscription:
+        """Subscribe to a relative key, or ``"*"`` for every key of this namespace."""
+        return self.board.subscribe(self.prefix + key, callback)
+
+    @property
+    def clock(self) -> Callable[[], float]:
+        return self.board.clock
+
+    def __repr__(self) -> str:
+        return f"Namespace({self.name!r})"
+
+
+def _matches(pattern: str, key: str) -> bool:
+    if pattern == key or pattern == "*":
+        return True
+    return pattern.endswith("/*") and key.startswith(pattern[:-1])
+
+
+def _check_key(key: str) -> None:
+    if not isinstance(key, str) or not key or key.startswith("/") or key.endswith("/"):
+        raise ValueError(
+            f"blackboard keys are non-empty '/'-separated paths without a leading or trailing "
+            f"'/', got {key!r}"
+        )

@@ -1,0 +1,326 @@
+"""Typed sensor records: what an adapter writes to the blackboard, one class per sensor.
+
+The source framework handed students bare arrays and made them remember which index was
+which sensor; here every reading is a small immutable record with named fields. Arrays
+inside records are read-only copies, so a record can be shared between threads safely.
+
+Units are SI. Proximity comes twice, because users need both views:
+
+* ``distance`` (m): V-REP semantics. A sensor that sees nothing within
+  ``range`` reports exactly ``range`` (0.05 m by default); a smaller value means an
+  obstacle at that distance. Controllers written for V-REP read this.
+* ``raw``: the e-puck's own scale, 0 (nothing) .. 4095 (touching), through the response
+  curve calibrated on the real robot. Students moving to the real robot read this.
+
+Array order is always the real e-puck's: ps0..ps7, clockwise seen from above, starting
+at the front-right sensor. The V-REP model numbers its sensors 1..8 clockwise starting
+at the *left* side sensor; :data:`VREP_ORDER` maps between the two.
+
+=====  ==================  ============  ========================
+index  name                real e-puck   V-REP model
+=====  ==================  ============  ========================
+0      ``front_right``     ps0           ePuck_proxSensor4
+1      ``diagonal_right``  ps1           ePuck_proxSensor5
+2      ``right``           ps2           ePuck_proxSensor6
+3      ``rear_right``      ps3           ePuck_proxSensor7
+4      ``rear_left``       ps4           ePuck_proxSensor8
+5      ``left``            ps5           ePuck_proxSensor1
+6      ``diagonal_left``   ps6           ePuck_proxSensor2
+7      ``front_left``      ps7           ePuck_proxSensor3
+=====  ==================  ============  ========================
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "GROUND_NAMES",
+    "PROX_NAMES",
+    "VREP_ORDER",
+    "Acceleration",
+    "CameraImage",
+    "Ground",
+    "Light",
+    "Pose",
+    "Proximity",
+    "Sensor",
+    "WheelCommand",
+    "WheelEncoders",
+    "WheelSpeeds",
+]
+
+PROX_NAMES: tuple[str, ...] = (
+    "front_right",
+    "diagonal_right",
+    "right",
+    "rear_right",
+    "rear_left",
+    "left",
+    "diagonal_left",
+    "front_left",
+)
+"""Names of the 8 IR proximity sensors, in real e-puck order (ps0..ps7)."""
+
+VREP_ORDER: tuple[int, ...] = (5, 6, 7, 0, 1, 2, 3, 4)
+"""``VREP_ORDER[k]`` is the ps index of V-REP's ``ePuck_proxSensor{k+1}``."""
+
+GROUND_NAMES: tuple[str, ...] = ("left", "centre", "right")
+"""Names of the 3 ground sensors, gs0..gs2."""
+
+
+class Sensor(str, enum.Enum):
+    """The sensors an adapter can read; the value is the blackboard key it writes."""
+
+    PROXIMITY = "proximity"
+    GROUND = "ground"
+    LIGHT = "light"
+    ACCELERATION = "acceleration"
+    ENCODERS = "encoders"
+    WHEEL_SPEEDS = "wheel_speeds"
+    POSE = "pose"
+    CAMERA = "camera"
+
+    @property
+    def key(self) -> str:
+        """The blackboard key (relative to the robot's namespace)."""
+        return self.value
+
+
+def _frozen_array(values: Any, n: int, what: str, *, dtype: Any = np.float64) -> np.ndarray:
+    arr = np.array(values, dtype=dtype, copy=True)
+    if arr.shape != (n,):
+        raise ValueError(f"{what} needs {n} values, got an array of shape {arr.shape}")
+    if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+        raise ValueError(f"{what} must be finite numbers, got {arr.tolist()}")
+    arr.setflags(write=False)
+    return arr
+
+
+def _check_finite(cls_name: str, **values: float) -> None:
+    for name, value in values.items():
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(
+            value
+        ):
+            raise ValueError(f"{cls_name}.{name} must be a finite number, got {value!r}")
+
+
+class _Named:
+    """Named read access to an 8- or 3-element array, e.g. ``prox.front_left``."""
+
+    _names: tuple[str, ...] = ()
+    _field: str = ""
+
+    def __getattr__(self, name: str) -> float:
+        names = type(self)._names
+        if name in names:
+            return float(getattr(self, type(self)._field)[names.index(name)])
+        raise AttributeError(
+            f"{type(self).__name__} has no attribute {name!r}; sensor names are: {', '.join(names)}"
+        )
+
+    def as_dict(self) -> dict[str, float]:
+        """The primary values by sensor name."""
+        values = getattr(self, type(self)._field)
+        return {n: float(v) for n, v in zip(type(self)._names, values)}
+
+
+@dataclass(frozen=True, eq=False)
+class Proximity(_Named):
+    """The 8 IR proximity sensors, in ps0..ps7 order.
+
+    ``distance`` is in metres and equals ``range`` where nothing is detected; ``raw`` is
+    the e-puck scale (0 nothing .. 4095 touching). Read one sensor by name:
+    ``prox.front_left`` is the distance of ps7, ``prox.raw_of("front_left")`` its raw value.
+    """
+
+    distance: npt.NDArray[np.float64]
+    raw: npt.NDArray[np.float64]
+    range: float = 0.05
+
+    _names = PROX_NAMES
+    _field = "distance"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "distance", _frozen_array(self.distance, 8, "Proximity.distance"))
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Proximity.raw"))
+        _check_finite("Proximity", range=self.range)
+        if self.range <= 0:
+            raise ValueError(f"Proximity.range must be positive (m), got {self.range}")
+        if np.any(self.distance < 0) or np.any(self.distance > self.range + 1e-9):
+            raise ValueError(
+                f"Proximity.distance must lie in [0, range={self.range}] m, got "
+                f"{self.distance.tolist()}"
+            )
+
+    def raw_of(self, name: str) -> float:
+        """Raw e-puck value of one sensor by name."""
+        return float(self.raw[_index(PROX_NAMES, name)])
+
+    def detected(self, name: str) -> bool:
+        """True when the named sensor sees something within its range."""
+        return bool(self.distance[_index(PROX_NAMES, name)] < self.range)
+
+    def vrep(self) -> npt.NDArray[np.float64]:
+        """Distances in the V-REP model's order (ePuck_proxSensor1..8)."""
+        return self.distance[list(VREP_ORDER)]
+
+    @classmethod
+    def nothing(cls, range: float = 0.05) -> Proximity:
+        """A reading with no obstacle anywhere."""
+        return cls(np.full(8, range), np.zeros(8), range)
+
+
+@dataclass(frozen=True, eq=False)
+class Ground(_Named):
+    """The 3 ground sensors gs0 (left), gs1 (centre), gs2 (right).
+
+    ``value`` is V-REP's 0..1 brightness (a dark line reads below 0.5); ``raw`` is the
+    e-puck scale (0 black .. 1023 white).
+    """
+
+    value: npt.NDArray[np.float64]
+    raw: npt.NDArray[np.float64]
+
+    _names = GROUND_NAMES
+    _field = "value"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _frozen_array(self.value, 3, "Ground.value"))
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 3, "Ground.raw"))
+        if np.any(self.value < 0) or np.any(self.value > 1):
+            raise ValueError(f"Ground.value must lie in [0, 1], got {self.value.tolist()}")
+
+    def dark(self, threshold: float = 0.5) -> npt.NDArray[np.bool_]:
+        """Which sensors see the line (value below ``threshold``)."""
+        return self.value < threshold
+
+
+@dataclass(frozen=True, eq=False)
+class Light(_Named):
+    """Ambient light at the 8 IR sensors (ps order), e-puck scale: 0 bright .. 4095 dark."""
+
+    raw: npt.NDArray[np.float64]
+
+    _names = PROX_NAMES
+    _field = "raw"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw"))
+
+
+@dataclass(frozen=True)
+class Acceleration:
+    """Linear acceleration in the robot frame (m/s²), gravity included on z."""
+
+    x: float
+    y: float
+    z: float
+
+    def __post_init__(self) -> None:
+        _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
+
+
+@dataclass(frozen=True)
+class WheelEncoders:
+    """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
+
+    left: float
+    right: float
+
+    def __post_init__(self) -> None:
+        _check_finite("WheelEncoders", left=self.left, right=self.right)
+
+
+@dataclass(frozen=True)
+class WheelSpeeds:
+    """Measured (or, where nothing measures them, commanded) wheel speeds (rad/s)."""
+
+    left: float
+    right: float
+
+    def __post_init__(self) -> None:
+        _check_finite("WheelSpeeds", left=self.left, right=self.right)
+
+
+@dataclass(frozen=True)
+class WheelCommand:
+    """A wheel speed command (rad/s), as produced by a behaviour layer."""
+
+    left: float
+    right: float
+
+    def __post_init__(self) -> None:
+        _check_finite("WheelCommand", left=self.left, right=self.right)
+
+    @classmethod
+    def stop(cls) -> WheelCommand:
+        return cls(0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Planar pose: position (m) and heading (rad, counter-clockwise from world x).
+
+    ``ground_truth`` is True when the pose comes from the simulator's own state rather
+    than from an estimate: a real robot never has one.
+    """
+
+    x: float
+    y: float
+    theta: float
+    ground_truth: bool = False
+
+    def __post_init__(self) -> None:
+        _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
+
+
+@dataclass(frozen=True, eq=False)
+class CameraImage:
+    """An upright colour image: an H×W×3 uint8 array, row 0 at the top."""
+
+    pixels: npt.NDArray[np.uint8]
+
+    def __post_init__(self) -> None:
+        arr = np.array(self.pixels, copy=True)
+        if arr.ndim != 3 or arr.shape[2] != 3 or arr.dtype != np.uint8:
+            raise ValueError(
+                "CameraImage.pixels must be an H×W×3 uint8 array, got "
+                f"shape {arr.shape} dtype {arr.dtype}"
+            )
+        arr.setflags(write=False)
+        object.__setattr__(self, "pixels", arr)
+
+    @property
+    def height(self) -> int:
+        return int(self.pixels.shape[0])
+
+    @property
+    def width(self) -> int:
+        return int(self.pixels.shape[1])
+
+
+def _index(names: tuple[str, ...], name: str) -> int:
+    try:
+        return names.index(name)
+    except ValueError:
+        raise KeyError(f"unknown sensor name {name!r}; known: {', '.join(names)}") from None
+
+
+RECORD_TYPES: dict[Sensor, type] = {
+    Sensor.PROXIMITY: Proximity,
+    Sensor.GROUND: Ground,
+    Sensor.LIGHT: Light,
+    Sensor.ACCELERATION: Acceleration,
+    Sensor.ENCODERS: WheelEncoders,
+    Sensor.WHEEL_SPEEDS: WheelSpeeds,
+    Sensor.POSE: Pose,
+    Sensor.CAMERA: CameraImage,
+}
+"""The record class each sensor key holds; used to declare the blackboard's schemas."""
