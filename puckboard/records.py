@@ -105,9 +105,7 @@ def _frozen_array(values: Any, n: int, what: str, *, dtype: Any = np.float64) ->
 
 def _check_finite(cls_name: str, **values: float) -> None:
     for name, value in values.items():
-        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(
-            value
-        ):
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
             raise ValueError(f"{cls_name}.{name} must be a finite number, got {value!r}")
 
 

@@ -30,6 +30,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..blackboard import Blackboard, InstanceOf, Namespace
@@ -37,7 +38,7 @@ from ..errors import AdapterClosedError, NotSupportedError
 from ..profile import EPUCK2, RobotProfile
 from ..records import RECORD_TYPES, CameraImage, Sensor, WheelCommand
 
-__all__ = ["RobotAdapter", "Stepper", "declare_robot_keys"]
+__all__ = ["Connection", "RobotAdapter", "Stepper", "declare_robot_keys"]
 
 log = logging.getLogger(__name__)
 
@@ -73,6 +74,42 @@ class Stepper(abc.ABC):
     @abc.abstractmethod
     def stop(self) -> None:
         """Stop the simulation."""
+
+
+@dataclass
+class Connection:
+    """What a backend factory (``open_backend(name, scene, ...)``) returns.
+
+    ``adapters`` maps robot names to their adapters, all writing into ``blackboard``;
+    ``stepper`` is the shared simulation for synchronous backends (``None`` on a real
+    robot); ``world`` is the embedded simulator's world when there is one (ground truth
+    for judging and drawing), else ``None``.
+    """
+
+    adapters: dict[str, RobotAdapter]
+    blackboard: Blackboard
+    stepper: Stepper | None = None
+    world: Any = None
+    extra_close: list[Callable[[], None]] = field(default_factory=list)
+
+    def close(self) -> None:
+        """Close every adapter (wheels zeroed first), then the backend's own resources."""
+        for adapter in self.adapters.values():
+            try:
+                adapter.close()
+            except Exception as exc:
+                log.warning("closing robot %r failed: %s", adapter.name, exc)
+        for fn in self.extra_close:
+            try:
+                fn()
+            except Exception as exc:
+                log.warning("closing backend resource failed: %s", exc)
+
+    def __enter__(self) -> Connection:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def declare_robot_keys(ns: Namespace, max_age: float | None = None) -> None:

@@ -115,7 +115,9 @@ class FakeAdapter(RobotAdapter):
         d = np.full(8, rng)
         for name, value in distances.items():
             if name not in PROX_NAMES:
-                raise ValueError(f"unknown proximity sensor {name!r}; names: {', '.join(PROX_NAMES)}")
+                raise ValueError(
+                    f"unknown proximity sensor {name!r}; names: {', '.join(PROX_NAMES)}"
+                )
             d[PROX_NAMES.index(name)] = min(max(float(value), 0.0), rng)
         raw = np.where(d < rng, 4095.0 * (1.0 - d / rng) ** 2, 0.0)
         self._prox = Proximity(d, raw, rng)
@@ -125,7 +127,9 @@ class FakeAdapter(RobotAdapter):
         v = np.ones(3)
         for name, value in values.items():
             if name not in GROUND_NAMES:
-                raise ValueError(f"unknown ground sensor {name!r}; names: {', '.join(GROUND_NAMES)}")
+                raise ValueError(
+                    f"unknown ground sensor {name!r}; names: {', '.join(GROUND_NAMES)}"
+                )
             v[GROUND_NAMES.index(name)] = float(value)
         self._ground = Ground(v, v * 1023.0)
 

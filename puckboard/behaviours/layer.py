@@ -99,6 +99,7 @@ class Layer(py_trees.behaviour.Behaviour):
         return {
             k: v
             for k, v in vars(self).items()
-            if not k.startswith("_") and isinstance(v, (int, float, str, bool, tuple))
+            if not k.startswith("_")
+            and isinstance(v, (int, float, str, bool, tuple))
             and k not in ("name", "id", "status", "feedback_message", "blackbox_level")
         }

@@ -1,0 +1,8 @@
+"""The embedded 2D e-puck simulator: the default backend, no external program needed.
+
+The simulator knows no controller: it takes wheel speeds and gives sensor readings.
+"""
+
+from .scene import Arena, CircleObstacle, Noise, PolygonObstacle, RobotSpec, Scene, Track
+
+__all__ = ["Arena", "CircleObstacle", "Noise", "PolygonObstacle", "RobotSpec", "Scene", "Track"]

@@ -1,0 +1,163 @@
+"""A scene as plain, validated data: floor, track, obstacles, walls, robots, noise.
+
+Scenes are loaded from TOML or JSON files (see :mod:`puckboard.sim.scenefile`) into
+these frozen dataclasses; the simulator, the judge, the viewers and ``puckboard serve``
+all read the same objects. Units are SI; colours are 0..255 RGB triples.
+
+World frame: x to the right, y up, angles counter-clockwise from +x, seen from above.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "Arena",
+    "CircleObstacle",
+    "Noise",
+    "PolygonObstacle",
+    "RobotSpec",
+    "Scene",
+    "Track",
+]
+
+Colour = tuple[int, int, int]
+
+
+@dataclass(frozen=True, eq=False)
+class Track:
+    """A dark line on the floor: a polyline of ``points`` (M×2, m) of ``width`` (m).
+
+    ``closed`` joins the last point back to the first (a loop).
+    """
+
+    points: npt.NDArray[np.float64]
+    width: float = 0.02
+    closed: bool = True
+    colour: Colour = (20, 20, 20)
+
+    def __post_init__(self) -> None:
+        pts = np.array(self.points, dtype=float, copy=True)
+        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2:
+            raise ValueError(
+                f"track.points must be a list of at least 2 [x, y] pairs, got shape {pts.shape}"
+            )
+        if not np.all(np.isfinite(pts)):
+            raise ValueError("track.points must be finite numbers")
+        if not self.width > 0:
+            raise ValueError(f"track.width must be positive (m), got {self.width}")
+        pts.setflags(write=False)
+        object.__setattr__(self, "points", pts)
+
+    def segments(self) -> npt.NDArray[np.float64]:
+        """The line's segments as an S×2×2 array of (start, end) points."""
+        pts = self.points
+        ends = np.roll(pts, -1, axis=0) if self.closed else pts[1:]
+        starts = pts if self.closed else pts[:-1]
+        return np.stack([starts, ends], axis=1)
+
+    @property
+    def length(self) -> float:
+        seg = self.segments()
+        return float(np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1).sum())
+
+
+@dataclass(frozen=True)
+class CircleObstacle:
+    """A static round obstacle (a cylinder seen from above)."""
+
+    x: float
+    y: float
+    radius: float
+    colour: Colour = (200, 60, 40)
+    name: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class PolygonObstacle:
+    """A static convex polygon obstacle; ``vertices`` (K×2, m) counter-clockwise."""
+
+    vertices: npt.NDArray[np.float64]
+    colour: Colour = (200, 60, 40)
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        v = np.array(self.vertices, dtype=float, copy=True)
+        if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
+            raise ValueError(
+                f"polygon vertices must be at least 3 [x, y] pairs, got shape {v.shape}"
+            )
+        v.setflags(write=False)
+        object.__setattr__(self, "vertices", v)
+
+
+@dataclass(frozen=True)
+class Arena:
+    """Rectangular walls enclosing [xmin, xmax] × [ymin, ymax] (m)."""
+
+    xmin: float
+    ymin: float
+    xmax: float
+    ymax: float
+    colour: Colour = (120, 120, 130)
+
+    def __post_init__(self) -> None:
+        if not (self.xmax > self.xmin and self.ymax > self.ymin):
+            raise ValueError(f"arena needs xmax > xmin and ymax > ymin, got {self}")
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """One robot: name, start pose (m, m, rad), controller spec, body colour."""
+
+    name: str
+    x: float
+    y: float
+    theta: float
+    controller: str = "improved"
+    colour: Colour = (60, 160, 60)
+    profile: str = "e-puck2"
+
+
+@dataclass(frozen=True)
+class Noise:
+    """Noise levels; every draw comes from the simulation's one seeded generator.
+
+    ``wheel_speed``: relative σ of each wheel's actual speed against the command (Enki
+    uses 5 %). ``proximity``: relative σ of the raw IR value. ``ground``: absolute σ of
+    the 0..1 ground value. ``start_jitter``: σ of the start position (m) and heading
+    (rad), for robustness sweeps.
+    """
+
+    wheel_speed: float = 0.0
+    proximity: float = 0.0
+    ground: float = 0.0
+    start_jitter: float = 0.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything the simulator needs to build a world; see the module docstring."""
+
+    name: str
+    robots: tuple[RobotSpec, ...]
+    track: Track | None = None
+    obstacles: tuple[CircleObstacle | PolygonObstacle, ...] = ()
+    arena: Arena | None = None
+    noise: Noise = field(default_factory=Noise)
+    dt: float = 0.05
+    duration: float = 120.0
+    description: str = ""
+    floor_colour: Colour = (235, 235, 225)
+    camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
+
+    def robot(self, name: str) -> RobotSpec:
+        for r in self.robots:
+            if r.name == name:
+                return r
+        raise KeyError(
+            f"scene {self.name!r} has no robot {name!r}; robots: {[r.name for r in self.robots]}"
+        )
