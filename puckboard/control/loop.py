@@ -90,6 +90,7 @@ class ControlLoop:
         self.cycles = 0
         self.overruns = 0
         self.observers: list[CycleObserver] = []
+        self.before_tick: list[CycleObserver] = []
         self.close_observers: list[CycleObserver] = []
         self._closed = False
         for b in self.bindings:
@@ -111,6 +112,14 @@ class ControlLoop:
         """``observer(loop)`` after every cycle (recorders, judges, live views)."""
         self.observers.append(observer)
 
+    def add_before_tick(self, callback: CycleObserver) -> None:
+        """``callback(loop)`` each cycle after sensing and before the controllers tick.
+
+        This is where knowledge sources (filters, estimators) turn fresh sensor records
+        into derived blackboard keys that the layers of the same tick can read.
+        """
+        self.before_tick.append(callback)
+
     def add_close_observer(self, observer: CycleObserver) -> None:
         """``observer(loop)`` once when the loop shuts down, however it ends."""
         self.close_observers.append(observer)
@@ -131,6 +140,8 @@ class ControlLoop:
             b.adapter.sense_all()
             if grab_camera and Sensor.CAMERA in b.adapter.enabled_sensors:
                 b.adapter.camera_image()
+        for callback in self.before_tick:
+            callback(self)
         for b in self.bindings:
             cmd = b.controller.tick(b.adapter.ns)
             b.adapter.set_wheel_speeds(cmd.left, cmd.right)
