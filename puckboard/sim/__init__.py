@@ -3,6 +3,15 @@
 The simulator knows no controller: it takes wheel speeds and gives sensor readings.
 """
 
-from .scene import Arena, CircleObstacle, Noise, PolygonObstacle, RobotSpec, Scene, Track
+from .scene import Arena, CircleObstacle, Goal, Noise, PolygonObstacle, RobotSpec, Scene, Track
 
-__all__ = ["Arena", "CircleObstacle", "Noise", "PolygonObstacle", "RobotSpec", "Scene", "Track"]
+__all__ = [
+    "Arena",
+    "CircleObstacle",
+    "Goal",
+    "Noise",
+    "PolygonObstacle",
+    "RobotSpec",
+    "Scene",
+    "Track",
+]

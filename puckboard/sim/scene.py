@@ -15,8 +15,10 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "GOAL_KINDS",
     "Arena",
     "CircleObstacle",
+    "Goal",
     "Noise",
     "PolygonObstacle",
     "RobotSpec",
@@ -138,6 +140,37 @@ class Noise:
     start_jitter: float = 0.0
 
 
+GOAL_KINDS = ("auto", "pass", "follow", "avoid")
+"""What a scene asks of its robots; the judge (:mod:`puckboard.sim.judge`) scores it.
+
+``pass``: robots on a line meet, pass each other and every obstacle on the line, and
+go on following the line. ``follow``: follow the line for ``laps`` laps. ``avoid``:
+roam for the whole run without touching anything. ``auto`` picks ``pass`` for a track
+with two or more robots, ``follow`` for a track with one, ``avoid`` without a track.
+"""
+
+
+@dataclass(frozen=True)
+class Goal:
+    """The task a scene sets (``kind``, one of :data:`GOAL_KINDS`) and, for ``follow``,
+    how many ``laps`` make a success."""
+
+    kind: str = "auto"
+    laps: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in GOAL_KINDS:
+            raise ValueError(f"goal kind must be one of {', '.join(GOAL_KINDS)}, got {self.kind!r}")
+
+    def resolve(self, scene: Scene) -> str:
+        """The concrete goal kind for ``scene`` (``auto`` resolved)."""
+        if self.kind != "auto":
+            return self.kind
+        if scene.track is None:
+            return "avoid"
+        return "pass" if len(scene.robots) >= 2 else "follow"
+
+
 @dataclass(frozen=True)
 class Scene:
     """Everything the simulator needs to build a world; see the module docstring."""
@@ -153,6 +186,7 @@ class Scene:
     description: str = ""
     floor_colour: Colour = (235, 235, 225)
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
+    goal: Goal = field(default_factory=Goal)
 
     def robot(self, name: str) -> RobotSpec:
         for r in self.robots:
