@@ -168,7 +168,8 @@ class RobotAdapter(abc.ABC):
             ns = board
         else:
             if board is None:
-                clock = (lambda: self.stepper.time) if self.stepper is not None else time.monotonic
+                stepper = self.stepper
+                clock = (lambda: stepper.time) if stepper is not None else time.monotonic
                 board = Blackboard(clock=clock)
             ns = board.namespace(self.name)
         declare_robot_keys(ns)

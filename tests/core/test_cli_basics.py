@@ -1,0 +1,40 @@
+"""The ``puckboard`` command's own options."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import puckboard
+from puckboard.cli import main
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert puckboard.__version__ in capsys.readouterr().out
+
+
+def test_help_lists_subcommands(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    assert "usage: puckboard" in out
+
+
+def test_unknown_subcommand_is_an_error(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["frobnicate"])
+    assert exc.value.code == 2
+    assert "invalid choice" in capsys.readouterr().err
+
+
+def test_python_dash_m_works():
+    out = subprocess.run(
+        [sys.executable, "-m", "puckboard", "--version"], capture_output=True, text=True
+    )
+    assert out.returncode == 0
+    assert puckboard.__version__ in out.stdout
