@@ -194,21 +194,22 @@ class Blackboard:
         self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
     ) -> list[Record]:
         """Write several values atomically: a snapshot sees all of them or none."""
-        items = list(values.items())
-        for key, _ in items:
-            _check_key(key)
         received = time.monotonic()
         if stamp is None:
             stamp = self.clock()
         written: list[Record] = []
         with self._lock:
-            slots = [self._slots.get(key) for key, _ in items]
-            for (key, value), slot in zip(items, slots):  # validate all before writing any
-                if slot is not None and slot.schema is not None:
-                    check(key, slot.schema, value)
-            for (key, value), slot in zip(items, slots):
+            slots = self._slots
+            for key, value in values.items():  # validate all before writing any
+                slot = slots.get(key)
                 if slot is None:
-                    slot = self._slots[key] = _Slot()
+                    _check_key(key)
+                elif slot.schema is not None:
+                    check(key, slot.schema, value)
+            for key, value in values.items():
+                slot = slots.get(key)
+                if slot is None:
+                    slot = slots[key] = _Slot()
                 slot.seq += 1
                 rec = Record(key, value, stamp, received, slot.seq, writer)
                 slot.record = rec
