@@ -1,0 +1,42 @@
+"""Differential-drive kinematics with exact arc integration.
+
+The e-puck's stepper motors do not slip in normal use, so the body's motion follows the
+wheels exactly (Enki's and Webots' kinematic mode make the same assumption). Within one
+step the wheel speeds are constant, so the robot moves along a circular arc; integrating
+that arc exactly instead of with an Euler step means a robot told to drive a circle of
+radius R draws that circle whatever the time step.
+
+For an arc with forward speed v and turn rate w over dt, the chord has length
+``v·dt·sin(h)/h`` (h = w·dt/2) and points along ``theta + h``; ``np.sinc`` gives
+``sin(h)/h`` without a special case for straight lines (h = 0).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["arc_step", "body_velocity"]
+
+FloatArray = npt.NDArray[np.float64]
+
+
+def body_velocity(
+    wheels: FloatArray, wheel_radius: FloatArray, axle: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Wheel speeds (N×2 rad/s, left/right) → forward speed (m/s) and turn rate (rad/s)."""
+    left = wheels[:, 0] * wheel_radius
+    right = wheels[:, 1] * wheel_radius
+    return (left + right) * 0.5, (right - left) / axle
+
+
+def arc_step(poses: FloatArray, forward: FloatArray, turn: FloatArray, dt: float) -> FloatArray:
+    """Displacement (N×3: dx, dy, dtheta) of robots at ``poses`` moving along exact arcs."""
+    half = turn * (0.5 * dt)
+    chord = forward * dt * np.sinc(half / np.pi)
+    heading = poses[:, 2] + half
+    out = np.empty_like(poses)
+    out[:, 0] = chord * np.cos(heading)
+    out[:, 1] = chord * np.sin(heading)
+    out[:, 2] = turn * dt
+    return out
