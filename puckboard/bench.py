@@ -1,0 +1,347 @@
+"""Benchmarks: how fast the blackboard, the arbiter and the embedded simulator run.
+
+``puckboard bench`` runs the suites in :data:`SUITES`. A suite is a function
+``run_suite(steps: int | None) -> dict`` named as ``"module:function"`` so that other
+parts of puckboard (or a user's package) can add their own; a suite whose module is not
+installed is skipped with a note, not an error.
+
+Every figure is the median over several repeats after a warm-up, timed with
+``time.perf_counter``; results carry the number of repeats and the machine so they can be
+compared honestly. Benchmarks are never pass/fail tests.
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+import math
+import os
+import platform
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from typing import Any
+
+__all__ = ["SUITES", "machine", "run_suites", "sim_suite"]
+
+log = logging.getLogger(__name__)
+
+#: Suite name → ``"module:function"``; the function takes ``steps`` (or None for its
+#: default) and returns a dict of results.
+SUITES: dict[str, str] = {
+    "core": "puckboard.bench:core_suite",
+    "sim": "puckboard.bench:sim_suite",
+    "coppeliasim": "puckboard.remote.perf:run_suite",
+    "sweep": "puckboard.sweep.bench:run_suite",
+    "estimation": "puckboard.estimation.bench:run_suite",
+}
+
+#: Suites run when none is named.
+DEFAULT_SUITES: tuple[str, ...] = ("core", "sim")
+
+REPEATS = 5
+
+
+def machine() -> dict[str, Any]:
+    """What the figures were measured on."""
+    import numpy as np
+
+    return {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "platform": platform.platform(terse=True),
+        "processor": platform.processor() or platform.machine(),
+        "cpus": os.cpu_count(),
+    }
+
+
+def resolve_suite(name: str) -> Callable[[int | None], dict[str, Any]]:
+    """The function behind suite ``name``; ImportError if its module is missing."""
+    try:
+        target = SUITES[name]
+    except KeyError:
+        raise KeyError(f"unknown benchmark suite {name!r}; suites: {', '.join(SUITES)}") from None
+    module_name, _, attr = target.partition(":")
+    module = importlib.import_module(module_name)
+    return getattr(module, attr)  # type: ignore[no-any-return]
+
+
+def run_suites(names: list[str], steps: int | None = None) -> dict[str, Any]:
+    """Run the named suites; a suite whose module is absent gets ``{"skipped": reason}``."""
+    results: dict[str, Any] = {"machine": machine(), "suites": {}}
+    for name in names:
+        try:
+            fn = resolve_suite(name)
+        except ImportError as exc:
+            results["suites"][name] = {"skipped": f"module not available ({exc})"}
+            continue
+        except AttributeError as exc:
+            results["suites"][name] = {"skipped": f"suite function not available ({exc})"}
+            continue
+        results["suites"][name] = fn(steps)
+    return results
+
+
+# -- timing helpers ------------------------------------------------------------------------
+def _median_us(fn: Callable[[], Any], calls: int, repeats: int = REPEATS) -> float:
+    """Median over ``repeats`` of the mean time per call (µs) of ``calls`` calls."""
+    for _ in range(min(calls, 200)):  # warm-up
+        fn()
+    per_call = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(calls):
+            fn()
+        per_call.append((time.perf_counter() - t0) / calls * 1e6)
+    return statistics.median(per_call)
+
+
+# -- core: blackboard and arbiter next to py_trees ------------------------------------------
+def core_suite(steps: int | None = None) -> dict[str, Any]:
+    """Blackboard put+get and a 4-layer arbiter tick, each next to its py_trees equivalent."""
+    import numpy as np
+    import py_trees
+
+    from .adapters.base import declare_robot_keys
+    from .behaviours import load_controller
+    from .blackboard import Blackboard
+    from .records import Ground, Pose, Proximity, Sensor
+
+    calls = steps or 5000
+    out: dict[str, Any] = {"calls_per_repeat": calls, "repeats": REPEATS}
+
+    board = Blackboard()
+    value = 1.0
+
+    def bb_put_get() -> None:
+        board.put("robot/x", value)
+        board.get("robot/x")
+
+    out["blackboard_put_get_us"] = _median_us(bb_put_get, calls)
+
+    py_trees.blackboard.Blackboard.clear()
+    client = py_trees.blackboard.Client(name="bench")
+    client.register_key("x", access=py_trees.common.Access.WRITE)
+
+    def pt_set_get() -> None:
+        client.set("x", value)
+        client.get("x")
+
+    out["py_trees_client_set_get_us"] = _median_us(pt_set_get, calls)
+
+    # the improved controller (4 layers) ticking on a namespace of fresh records
+    board2 = Blackboard(clock=lambda: 0.0)
+    ns = board2.namespace("epuck")
+    declare_robot_keys(ns)
+    prox = Proximity(np.array([0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05]), np.zeros(8))
+    ns.put_many(
+        {
+            Sensor.PROXIMITY.key: prox,
+            Sensor.GROUND.key: Ground(np.array([0.9, 0.1, 0.9]), np.array([920.0, 100, 920])),
+            Sensor.POSE.key: Pose(0.0, 0.0, 0.0),
+        },
+        stamp=0.0,
+    )
+    controller = load_controller("improved")
+    out["arbiter_tick_us"] = _median_us(lambda: controller.tick(ns), calls)
+    out["arbiter_layers"] = len(controller.layers)
+    out["arbiter_active_layer"] = controller.active_layer
+
+    # the same shape in plain py_trees: 4 children reading via a Client, writing a command
+    py_trees.blackboard.Blackboard.clear()
+    writer = py_trees.blackboard.Client(name="sensors")
+    writer.register_key("ground", access=py_trees.common.Access.WRITE)
+    writer.register_key("proximity", access=py_trees.common.Access.WRITE)
+    writer.set("ground", (0.9, 0.1, 0.9))
+    writer.set("proximity", tuple([0.05] * 8))
+
+    class _Layer(py_trees.behaviour.Behaviour):
+        def __init__(self, name: str, key: str, wants: Callable[[Any], bool]) -> None:
+            super().__init__(name)
+            self.key = key
+            self.wants = wants
+            self.bb = self.attach_blackboard_client(name=name)
+            self.bb.register_key(key, access=py_trees.common.Access.READ)
+            self.bb.register_key("cmd", access=py_trees.common.Access.WRITE)
+
+        def update(self) -> py_trees.common.Status:
+            reading = self.bb.get(self.key)
+            if not self.wants(reading):
+                return py_trees.common.Status.FAILURE
+            self.bb.set("cmd", (1.0, 1.0))
+            return py_trees.common.Status.RUNNING
+
+    children = [
+        _Layer("avoid", "proximity", lambda p: min(p[0], p[7]) < 0.05),
+        _Layer("line", "ground", lambda g: min(g) < 0.5),
+        _Layer("wall", "proximity", lambda p: p[2] < 0.05),
+        _Layer("cruise", "ground", lambda g: True),
+    ]
+    root = py_trees.composites.Selector("arbiter", memory=False, children=children)
+    tree = py_trees.trees.BehaviourTree(root)
+    tree.setup()
+    out["py_trees_selector_tick_us"] = _median_us(tree.tick, calls)
+    py_trees.blackboard.Blackboard.clear()
+    return out
+
+
+# -- sim: the two-robot pass with the full stack --------------------------------------------
+def _bench_scene() -> Any:
+    try:
+        from .sim.scenefile import load_scene
+
+        return load_scene("two-robot-pass")
+    except (ImportError, ValueError, OSError) as exc:
+        log.warning("two-robot-pass not available (%s); using a small built-in scene", exc)
+    import numpy as np
+
+    from .sim.scene import CircleObstacle, RobotSpec, Scene, Track
+
+    a = np.linspace(0.0, 2 * math.pi, 120, endpoint=False)
+    track = Track(np.column_stack([0.6 * np.cos(a), 0.35 * np.sin(a)]), width=0.02)
+    return Scene(
+        "two-robot-pass (built-in)",
+        robots=(
+            RobotSpec("left", -0.6, 0.0, math.pi / 2),
+            RobotSpec("right", 0.6, 0.0, -math.pi / 2, colour=(40, 60, 200)),
+        ),
+        track=track,
+        obstacles=(CircleObstacle(0.0, 0.35, 0.025), CircleObstacle(0.0, -0.35, 0.025)),
+    )
+
+
+def _build_stack(scene: Any, seed: int = 0) -> tuple[Any, Any]:
+    from .adapters.embedded import EmbeddedAdapter
+    from .behaviours import load_controller
+    from .blackboard import Blackboard
+    from .control.loop import ControlLoop
+    from .sim.world import World
+
+    world = World(scene, seed=seed)
+    board = Blackboard(clock=lambda: world.time)
+    bindings = []
+    for i, spec in enumerate(scene.robots):
+        adapter = EmbeddedAdapter(world, i, blackboard=board)
+        bindings.append((adapter, load_controller(spec.controller or "improved")))
+    return world, ControlLoop(bindings)
+
+
+def sim_suite(steps: int | None = None) -> dict[str, Any]:
+    """The two-robot pass, full stack, camera off: speed and where each step's time goes."""
+    scene = _bench_scene()
+    n_steps = steps or 2000
+    dt = scene.dt
+    out: dict[str, Any] = {
+        "scene": scene.name,
+        "robots": len(scene.robots),
+        "dt_s": dt,
+        "steps_per_repeat": n_steps,
+        "repeats": REPEATS,
+    }
+
+    # whole cycles through ControlLoop, fresh stack each repeat
+    rates = []
+    for _ in range(REPEATS):
+        world, loop = _build_stack(scene)
+        for _ in range(20):
+            loop.cycle()
+        t0 = time.perf_counter()
+        for _ in range(n_steps):
+            loop.cycle()
+        rates.append(n_steps / (time.perf_counter() - t0))
+        loop.close()
+    rate = statistics.median(rates)
+    out["steps_per_s"] = rate
+    out["steps_per_s_min_max"] = [min(rates), max(rates)]
+    out["realtime_factor"] = rate * dt
+    out["us_per_step"] = 1e6 / rate
+
+    # the same cycle by hand, timing each phase
+    sense, arbitrate, physics, models = [], [], [], []
+    for _ in range(REPEATS):
+        world, loop = _build_stack(scene)
+        bindings = loop.bindings
+        for _ in range(20):
+            loop.cycle()
+        ts = ta = tp = 0.0
+        clock = time.perf_counter
+        for _ in range(n_steps):
+            t0 = clock()
+            for b in bindings:
+                b.adapter.sense_all()
+            t1 = clock()
+            for b in bindings:
+                cmd = b.controller.tick(b.adapter.ns)
+                b.adapter.set_wheel_speeds(cmd.left, cmd.right)
+            t2 = clock()
+            world.step()
+            t3 = clock()
+            ts += t1 - t0
+            ta += t2 - t1
+            tp += t3 - t2
+        sense.append(ts / n_steps * 1e6)
+        arbitrate.append(ta / n_steps * 1e6)
+        physics.append(tp / n_steps * 1e6)
+        models.append(_median_us(lambda w=world: w._sense(None), min(n_steps, 1000), 1))
+        loop.close()
+    out["cost_us_per_step"] = {
+        "sensing (adapter records + blackboard)": statistics.median(sense),
+        "arbitration (py_trees tick + wheel command)": statistics.median(arbitrate),
+        "physics (world.step: kinematics, contacts, sensor models)": statistics.median(physics),
+        "  of which sensor models (IR rays, ground)": statistics.median(models),
+    }
+
+    # camera, per frame, one robot
+    world, loop = _build_stack(scene)
+    width, height = scene.camera_size
+    out["camera_size"] = [width, height]
+    out["camera_us_per_frame"] = _median_us(lambda: world.camera(0), 300)
+    big = (160, 120)
+    out["camera_160x120_us_per_frame"] = _median_us(lambda: world.camera(0, big), 100)
+    loop.close()
+    return out
+
+
+# -- output ------------------------------------------------------------------------------
+def format_results(results: dict[str, Any]) -> str:
+    """A readable table of :func:`run_suites` results."""
+    lines = []
+    m = results.get("machine", {})
+    lines.append(
+        f"machine: {m.get('platform')} · {m.get('cpus')} CPUs · Python {m.get('python')} · "
+        f"numpy {m.get('numpy')}"
+    )
+    for name, res in results.get("suites", {}).items():
+        lines.append("")
+        lines.append(f"[{name}]")
+        if "skipped" in res:
+            lines.append(f"  skipped: {res['skipped']}")
+            continue
+        _format_items(res, lines, indent="  ")
+    return "\n".join(lines)
+
+
+def _format_items(res: dict[str, Any], lines: list[str], indent: str) -> None:
+    width = max((len(k) for k in res), default=0)
+    for key, value in res.items():
+        if isinstance(value, dict):
+            lines.append(f"{indent}{key}:")
+            _format_items(value, lines, indent + "  ")
+        else:
+            lines.append(f"{indent}{key:<{width}}  {_fmt(value)}")
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, float):
+        if value == 0 or 0.01 <= abs(value) < 1e6:
+            return f"{value:,.2f}"
+        return f"{value:.3g}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_fmt(v) for v in value) + "]"
+    return str(value)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    logging.basicConfig(level=logging.INFO)
+    sys.stdout.write(format_results(run_suites(list(DEFAULT_SUITES))) + "\n")
