@@ -1,0 +1,229 @@
+"""``puckboard sweep``: many episodes over controllers × seeds × parameters, summarised.
+
+Runs on all local cores by default, or on an existing Dask cluster with ``--scheduler``.
+See ``docs/sweeps.md`` for tuning a gain, grading a class and resuming long sweeps.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from . import CliError
+
+DEFAULT_SCENARIO = "two-robot-pass"
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    parser = subparsers.add_parser(
+        "sweep",
+        help="run many episodes (seeds × parameters × controllers) and summarise success",
+        description=(
+            "Run every combination of controller × parameter values × seed with the embedded "
+            "simulator, on all local cores or on a Dask cluster, and report each combination's "
+            "success rate with a 95%% Wilson confidence interval, its failures by name, and "
+            "mean progress and collisions. Several controllers are ranked. --out appends one "
+            "row per episode to a CSV or Parquet file; re-running skips the rows already there."
+        ),
+        epilog=(
+            "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
+            "noise.start_jitter, dt, duration, layer.<LayerName>.<attribute>. Example: "
+            "puckboard sweep two-robot-pass --controller stock --controller improved "
+            "--seeds 0:50 --set noise.proximity=0,0.05,0.1 --out runs.csv"
+        ),
+    )
+    parser.add_argument(
+        "scenario",
+        nargs="?",
+        default=DEFAULT_SCENARIO,
+        metavar="SCENARIO | SCENE_FILE",
+        help=f"shipped scene name or a .toml/.json scene file (default: {DEFAULT_SCENARIO})",
+    )
+    parser.add_argument(
+        "--controller",
+        action="append",
+        default=[],
+        metavar="SPEC",
+        help="controller for every robot: stock, improved, MODULE:FACTORY or FILE.py:FACTORY "
+        "(repeatable; default: each robot's controller from the scene)",
+    )
+    parser.add_argument(
+        "--controllers-dir",
+        type=Path,
+        metavar="DIR",
+        help="grade every DIR/*.py defining make_controller(**params) (files starting with _ "
+        "are skipped)",
+    )
+    parser.add_argument(
+        "--seeds",
+        default="0:10",
+        metavar="A:B",
+        help="seeds as a Python range, A included, B excluded (default: 0:10)",
+    )
+    parser.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        metavar="PARAM=V1,V2,...",
+        help="sweep a parameter over values (repeatable; see the list below)",
+    )
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers", type=int, metavar="N", help="local worker processes (default: all CPUs)"
+    )
+    where.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (needs puckboard[dask])",
+    )
+    parser.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="simulated seconds per episode (default: scene's)",
+    )
+    parser.add_argument(
+        "--batch-size",
+        type=int,
+        metavar="N",
+        help="episodes per task (default: automatic, at most 8)",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        metavar="FILE",
+        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already there",
+    )
+    parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    parser.add_argument(
+        "--plot",
+        type=Path,
+        metavar="FILE",
+        help="plot success rate against a swept parameter (.png, .svg, .pdf; needs matplotlib)",
+    )
+    parser.add_argument(
+        "--plot-param",
+        metavar="PARAM",
+        help="parameter for the plot's x axis (default: the first --set with several values)",
+    )
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    parser.set_defaults(func=main)
+
+
+def _scene(ref: str):  # type: ignore[no-untyped-def]
+    from ..sim.scenefile import load_scene
+
+    try:
+        return load_scene(ref)
+    except (ValueError, OSError) as exc:
+        raise CliError(str(exc)) from exc
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..sweep import (
+        DaskExecutor,
+        LocalExecutor,
+        PlanError,
+        SweepPlan,
+        check_plan,
+        controllers_in_dir,
+        make_progress,
+        open_store,
+        run_sweep,
+    )
+    from ..sweep.summary import format_groups, format_ranking
+
+    scene = _scene(args.scenario)
+    controllers = list(args.controller)
+    if args.controllers_dir is not None:
+        try:
+            controllers += controllers_in_dir(args.controllers_dir)
+        except ValueError as exc:
+            raise CliError(str(exc)) from exc
+    if args.duration is not None and not args.duration > 0:
+        raise CliError(f"--duration must be positive (simulated seconds), got {args.duration}")
+    if args.batch_size is not None and args.batch_size < 1:
+        raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
+    if args.workers is not None and args.workers < 1:
+        raise CliError(f"--workers must be at least 1, got {args.workers}")
+    fixed = {} if args.duration is None else {"duration": args.duration}
+    try:
+        plan = SweepPlan.from_specs(
+            scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
+        )
+        warnings = check_plan(plan, scene)
+    except PlanError as exc:
+        raise CliError(str(exc)) from exc
+    for warning in warnings:
+        print(
+            f"puckboard sweep: warning: {warning} (its episodes count as 'error')", file=sys.stderr
+        )
+
+    plot_param = args.plot_param or (plan.swept[0] if plan.swept else None)
+    if args.plot is not None:
+        if plot_param is None:
+            raise CliError("--plot needs a parameter swept over several values (--set PARAM=V1,V2)")
+        if plot_param not in plan.grid and plot_param not in plan.fixed:
+            raise CliError(f"--plot-param {plot_param!r} is not a parameter of this sweep")
+
+    try:
+        store = open_store(args.out) if args.out is not None else None
+    except (ValueError, ImportError, OSError) as exc:
+        raise CliError(str(exc)) from exc
+
+    try:
+        executor = DaskExecutor(args.scheduler) if args.scheduler else LocalExecutor(args.workers)
+    except (ImportError, ConnectionError, ValueError) as exc:
+        raise CliError(str(exc)) from exc
+
+    progress = make_progress(enabled=not args.quiet)
+    try:
+        result = run_sweep(
+            plan,
+            scene,
+            executor=executor,
+            store=store,
+            batch_size=args.batch_size,
+            progress=progress,
+        )
+    finally:
+        executor.close()
+        if store is not None:
+            store.close()
+
+    groups = result.groups()
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2))
+    else:
+        counts = (
+            f"{result.ran} run, {result.skipped} already in {args.out}"
+            if store
+            else f"{result.ran} run"
+        )
+        print(
+            f"{plan.scenario}: {len(result.outcomes)} of {len(plan)} episodes ({counts}), "
+            f"{result.wall_s:.1f} s"
+        )
+        print()
+        print(format_groups(groups))
+        if len(plan.controllers) > 1:
+            print()
+            print("ranking (all parameter values pooled):")
+            print(format_ranking(result.ranking()))
+    if args.plot is not None and plot_param is not None and groups:
+        from ..sweep.plot import plot_success
+
+        plot_success(groups, plot_param, args.plot, title=plan.scenario)
+        if not args.json:
+            print(f"\nplot written to {args.plot}")
+    if result.interrupted:
+        print(
+            f"puckboard sweep: interrupted; {result.ran} episodes of this run kept"
+            + (f" in {args.out}; run the same command again to resume" if store else ""),
+            file=sys.stderr,
+        )
+        return 130
+    return 0

@@ -1,0 +1,45 @@
+"""Robustness sweeps and grading: many episodes, locally or on a Dask cluster.
+
+One lucky run proves little; a controller is judged by how often it succeeds over seeds,
+sensor noise and start poses. This package runs every combination of controller ×
+parameter values × seed (:class:`SweepPlan`) in local processes (:class:`LocalExecutor`)
+or on a Dask cluster (:class:`DaskExecutor`), writes one row per episode to a resumable
+CSV/Parquet file (:func:`open_store`) and summarises success rates with 95 % Wilson
+intervals (:func:`wilson_interval`, :class:`SweepResult`).
+
+Nothing heavy is imported here: Dask, pyarrow, rich and matplotlib load only when used.
+"""
+
+from __future__ import annotations
+
+from .discover import FACTORY_NAME, controllers_in_dir
+from .executors import DaskExecutor, LocalExecutor, SweepExecutor
+from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
+from .progress import make_progress
+from .run import SweepResult, check_plan, run_sweep
+from .stats import wilson_interval
+from .store import open_store
+from .summary import GroupSummary, rank_controllers, summarise
+
+__all__ = [
+    "FACTORY_NAME",
+    "PARAMETERS",
+    "SCENE_CONTROLLERS",
+    "DaskExecutor",
+    "EpisodeSpec",
+    "GroupSummary",
+    "LocalExecutor",
+    "PlanError",
+    "SweepExecutor",
+    "SweepPlan",
+    "SweepResult",
+    "check_plan",
+    "controllers_in_dir",
+    "episode_key",
+    "make_progress",
+    "open_store",
+    "rank_controllers",
+    "run_sweep",
+    "summarise",
+    "wilson_interval",
+]

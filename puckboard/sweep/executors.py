@@ -1,0 +1,255 @@
+"""Where batches of episodes run: local processes, or an existing Dask cluster.
+
+Both executors take the same picklable task — :func:`puckboard.sweep.worker.run_batch`
+with a scene and a list of episode specs — and yield each batch's rows as it finishes,
+in completion order. The sweep never depends on that order or on which worker ran a
+batch, so both executors give the same rows for the same plan.
+
+We deliberately schedule nothing ourselves: :class:`LocalExecutor` is a
+``concurrent.futures.ProcessPoolExecutor`` and :class:`DaskExecutor` hands the tasks to
+``dask.distributed``, which already does load balancing, worker loss and dashboards.
+
+Local workers are started with the ``spawn`` method on every platform. It is the only
+method on Windows and the default on macOS; using it on Linux too means a sweep behaves
+the same everywhere and never forks a parent holding threads (progress bar, Dask client).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import logging
+import multiprocessing
+import os
+import sys
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+from .worker import ignore_interrupts
+
+__all__ = ["DaskExecutor", "LocalExecutor", "SweepExecutor", "available_cpus"]
+
+log = logging.getLogger(__name__)
+
+# ProcessPoolExecutor refuses more than 61 workers on Windows (WaitForMultipleObjects).
+_WINDOWS_MAX_WORKERS = 61
+
+
+def available_cpus() -> int:
+    """CPUs this process may use (respects affinity masks and container limits)."""
+    count = getattr(os, "process_cpu_count", None)
+    if count is not None:
+        return max(1, count() or 1)
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)
+
+
+class SweepExecutor(ABC):
+    """Runs tasks ``fn(*args)`` and yields their results as they complete."""
+
+    #: How many tasks run at once (used to size batches).
+    workers: int
+
+    @abstractmethod
+    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+        """Submit every task; yield results in completion order.
+
+        Closing the iterator early (an exception, Ctrl-C in the consumer) cancels the
+        tasks that have not finished.
+        """
+
+    @abstractmethod
+    def cancel(self) -> None:
+        """Drop pending tasks and stop the running ones as fast as possible."""
+
+    @abstractmethod
+    def close(self) -> None:
+        """Release workers (and any cluster this executor started)."""
+
+    def runnable_controller(self, spec: str) -> str:
+        """The controller spec as workers can load it (see :class:`DaskExecutor`)."""
+        return spec
+
+    def __enter__(self) -> SweepExecutor:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class LocalExecutor(SweepExecutor):
+    """A pool of ``workers`` local processes (default: every available CPU)."""
+
+    def __init__(self, workers: int | None = None) -> None:
+        if workers is not None and workers < 1:
+            raise ValueError(f"--workers must be at least 1, got {workers}")
+        count = workers or available_cpus()
+        if sys.platform == "win32":
+            count = min(count, _WINDOWS_MAX_WORKERS)
+        self.workers = count
+        self._pool: cf.ProcessPoolExecutor | None = None
+        self._pending: list[cf.Future[Any]] = []
+
+    def _ensure_pool(self) -> cf.ProcessPoolExecutor:
+        if self._pool is None:
+            self._pool = cf.ProcessPoolExecutor(
+                max_workers=self.workers,
+                mp_context=multiprocessing.get_context("spawn"),
+                initializer=ignore_interrupts,
+            )
+        return self._pool
+
+    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+        pool = self._ensure_pool()
+        futures = [pool.submit(fn, *task) for task in tasks]
+        self._pending = futures
+        finished = False
+        try:
+            for future in cf.as_completed(futures):
+                yield future.result()
+            finished = True
+        finally:
+            if not finished:
+                self.cancel()
+            self._pending = []
+
+    def cancel(self) -> None:
+        for future in self._pending:
+            future.cancel()
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        pool.shutdown(wait=False, cancel_futures=True)
+        _stop_workers(pool)
+
+    def close(self) -> None:
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _stop_workers(pool: cf.ProcessPoolExecutor) -> None:
+    """Terminate a pool's processes so a cancelled sweep does not wait for running batches."""
+    terminate = getattr(pool, "terminate_workers", None)  # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    processes = dict(getattr(pool, "_processes", None) or {})
+    for process in processes.values():
+        if process.is_alive():
+            process.terminate()
+    for process in processes.values():
+        process.join(timeout=5)
+
+
+def _is_controller_file(spec: str) -> tuple[Path, str] | None:
+    module_part, sep, attr = spec.rpartition(":")
+    if not sep or not (module_part.endswith(".py") or "/" in module_part or "\\" in module_part):
+        return None
+    return Path(module_part), attr
+
+
+class DaskExecutor(SweepExecutor):
+    """Run tasks on a Dask cluster: an existing one at ``scheduler``, or a local one.
+
+    ``scheduler`` is an address such as ``tcp://10.0.0.5:8786`` (start a cluster with
+    ``dask scheduler`` and ``dask worker tcp://...`` on each machine; puckboard must be
+    installed on every worker). Without an address a ``LocalCluster`` of
+    ``local_workers`` single-threaded worker processes is started here and shut down by
+    :meth:`close` — handy for tests and benchmarks.
+
+    Controllers given as ``path/file.py:factory`` are uploaded to an external cluster's
+    workers (``Client.upload_file``), since those machines may not see our files.
+    """
+
+    def __init__(
+        self,
+        scheduler: str | None = None,
+        *,
+        local_workers: int | None = None,
+        timeout: float = 30.0,
+    ) -> None:
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError as exc:
+            raise ImportError(
+                "running on a Dask cluster needs dask.distributed: pip install 'puckboard[dask]'"
+            ) from exc
+        self.scheduler = scheduler
+        self._cluster: Any = None
+        try:
+            if scheduler is None:
+                self._cluster = LocalCluster(
+                    n_workers=local_workers or available_cpus(),
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    host="127.0.0.1",
+                )
+                self.client = Client(self._cluster)
+            else:
+                self.client = Client(scheduler, timeout=timeout)
+            self.client.wait_for_workers(1, timeout=timeout)
+        except (OSError, TimeoutError) as exc:
+            self._shutdown()
+            where = scheduler or "a local cluster"
+            raise ConnectionError(
+                f"cannot use the Dask scheduler at {where}: {exc}. Is it running and are "
+                "workers connected? (dask scheduler; dask worker ADDRESS)"
+            ) from exc
+        self.workers = max(1, sum(self.client.nthreads().values()))
+        self._futures: list[Any] = []
+        self._uploaded: dict[str, str] = {}
+
+    def runnable_controller(self, spec: str) -> str:
+        found = _is_controller_file(spec)
+        if found is None or self._cluster is not None:
+            return spec
+        if spec not in self._uploaded:
+            path, attr = found
+            module = path.stem
+            clash = [s for s, m in self._uploaded.items() if m.split(":")[0] == module]
+            if clash:
+                raise ValueError(
+                    f"controller files {clash[0]!r} and {spec!r} share the module name "
+                    f"{module!r}; rename one to run both on a remote cluster"
+                )
+            self.client.upload_file(str(path))
+            self._uploaded[spec] = f"{module}:{attr}"
+        return self._uploaded[spec]
+
+    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+        from dask.distributed import as_completed
+
+        futures = [self.client.submit(fn, *task, pure=False) for task in tasks]
+        self._futures = futures
+        finished = False
+        try:
+            for future in as_completed(futures):
+                yield future.result()
+                future.release()
+            finished = True
+        finally:
+            if not finished:
+                self.cancel()
+            self._futures = []
+
+    def cancel(self) -> None:
+        if self._futures:
+            self.client.cancel(self._futures)
+            self._futures = []
+
+    def close(self) -> None:
+        self.cancel()
+        self._shutdown()
+
+    def _shutdown(self) -> None:
+        client = getattr(self, "client", None)
+        if client is not None:
+            client.close()
+            self.client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None

@@ -1,0 +1,271 @@
+"""The sweep plan: every combination of controller × parameter values × seed.
+
+A plan is plain data, built from the command line (``--seeds A:B``, ``--set PARAM=V1,V2``)
+or from Python, so that the same plan can be run on local processes or on a Dask cluster
+and give the same episodes. Each episode is identified by scenario + controller + seed +
+parameter values (:func:`episode_key`); that identity is what makes ``--out`` files
+resumable, so it must not depend on the order in which episodes ran or where.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import re
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = [
+    "PARAMETERS",
+    "SCENE_CONTROLLERS",
+    "EpisodeSpec",
+    "PlanError",
+    "SweepPlan",
+    "check_parameter",
+    "episode_key",
+    "parse_seeds",
+    "parse_set",
+    "parse_value",
+]
+
+#: Controller spec meaning "each robot keeps the controller its scene names".
+SCENE_CONTROLLERS = "scene"
+
+#: Parameters ``run_episode(overrides=...)`` understands, besides ``layer.<Layer>.<attr>``.
+PARAMETERS: dict[str, str] = {
+    "noise.wheel_speed": "relative σ of each wheel's actual speed",
+    "noise.proximity": "relative σ of the raw IR proximity values",
+    "noise.ground": "absolute σ of the 0..1 ground sensor values",
+    "noise.start_jitter": "σ of the start position (m) and heading (rad)",
+    "dt": "simulation step (s)",
+    "duration": "episode length in simulated seconds",
+}
+
+_LAYER_PARAM = re.compile(r"^layer\.([A-Za-z_][\w-]*)\.([A-Za-z_]\w*)$")
+_POSITIVE = {"dt", "duration"}
+
+
+class PlanError(ValueError):
+    """A malformed sweep specification; the message says what was wrong and how to fix it."""
+
+
+@dataclass(frozen=True)
+class EpisodeSpec:
+    """One episode to run: which controller, which seed, which parameter values.
+
+    ``params`` is a tuple of ``(name, value)`` pairs sorted by name, so specs hash and
+    compare by value and travel cheaply to worker processes.
+    """
+
+    controller: str
+    seed: int
+    params: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def param_dict(self) -> dict[str, Any]:
+        return dict(self.params)
+
+    def key(self, scenario: str) -> str:
+        return episode_key(scenario, self.controller, self.seed, self.param_dict)
+
+
+def _canonical(value: Any) -> Any:
+    # 2 and 2.0 are the same setting; a resumed sweep must recognise either spelling.
+    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
+        return int(value)
+    return value
+
+
+def episode_key(scenario: str, controller: str, seed: int, params: Mapping[str, Any]) -> str:
+    """The identity of an episode as one canonical string (stored in the ``key`` column)."""
+    canonical = {name: _canonical(params[name]) for name in sorted(params)}
+    return json.dumps(
+        {"scenario": scenario, "controller": controller, "seed": int(seed), "params": canonical},
+        sort_keys=True,
+        separators=(",", ":"),
+    )
+
+
+def parse_value(text: str) -> bool | int | float | str:
+    """``true``/``false`` → bool, then int, then float, else the string itself.
+
+    Quote a value (``'3'`` or ``"3"``) to keep it a string.
+    """
+    stripped = text.strip()
+    if len(stripped) >= 2 and stripped[0] == stripped[-1] and stripped[0] in "'\"":
+        return stripped[1:-1]
+    lowered = stripped.lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        return int(stripped)
+    except ValueError:
+        pass
+    try:
+        return float(stripped)
+    except ValueError:
+        return stripped
+
+
+def check_parameter(name: str) -> str:
+    """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
+    if name in PARAMETERS or _LAYER_PARAM.match(name):
+        return name
+    known = ", ".join(PARAMETERS)
+    raise PlanError(
+        f"unknown parameter {name!r}; use one of {known}, or layer.<LayerName>.<attribute> "
+        "(e.g. layer.LineFollow.inner_factor)"
+    )
+
+
+def _check_value(name: str, value: Any) -> None:
+    if name.startswith("layer."):
+        return
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise PlanError(f"parameter {name} needs numbers, got {value!r}")
+    if not math.isfinite(value):
+        raise PlanError(f"parameter {name} needs finite numbers, got {value!r}")
+    if name in _POSITIVE and value <= 0:
+        raise PlanError(f"parameter {name} must be positive (s), got {value!r}")
+    if name.startswith("noise.") and value < 0:
+        raise PlanError(f"parameter {name} is a standard deviation and cannot be negative")
+
+
+def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
+    """Parse ``PARAM=V1,V2,...`` into ``(PARAM, (v1, v2, ...))``."""
+    name, sep, values_text = spec.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise PlanError(
+            f"--set {spec!r}: expected PARAM=V1,V2,... (e.g. noise.proximity=0,0.05,0.1)"
+        )
+    check_parameter(name)
+    parts = [p for p in (v.strip() for v in values_text.split(",")) if p]
+    if not parts:
+        raise PlanError(f"--set {spec!r}: no values after '='; give one or more, comma-separated")
+    values = tuple(parse_value(p) for p in parts)
+    for value in values:
+        _check_value(name, value)
+    seen: set[str] = set()
+    for value in values:
+        canon = json.dumps(_canonical(value))
+        if canon in seen:
+            raise PlanError(f"--set {spec!r}: value {value!r} is listed twice")
+        seen.add(canon)
+    return name, values
+
+
+def parse_seeds(spec: str) -> range:
+    """Parse ``A:B`` (or ``A:B:STEP``) as Python's ``range(A, B[, STEP])``: A in, B out."""
+    parts = spec.split(":")
+    if len(parts) not in (2, 3):
+        raise PlanError(
+            f"--seeds {spec!r}: expected A:B, a Python range with A included and B excluded "
+            "(e.g. 0:20 for seeds 0..19)"
+        )
+    try:
+        numbers = [int(p) for p in parts]
+    except ValueError:
+        raise PlanError(f"--seeds {spec!r}: A, B (and STEP) must be whole numbers") from None
+    if len(numbers) == 3 and numbers[2] == 0:
+        raise PlanError(f"--seeds {spec!r}: STEP cannot be 0")
+    seeds = range(*numbers)
+    if len(seeds) == 0:
+        raise PlanError(f"--seeds {spec!r} is empty; B must be greater than A (e.g. 0:10)")
+    if min(seeds) < 0:
+        raise PlanError(f"--seeds {spec!r}: seeds cannot be negative")
+    return seeds
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """What to run: ``controllers`` × product of ``grid`` values × ``seeds``.
+
+    ``fixed`` parameters apply to every episode (``--duration`` becomes
+    ``fixed={"duration": S}``) and are part of each episode's identity, so a longer
+    re-run is never mistaken for the shorter one already in the output file.
+    """
+
+    scenario: str
+    controllers: tuple[str, ...] = (SCENE_CONTROLLERS,)
+    seeds: range = range(10)
+    grid: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not self.controllers:
+            raise PlanError("a sweep needs at least one controller")
+        if len(set(self.controllers)) != len(self.controllers):
+            raise PlanError(f"controller listed twice in {list(self.controllers)}")
+        if len(self.seeds) == 0:
+            raise PlanError("a sweep needs at least one seed")
+        for name, values in self.grid.items():
+            check_parameter(name)
+            if not values:
+                raise PlanError(f"parameter {name} has no values")
+            for value in values:
+                _check_value(name, value)
+        for name, value in self.fixed.items():
+            check_parameter(name)
+            _check_value(name, value)
+            if name in self.grid:
+                raise PlanError(f"parameter {name} is both swept and fixed; give it once")
+        object.__setattr__(self, "controllers", tuple(self.controllers))
+        object.__setattr__(self, "grid", {k: tuple(v) for k, v in self.grid.items()})
+        object.__setattr__(self, "fixed", dict(self.fixed))
+
+    @classmethod
+    def from_specs(
+        cls,
+        scenario: str,
+        *,
+        controllers: Sequence[str] = (),
+        seeds: str | range = "0:10",
+        sets: Iterable[str] = (),
+        fixed: Mapping[str, Any] | None = None,
+    ) -> SweepPlan:
+        """Build a plan from command-line style strings, with errors naming the bad one."""
+        grid: dict[str, tuple[Any, ...]] = {}
+        for spec in sets:
+            name, values = parse_set(spec)
+            if name in grid:
+                raise PlanError(
+                    f"--set {name} given twice; list all its values once: {name}=V1,V2,..."
+                )
+            grid[name] = values
+        seed_range = parse_seeds(seeds) if isinstance(seeds, str) else seeds
+        return cls(
+            scenario=scenario,
+            controllers=tuple(controllers) or (SCENE_CONTROLLERS,),
+            seeds=seed_range,
+            grid=grid,
+            fixed=dict(fixed or {}),
+        )
+
+    def combinations(self) -> list[dict[str, Any]]:
+        """Every parameter combination (fixed parameters included), in grid order."""
+        names = list(self.grid)
+        combos = []
+        for values in itertools.product(*(self.grid[n] for n in names)):
+            combo = dict(self.fixed)
+            combo.update(zip(names, values))
+            combos.append(combo)
+        return combos
+
+    def episodes(self) -> Iterator[EpisodeSpec]:
+        """Every episode, grouped by controller, then parameters, then seed."""
+        for controller in self.controllers:
+            for combo in self.combinations():
+                params = tuple(sorted(combo.items()))
+                for seed in self.seeds:
+                    yield EpisodeSpec(controller, seed, params)
+
+    def __len__(self) -> int:
+        return len(self.controllers) * len(self.combinations()) * len(self.seeds)
+
+    @property
+    def swept(self) -> tuple[str, ...]:
+        """Names of parameters that take more than one value."""
+        return tuple(n for n, v in self.grid.items() if len(v) > 1)

@@ -1,0 +1,140 @@
+"""Progress of a sweep with an estimate of the time left.
+
+On a terminal with ``rich`` installed this is a live bar; otherwise (a pipe, a CI log,
+no rich) a plain line every few seconds, so logs stay readable. Both write to ``stderr``
+so ``--json`` output on ``stdout`` stays one clean object.
+
+The estimate is the simplest honest one: remaining episodes × elapsed time per finished
+episode of *this* run (episodes skipped because they were already in ``--out`` do not
+count towards the speed).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Any, Protocol, TextIO
+
+__all__ = ["NullProgress", "PlainProgress", "Progress", "RichProgress", "make_progress"]
+
+
+class Progress(Protocol):
+    def start(self, total: int, done: int = 0) -> None: ...
+    def advance(self, n: int) -> None: ...
+    def close(self) -> None: ...
+
+
+class NullProgress:
+    """No output (``--quiet``, library use)."""
+
+    def start(self, total: int, done: int = 0) -> None:
+        pass
+
+    def advance(self, n: int) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def _clock(seconds: float) -> str:
+    seconds = max(0, round(seconds))
+    hours, rest = divmod(seconds, 3600)
+    minutes, secs = divmod(rest, 60)
+    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"
+
+
+class PlainProgress:
+    """One line per ``every`` seconds (and a last one), for pipes and logs."""
+
+    def __init__(self, stream: TextIO | None = None, every: float = 5.0) -> None:
+        self.stream = stream or sys.stderr
+        self.every = every
+        self.total = self.done = self.skipped = 0
+        self._t0 = self._last = 0.0
+
+    def start(self, total: int, done: int = 0) -> None:
+        self.total, self.done, self.skipped = total, done, done
+        self._t0 = self._last = time.monotonic()
+        if done:
+            self.stream.write(f"sweep: {done}/{total} episodes already in the output file\n")
+            self.stream.flush()
+
+    def eta(self) -> float | None:
+        ran = self.done - self.skipped
+        if ran <= 0:
+            return None
+        elapsed = time.monotonic() - self._t0
+        return elapsed / ran * (self.total - self.done)
+
+    def advance(self, n: int) -> None:
+        self.done += n
+        now = time.monotonic()
+        if now - self._last >= self.every or self.done >= self.total:
+            self._last = now
+            self._write()
+
+    def _write(self) -> None:
+        eta = self.eta()
+        left = "?" if eta is None else _clock(eta)
+        percent = 100.0 * self.done / self.total if self.total else 100.0
+        self.stream.write(
+            f"sweep: {self.done}/{self.total} episodes ({percent:.0f} %), "
+            f"elapsed {_clock(time.monotonic() - self._t0)}, left ~{left}\n"
+        )
+        self.stream.flush()
+
+    def close(self) -> None:
+        pass
+
+
+class RichProgress:
+    """A ``rich`` progress bar with elapsed and remaining time."""
+
+    def __init__(self, stream: TextIO | None = None) -> None:
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+        from rich.progress import Progress as Bar
+
+        self._bar: Any = Bar(
+            TextColumn("sweep"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("episodes"),
+            TimeElapsedColumn(),
+            TextColumn("left"),
+            TimeRemainingColumn(),
+            console=Console(file=stream or sys.stderr),
+            transient=False,
+        )
+        self._task: Any = None
+
+    def start(self, total: int, done: int = 0) -> None:
+        self._bar.start()
+        # Skipped episodes start the bar as done; rich estimates speed only from advances.
+        self._task = self._bar.add_task("sweep", total=total, completed=done)
+
+    def advance(self, n: int) -> None:
+        self._bar.advance(self._task, n)
+
+    def close(self) -> None:
+        self._bar.stop()
+
+
+def make_progress(enabled: bool = True, stream: TextIO | None = None) -> Progress:
+    """The best progress display for ``stream`` (default ``stderr``)."""
+    if not enabled:
+        return NullProgress()
+    stream = stream or sys.stderr
+    if stream.isatty():
+        try:
+            return RichProgress(stream)
+        except ImportError:
+            pass
+    return PlainProgress(stream)

@@ -1,0 +1,202 @@
+"""Run a sweep: skip what the output file already holds, batch the rest, collect rows.
+
+:func:`run_sweep` is the whole pipeline the ``puckboard sweep`` command uses::
+
+    plan --(minus rows already in --out)--> batches --executor--> rows --> store, summary
+
+Batches amortise the per-task cost (pickling the scene, a round trip to the scheduler)
+over several episodes, yet stay small enough that every worker gets several batches
+(load balancing at the end of a sweep) and that Ctrl-C loses little: rows are written
+as each batch finishes, and on Ctrl-C pending batches are cancelled and running ones
+stopped; what finished stays in the file, and the next run resumes from there.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from .executors import LocalExecutor, SweepExecutor
+from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan
+from .progress import NullProgress, Progress
+from .rows import Outcome
+from .store import ResultStore
+from .summary import GroupSummary, rank_controllers, summarise
+from .worker import run_batch
+
+__all__ = ["MAX_BATCH", "SweepResult", "check_plan", "make_batches", "run_sweep"]
+
+log = logging.getLogger(__name__)
+
+#: Largest automatic batch: bounds the work lost to Ctrl-C and keeps progress moving.
+MAX_BATCH = 8
+#: Automatic batches aim at this many tasks per worker, for load balancing.
+TASKS_PER_WORKER = 4
+
+
+def make_batches(
+    specs: Sequence[EpisodeSpec], workers: int, batch_size: int | None = None
+) -> list[list[EpisodeSpec]]:
+    """Split ``specs`` into consecutive batches (automatic size unless ``batch_size``)."""
+    if batch_size is None:
+        batch_size = min(MAX_BATCH, max(1, math.ceil(len(specs) / (workers * TASKS_PER_WORKER))))
+    if batch_size < 1:
+        raise ValueError(f"batch size must be at least 1, got {batch_size}")
+    return [list(specs[i : i + batch_size]) for i in range(0, len(specs), batch_size)]
+
+
+@dataclass
+class SweepResult:
+    """What a sweep produced: every outcome of the plan (old and new) and how it went."""
+
+    plan: SweepPlan
+    outcomes: list[Outcome]
+    rows: list[dict[str, Any]] = field(default_factory=list)
+    ran: int = 0
+    skipped: int = 0
+    interrupted: bool = False
+    wall_s: float = 0.0
+
+    def groups(self) -> list[GroupSummary]:
+        order = {c: i for i, c in enumerate(self.plan.controllers)}
+        groups = summarise(self.outcomes)
+        combos = [dict(sorted(c.items())) for c in self.plan.combinations()]
+
+        def position(g: GroupSummary) -> tuple[int, int]:
+            combo = dict(sorted(g.params.items()))
+            return order.get(g.controller, len(order)), (
+                combos.index(combo) if combo in combos else len(combos)
+            )
+
+        return sorted(groups, key=position)
+
+    def ranking(self) -> list[GroupSummary]:
+        return rank_controllers(self.outcomes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""
+        seeds = self.plan.seeds
+        step = f":{seeds.step}" if seeds.step != 1 else ""
+        return {
+            "scenario": self.plan.scenario,
+            "episodes": len(self.outcomes),
+            "planned": len(self.plan),
+            "ran": self.ran,
+            "skipped": self.skipped,
+            "interrupted": self.interrupted,
+            "wall_s": self.wall_s,
+            "controllers": list(self.plan.controllers),
+            "seeds": f"{seeds.start}:{seeds.stop}{step}",
+            "parameters": {k: list(v) for k, v in self.plan.grid.items()},
+            "fixed": dict(self.plan.fixed),
+            "groups": [g.to_dict() for g in self.groups()],
+            "ranking": [g.to_dict() for g in self.ranking()],
+        }
+
+
+def check_plan(plan: SweepPlan, scene: Any) -> list[str]:
+    """Check what can be checked before any episode runs.
+
+    Raises :class:`PlanError` when a ``layer.<Name>.<attr>`` parameter matches no layer
+    of any controller in the plan (every episode would fail). Returns warnings for
+    controllers that cannot be built: their episodes are recorded as ``error`` failures
+    rather than stopping the sweep, so one broken submission does not block a class.
+    """
+    from ..behaviours import load_controller
+
+    warnings: list[str] = []
+    built: list[Any] = []
+    for spec in plan.controllers:
+        specs = [r.controller for r in scene.robots] if spec == SCENE_CONTROLLERS else [spec]
+        for one in specs:
+            try:
+                built.append(load_controller(one))
+            except Exception as exc:
+                warnings.append(f"controller {one!r} cannot be built: {exc}")
+    names = {*plan.grid, *plan.fixed}
+    for name in sorted(n for n in names if n.startswith("layer.")):
+        _, layer_name, attr = name.split(".", 2)
+        holders = []
+        for controller in built:
+            try:
+                holders.append(controller.find(layer_name))
+            except KeyError:
+                continue
+        if built and not holders:
+            raise PlanError(
+                f"parameter {name}: no controller in this sweep has a layer named {layer_name!r}"
+            )
+        if holders and not any(hasattr(layer, attr) for layer in holders):
+            raise PlanError(f"parameter {name}: layer {layer_name} has no attribute {attr!r}")
+    return warnings
+
+
+def run_sweep(
+    plan: SweepPlan,
+    scene: Any,
+    *,
+    executor: SweepExecutor | None = None,
+    store: ResultStore | None = None,
+    batch_size: int | None = None,
+    progress: Progress | None = None,
+) -> SweepResult:
+    """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
+
+    ``scene`` is a :class:`~puckboard.sim.scene.Scene`, a shipped scene name or a scene
+    file; it is loaded here once and sent to the workers, so remote Dask workers do not
+    need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
+    (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
+    ``interrupted=True``.
+    """
+    if not hasattr(scene, "robots"):
+        from ..sim.scenefile import load_scene
+
+        scene = load_scene(scene)
+    if scene.name != plan.scenario:
+        raise PlanError(f"the plan is for scenario {plan.scenario!r}, the scene is {scene.name!r}")
+    progress = progress or NullProgress()
+    planned = list(plan.episodes())
+    wanted = {spec.key(plan.scenario): spec for spec in planned}
+    done: dict[str, Outcome] = {}
+    if store is not None:
+        for row in store.rows():
+            key = str(row.get("key", ""))
+            if key in wanted:
+                done[key] = Outcome.from_row(row)
+    todo = [spec for spec in planned if spec.key(plan.scenario) not in done]
+    result = SweepResult(plan=plan, outcomes=list(done.values()), skipped=len(done))
+    log.info("sweep: %d episodes planned, %d already done", len(planned), len(done))
+
+    own_executor = executor is None
+    executor = executor or LocalExecutor()
+    t0 = time.perf_counter()
+    progress.start(len(planned), len(done))
+    try:
+        if todo:
+            aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
+            aliases = {c: a for c, a in aliases.items() if a != c}
+            batches = make_batches(todo, executor.workers, batch_size)
+            tasks = [(scene, plan.scenario, batch, aliases) for batch in batches]
+            for rows in executor.run(run_batch, tasks):
+                if store is not None:
+                    store.append(rows)
+                result.rows.extend(rows)
+                result.outcomes.extend(Outcome.from_row(r) for r in rows)
+                result.ran += len(rows)
+                progress.advance(len(rows))
+    except KeyboardInterrupt:
+        result.interrupted = True
+        executor.cancel()
+        log.warning("sweep interrupted: %d episodes finished in this run", result.ran)
+    finally:
+        progress.close()
+        if store is not None:
+            store.flush()
+        if own_executor:
+            executor.close()
+        result.wall_s = time.perf_counter() - t0
+    return result

@@ -1,0 +1,70 @@
+"""What runs inside a worker: a batch of episodes, returned as rows.
+
+This module is imported by local worker processes (started with *spawn*, so it must be
+importable and do nothing at import time) and by Dask workers (which unpickle
+:func:`run_batch` by reference, so ``puckboard`` must be installed there). Each episode
+is seeded only by its own spec, so the rows do not depend on which worker ran them, in
+which order, or what ran before in the same process.
+"""
+
+from __future__ import annotations
+
+import logging
+import signal
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from .plan import SCENE_CONTROLLERS, EpisodeSpec
+from .rows import error_row, result_row
+
+__all__ = ["ignore_interrupts", "run_batch", "run_spec"]
+
+log = logging.getLogger(__name__)
+
+
+def run_spec(
+    scene: Any, scenario: str, spec: EpisodeSpec, aliases: Mapping[str, str] | None = None
+) -> dict[str, Any]:
+    """Run one episode and flatten its result; an exception becomes an ``error`` row.
+
+    ``aliases`` maps a controller spec to the spec this worker can load it by (a file
+    uploaded to a remote Dask worker is imported by module name); rows always carry the
+    spec as the user gave it, so they identify the episode the same way everywhere.
+    """
+    from ..episode import run_episode
+
+    overrides = spec.param_dict
+    duration = overrides.pop("duration", None)
+    loadable = (aliases or {}).get(spec.controller, spec.controller)
+    controller = None if loadable == SCENE_CONTROLLERS else loadable
+    try:
+        result = run_episode(
+            scene,
+            controller=controller,
+            seed=spec.seed,
+            duration=duration,
+            overrides=overrides or None,
+        )
+    except Exception as exc:
+        log.warning("episode %s failed: %s", spec, exc, exc_info=log.isEnabledFor(logging.DEBUG))
+        return error_row(scenario, spec, exc)
+    return result_row(scenario, spec, result.to_dict())
+
+
+def run_batch(
+    scene: Any,
+    scenario: str,
+    specs: Sequence[EpisodeSpec],
+    aliases: Mapping[str, str] | None = None,
+) -> list[dict[str, Any]]:
+    """Run ``specs`` one after the other in this process and return their rows."""
+    return [run_spec(scene, scenario, spec, aliases) for spec in specs]
+
+
+def ignore_interrupts() -> None:
+    """Worker-process initializer: leave Ctrl-C to the parent.
+
+    A terminal's Ctrl-C reaches every process in the group; the parent decides what to
+    keep and stops the workers itself, so they must not die half-way through a result.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)

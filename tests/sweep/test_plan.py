@@ -1,0 +1,112 @@
+"""Sweep plans: --seeds and --set parsing, their errors, and the combinations."""
+
+from __future__ import annotations
+
+import pytest
+
+from puckboard.sweep.plan import (
+    SCENE_CONTROLLERS,
+    PlanError,
+    SweepPlan,
+    episode_key,
+    parse_seeds,
+    parse_set,
+    parse_value,
+)
+
+
+def test_seeds_are_a_python_range():
+    assert parse_seeds("0:5") == range(0, 5)
+    assert list(parse_seeds("3:9:3")) == [3, 6]
+
+
+@pytest.mark.parametrize(
+    ("spec", "message"),
+    [
+        ("5", "expected A:B"),
+        ("a:b", "whole numbers"),
+        ("5:5", "is empty"),
+        ("9:2", "is empty"),
+        ("0:4:0", "STEP cannot be 0"),
+        ("-3:2", "cannot be negative"),
+        ("1:2:3:4", "expected A:B"),
+    ],
+)
+def test_bad_seeds_say_what_is_wrong(spec, message):
+    with pytest.raises(PlanError, match=message):
+        parse_seeds(spec)
+
+
+def test_values_become_numbers_bools_or_strings():
+    assert parse_value("3") == 3 and isinstance(parse_value("3"), int)
+    assert parse_value("0.05") == pytest.approx(0.05)
+    assert parse_value("1e-3") == pytest.approx(0.001)
+    assert parse_value("True") is True
+    assert parse_value("false") is False
+    assert parse_value("left") == "left"
+    assert parse_value("'3'") == "3"
+
+
+def test_set_parses_names_and_values():
+    assert parse_set("noise.proximity=0, 0.05,0.1") == ("noise.proximity", (0, 0.05, 0.1))
+    name, values = parse_set("layer.LineFollow.recovery=true,false")
+    assert name == "layer.LineFollow.recovery"
+    assert values == (True, False)
+
+
+@pytest.mark.parametrize(
+    ("spec", "message"),
+    [
+        ("noise.proximity", "expected PARAM=V1,V2"),
+        ("=1,2", "expected PARAM=V1,V2"),
+        ("noise.proximty=0.1", "unknown parameter 'noise.proximty'"),
+        ("gain=1", "unknown parameter"),
+        ("layer.LineFollow=1", "unknown parameter"),
+        ("noise.ground=", "no values"),
+        ("noise.ground=high", "needs numbers"),
+        ("noise.ground=-0.1", "cannot be negative"),
+        ("dt=0", "must be positive"),
+        ("duration=nan", "finite"),
+        ("noise.ground=0.1,0.10", "listed twice"),
+    ],
+)
+def test_bad_set_specs_say_what_is_wrong(spec, message):
+    with pytest.raises(PlanError, match=message):
+        parse_set(spec)
+
+
+def test_plan_is_the_full_product_in_a_stable_order():
+    plan = SweepPlan.from_specs(
+        "arena",
+        controllers=["stock", "improved"],
+        seeds="0:3",
+        sets=["noise.proximity=0,0.1", "layer.Cruise.speed=1,2"],
+        fixed={"duration": 5},
+    )
+    episodes = list(plan.episodes())
+    assert len(plan) == len(episodes) == 2 * 2 * 2 * 3
+    assert len({e.key("arena") for e in episodes}) == len(episodes)
+    assert episodes[0].controller == "stock" and episodes[-1].controller == "improved"
+    assert all(e.param_dict["duration"] == 5 for e in episodes)
+    assert plan.swept == ("noise.proximity", "layer.Cruise.speed")
+    assert list(plan.episodes()) == episodes
+
+
+def test_plan_defaults_to_the_scene_controllers_and_rejects_repeats():
+    plan = SweepPlan.from_specs("arena", seeds="0:2")
+    assert plan.controllers == (SCENE_CONTROLLERS,)
+    with pytest.raises(PlanError, match="given twice"):
+        SweepPlan.from_specs("arena", sets=["dt=0.05", "dt=0.1"])
+    with pytest.raises(PlanError, match="listed twice"):
+        SweepPlan.from_specs("arena", controllers=["stock", "stock"])
+    with pytest.raises(PlanError, match="both swept and fixed"):
+        SweepPlan.from_specs("arena", sets=["duration=5,6"], fixed={"duration": 5})
+
+
+def test_episode_identity_ignores_spelling_of_equal_numbers():
+    a = episode_key("arena", "stock", 1, {"dt": 0.05, "duration": 2})
+    b = episode_key("arena", "stock", 1, {"duration": 2.0, "dt": 0.05})
+    assert a == b
+    assert a != episode_key("arena", "stock", 2, {"dt": 0.05, "duration": 2})
+    assert a != episode_key("arena", "improved", 1, {"dt": 0.05, "duration": 2})
+    assert a != episode_key("line-follow", "stock", 1, {"dt": 0.05, "duration": 2})
