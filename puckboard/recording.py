@@ -1,0 +1,525 @@
+"""Recorded runs: what each robot sensed, decided and did, cycle by cycle, on disk.
+
+A recording is the one source every after-the-fact view reads: animations are rendered
+from it (never from the screen, so a file is identical with or without a window), plots
+are drawn from it, and it can be shared with a class or attached to a bug report. It is
+backend-neutral: the :class:`Recorder` reads only blackboard keys every backend writes
+(``pose``, ``proximity``, ``ground``, ``command/wheels``, ``command/layer``), so a run in
+the embedded simulator, in CoppeliaSim or on a real e-puck records the same way. A
+value a backend does not provide (a real robot has no ground-truth ``pose``) is NaN.
+
+On disk a recording is one compressed NumPy archive (``.npz``, read with
+:func:`numpy.load`, no pickles), format version :data:`FORMAT_VERSION`:
+
+============  =============  =======  ==============================================
+array         shape          dtype    meaning
+============  =============  =======  ==============================================
+``time``      T              float64  time of each cycle's sensing (s)
+``pose``      T×N×3          float64  x (m), y (m), theta (rad); NaN when unknown
+``wheels``    T×N×2          float64  commanded left, right wheel speed (rad/s)
+``layer``     T×N            int16    index into ``layer_names`` (-1: not known)
+``proximity`` T×N×8          float32  IR distances (m), ps0..ps7; ``range`` = nothing
+``ground``    T×N×3          float32  ground values 0 (black) .. 1 (white), gs0..gs2
+``meta``      scalar string  unicode  JSON: see below
+============  =============  =======  ==============================================
+
+T is the number of recorded cycles, N the number of robots (in ``meta["robots"]``
+order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,
+``robots``, ``layer_names`` (the table ``layer`` indexes), ``robot_layers`` (each
+robot's layers in priority order, for timelines), ``colours`` (RGB per robot),
+``scenario``, ``controller``, ``seed``, ``backend``, ``dt``, ``created`` (UTC, ISO
+8601), ``puckboard`` (version) and ``scene`` (the scene's static geometry as JSON,
+or ``null``).
+
+The recorder writes into preallocated arrays that double when full, so recording a
+long run costs a few array stores per cycle and no per-cycle objects of its own.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import json
+import logging
+import math
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ._version import __version__
+
+__all__ = [
+    "FORMAT_VERSION",
+    "Recorder",
+    "Recording",
+    "RobotSeries",
+    "load_recording",
+]
+
+log = logging.getLogger(__name__)
+
+FORMAT_NAME = "puckboard-recording"
+FORMAT_VERSION = 1
+"""Bumped whenever the on-disk layout changes incompatibly."""
+
+RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels", "command/layer")
+"""Blackboard keys (relative to each robot's namespace) a :class:`Recorder` reads."""
+
+_PROX_RANGE_DEFAULT = 0.05
+
+
+@dataclasses.dataclass(frozen=True)
+class RobotSeries:
+    """One robot's time series: read-only views into a :class:`Recording`'s arrays."""
+
+    name: str
+    time: npt.NDArray[np.float64]
+    pose: npt.NDArray[np.float64]  # T×3
+    wheels: npt.NDArray[np.float64]  # T×2
+    layer_index: npt.NDArray[np.int16]  # T
+    proximity: npt.NDArray[np.float32]  # T×8
+    ground: npt.NDArray[np.float32]  # T×3
+    layers: tuple[str, ...]  # priority order, highest first
+    layer_names: tuple[str, ...]  # the recording's layer table
+    colour: tuple[int, int, int]
+
+    def layer_at(self, i: int) -> str | None:
+        """Name of the layer in control at cycle ``i`` (``None`` if not recorded)."""
+        k = int(self.layer_index[i])
+        return self.layer_names[k] if k >= 0 else None
+
+
+class Recording:
+    """A loaded or finished recording; see the module docstring for the arrays."""
+
+    def __init__(
+        self,
+        *,
+        time: npt.ArrayLike,
+        pose: npt.ArrayLike,
+        wheels: npt.ArrayLike,
+        layer: npt.ArrayLike,
+        proximity: npt.ArrayLike,
+        ground: npt.ArrayLike,
+        meta: Mapping[str, Any],
+    ) -> None:
+        self.time = np.asarray(time, dtype=np.float64)
+        self.pose = np.asarray(pose, dtype=np.float64)
+        self.wheels = np.asarray(wheels, dtype=np.float64)
+        self.layer = np.asarray(layer, dtype=np.int16)
+        self.proximity = np.asarray(proximity, dtype=np.float32)
+        self.ground = np.asarray(ground, dtype=np.float32)
+        self.meta: dict[str, Any] = dict(meta)
+        self.robot_names: tuple[str, ...] = tuple(self.meta.get("robots", ()))
+        self.layer_names: tuple[str, ...] = tuple(self.meta.get("layer_names", ()))
+        t, n = len(self.time), len(self.robot_names)
+        for name, arr, tail in (
+            ("pose", self.pose, (3,)),
+            ("wheels", self.wheels, (2,)),
+            ("layer", self.layer, ()),
+            ("proximity", self.proximity, (8,)),
+            ("ground", self.ground, (3,)),
+        ):
+            if arr.shape != (t, n, *tail):
+                raise ValueError(
+                    f"recording array {name!r} has shape {arr.shape}, expected {(t, n, *tail)} "
+                    f"for {t} cycles of {n} robots"
+                )
+        self._scene: Any = _UNSET
+
+    # -- convenient access -----------------------------------------------------------------
+    def __len__(self) -> int:
+        return len(self.time)
+
+    @property
+    def duration(self) -> float:
+        """Recorded time span (s)."""
+        return float(self.time[-1] - self.time[0]) if len(self.time) > 1 else 0.0
+
+    def robot(self, name: str | int) -> RobotSeries:
+        """The series of one robot, by name or index."""
+        if isinstance(name, int):
+            i = name
+        else:
+            try:
+                i = self.robot_names.index(name)
+            except ValueError:
+                raise KeyError(
+                    f"recording has no robot {name!r}; robots: {', '.join(self.robot_names)}"
+                ) from None
+        rname = self.robot_names[i]
+        colours = self.meta.get("colours") or {}
+        layers = (self.meta.get("robot_layers") or {}).get(rname) or self.layer_names
+        return RobotSeries(
+            name=rname,
+            time=self.time,
+            pose=self.pose[:, i],
+            wheels=self.wheels[:, i],
+            layer_index=self.layer[:, i],
+            proximity=self.proximity[:, i],
+            ground=self.ground[:, i],
+            layers=tuple(layers),
+            layer_names=self.layer_names,
+            colour=tuple(colours.get(rname, (60, 160, 60))),  # type: ignore[arg-type]
+        )
+
+    def robots(self) -> list[RobotSeries]:
+        return [self.robot(i) for i in range(len(self.robot_names))]
+
+    @property
+    def scene(self) -> Any:
+        """The recorded :class:`~puckboard.sim.scene.Scene` (``None`` if none was recorded)."""
+        if self._scene is _UNSET:
+            data = self.meta.get("scene")
+            self._scene = None if data is None else scene_from_json(data)
+        return self._scene
+
+    @property
+    def title(self) -> str:
+        """``scenario · controller · seed N`` for figure titles."""
+        parts = [str(self.meta.get("scenario") or "run")]
+        if self.meta.get("controller"):
+            parts.append(str(self.meta["controller"]))
+        if self.meta.get("seed") is not None:
+            parts.append(f"seed {self.meta['seed']}")
+        return " · ".join(parts)
+
+    # -- disk ------------------------------------------------------------------------------
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the recording as a compressed ``.npz`` (atomically: a reader never sees
+        half a file). Returns the path written."""
+        path = Path(path)
+        if path.suffix.lower() != ".npz":
+            raise ValueError(f"recordings are saved as .npz files, got {str(path)!r}")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        meta = dict(self.meta, format=FORMAT_NAME, version=FORMAT_VERSION)
+        fd, tmp = tempfile.mkstemp(prefix=path.name, suffix=".tmp", dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                np.savez_compressed(
+                    fh,
+                    time=self.time,
+                    pose=self.pose,
+                    wheels=self.wheels,
+                    layer=self.layer,
+                    proximity=self.proximity,
+                    ground=self.ground,
+                    meta=np.array(json.dumps(meta, default=_json_default)),
+                )
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return path
+
+    def __repr__(self) -> str:
+        return (
+            f"<Recording {self.title!r}: {len(self)} cycles, {self.duration:.2f} s, "
+            f"robots {', '.join(self.robot_names)}>"
+        )
+
+
+def load_recording(path: str | os.PathLike[str]) -> Recording:
+    """Read a recording written by :meth:`Recording.save` (or a :class:`Recorder`)."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no recording at {str(path)!r}")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{str(path)!r} is not a puckboard recording (.npz): {exc}") from exc
+    if "meta" not in arrays:
+        raise ValueError(f"{str(path)!r} is an .npz file but not a puckboard recording")
+    meta = json.loads(str(arrays.pop("meta")))
+    if meta.get("format") != FORMAT_NAME:
+        raise ValueError(f"{str(path)!r} is not a puckboard recording")
+    if int(meta.get("version", 0)) > FORMAT_VERSION:
+        raise ValueError(
+            f"{str(path)!r} uses recording format {meta['version']}; this puckboard reads "
+            f"up to {FORMAT_VERSION}: upgrade puckboard"
+        )
+    missing = {"time", "pose", "wheels", "layer", "proximity", "ground"} - set(arrays)
+    if missing:
+        raise ValueError(f"recording {str(path)!r} lacks arrays: {', '.join(sorted(missing))}")
+    return Recording(meta=meta, **{k: arrays[k] for k in arrays if k != "meta"})
+
+
+class Recorder:
+    """Records the robots of a run from the blackboard, one row per control cycle.
+
+    Use it as an episode (or control loop) observer: ``recorder(episode)`` after every
+    cycle samples the keys in :data:`RECORDED_KEYS` for every robot; :meth:`close`
+    (registered as a close observer by :meth:`attach`) finishes the recording and, when
+    ``path`` was given, writes it, so a run that ends in an error or Ctrl-C still leaves
+    its recording behind.
+    """
+
+    def __init__(
+        self,
+        robot_names: Sequence[str],
+        *,
+        path: str | os.PathLike[str] | None = None,
+        scene: Any = None,
+        meta: Mapping[str, Any] | None = None,
+        robot_layers: Mapping[str, Sequence[str]] | None = None,
+        capacity: int = 1024,
+    ) -> None:
+        if not robot_names:
+            raise ValueError("a Recorder needs at least one robot name")
+        self.robot_names = tuple(robot_names)
+        self.path = None if path is None else Path(path)
+        if self.path is not None and self.path.suffix.lower() != ".npz":
+            raise ValueError(f"recordings are saved as .npz files, got {str(self.path)!r}")
+        self.scene = scene
+        n = len(self.robot_names)
+        self._layer_table: dict[str, int] = {}
+        self.robot_layers = {k: tuple(v) for k, v in (robot_layers or {}).items()}
+        for layers in self.robot_layers.values():
+            for name in layers:
+                self._layer_index(name)
+        self.meta: dict[str, Any] = dict(meta or {})
+        self._n = 0
+        cap = max(16, int(capacity))
+        self._time = np.empty(cap)
+        self._pose = np.empty((cap, n, 3))
+        self._wheels = np.empty((cap, n, 2))
+        self._layer = np.empty((cap, n), dtype=np.int16)
+        self._prox = np.empty((cap, n, 8), dtype=np.float32)
+        self._ground = np.empty((cap, n, 3), dtype=np.float32)
+        self._closed = False
+        self.saved_path: Path | None = None
+
+    # -- building from an episode ---------------------------------------------------------
+    @classmethod
+    def for_episode(cls, episode: Any, path: str | os.PathLike[str] | None = None) -> Recorder:
+        """A recorder for every robot of ``episode``, with its scene and run metadata."""
+        names = list(getattr(episode, "controllers", {}) or episode.connection.adapters)
+        controllers = getattr(episode, "controllers", {}) or {}
+        scene = getattr(episode, "scene", None)
+        robot_layers = {name: controller_layers(c) for name, c in controllers.items()}
+        ctrl_names = sorted({getattr(c, "name", "") for c in controllers.values()} - {""})
+        dt = getattr(getattr(episode, "loop", None), "period", None)
+        duration = getattr(scene, "duration", None)
+        capacity = 1024
+        if dt and duration and math.isfinite(duration / dt):
+            capacity = int(duration / dt) + 2
+        colours = {}
+        if scene is not None:
+            for spec in getattr(scene, "robots", ()):
+                colours[spec.name] = list(spec.colour)
+        meta = {
+            "scenario": getattr(scene, "name", None),
+            "controller": ", ".join(ctrl_names) or None,
+            "seed": getattr(episode, "seed", None),
+            "backend": getattr(episode, "backend", None),
+            "dt": dt,
+            "colours": colours,
+        }
+        return cls(
+            names,
+            path=path,
+            scene=scene,
+            meta=meta,
+            robot_layers=robot_layers,
+            capacity=capacity,
+        )
+
+    def attach(self, episode: Any) -> Recorder:
+        """Register as ``episode``'s cycle observer and close observer; returns ``self``."""
+        episode.add_observer(self)
+        episode.add_close_observer(self.close)
+        return self
+
+    # -- sampling --------------------------------------------------------------------------
+    def __call__(self, episode: Any) -> None:
+        board = episode.blackboard
+        loop = getattr(episode, "loop", None)
+        self.sample(board, fallback_time=getattr(loop, "time", None))
+
+    def sample(self, board: Any, *, fallback_time: float | None = None) -> None:
+        """Append one row read from ``board`` (a :class:`~puckboard.blackboard.Blackboard`)."""
+        if self._closed:
+            return
+        i = self._n
+        if i == len(self._time):
+            self._grow()
+        stamp = math.nan
+        for r, name in enumerate(self.robot_names):
+            snap = board.namespace(name).snapshot(RECORDED_KEYS)
+            rec = snap.record("pose")
+            if rec is not None:
+                p = rec.value
+                self._pose[i, r] = (p.x, p.y, p.theta)
+            else:
+                self._pose[i, r] = math.nan
+            rec = snap.record("proximity")
+            if rec is not None:
+                self._prox[i, r] = rec.value.distance
+                stamp = rec.stamp if math.isnan(stamp) else stamp
+            else:
+                self._prox[i, r] = math.nan
+            rec = snap.record("ground")
+            self._ground[i, r] = rec.value.value if rec is not None else math.nan
+            rec = snap.record("command/wheels")
+            if rec is not None:
+                self._wheels[i, r] = (rec.value.left, rec.value.right)
+                stamp = rec.stamp if math.isnan(stamp) else stamp
+            else:
+                self._wheels[i, r] = math.nan
+            rec = snap.record("command/layer")
+            self._layer[i, r] = -1 if rec is None else self._layer_index(rec.value)
+        if math.isnan(stamp):
+            stamp = fallback_time if fallback_time is not None else float(i)
+        self._time[i] = stamp
+        self._n = i + 1
+
+    def _layer_index(self, name: str) -> int:
+        idx = self._layer_table.get(name)
+        if idx is None:
+            idx = self._layer_table[name] = len(self._layer_table)
+        return idx
+
+    def _grow(self) -> None:
+        new = 2 * len(self._time)
+        for attr in ("_time", "_pose", "_wheels", "_layer", "_prox", "_ground"):
+            old = getattr(self, attr)
+            arr = np.empty((new, *old.shape[1:]), dtype=old.dtype)
+            arr[: len(old)] = old
+            setattr(self, attr, arr)
+
+    # -- reading while recording ---------------------------------------------------------
+    def __len__(self) -> int:
+        return self._n
+
+    @property
+    def layer_names(self) -> tuple[str, ...]:
+        """The layer table so far: ``layer`` values index it."""
+        return tuple(self._layer_table)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Read-only views of the rows so far (no copies; valid until the next row)."""
+        n = self._n
+        out = {
+            "time": self._time[:n],
+            "pose": self._pose[:n],
+            "wheels": self._wheels[:n],
+            "layer": self._layer[:n],
+            "proximity": self._prox[:n],
+            "ground": self._ground[:n],
+        }
+        for view in out.values():
+            view.flags.writeable = False
+        return out
+
+    # -- finishing -------------------------------------------------------------------------
+
+    def recording(self) -> Recording:
+        """The rows so far as a :class:`Recording` (copies; recording may continue)."""
+        n = self._n
+        meta = dict(self.meta)
+        meta.update(
+            robots=list(self.robot_names),
+            layer_names=list(self._layer_table),
+            robot_layers={k: list(v) for k, v in self.robot_layers.items()},
+            created=meta.get("created") or _dt.datetime.now(_dt.timezone.utc).isoformat(),
+            puckboard=__version__,
+            scene=None if self.scene is None else scene_to_json(self.scene),
+        )
+        meta.setdefault("colours", {})
+        return Recording(
+            time=self._time[:n].copy(),
+            pose=self._pose[:n].copy(),
+            wheels=self._wheels[:n].copy(),
+            layer=self._layer[:n].copy(),
+            proximity=self._prox[:n].copy(),
+            ground=self._ground[:n].copy(),
+            meta=meta,
+        )
+
+    def close(self, _episode: Any = None) -> Recording:
+        """Stop recording and, if a ``path`` was given, save. Idempotent; returns the
+        recording."""
+        rec = self.recording()
+        if not self._closed:
+            self._closed = True
+            if self.path is not None:
+                self.saved_path = rec.save(self.path)
+                log.info("recording of %d cycles written to %s", len(rec), self.saved_path)
+        return rec
+
+
+def controller_layers(controller: Any) -> tuple[str, ...]:
+    """Names of every layer of ``controller`` in priority order (tree order)."""
+    root = getattr(controller, "root", None)
+    if root is None:
+        return ()
+    names = []
+    for node in root.iterate():
+        if node is root or node.children:
+            continue  # composites and decorators never propose commands themselves
+        if node.name not in names:
+            names.append(node.name)
+    return tuple(names)
+
+
+# -- scenes as JSON ------------------------------------------------------------------------
+_UNSET = object()
+
+
+def _json_default(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return _encode(value)
+    raise TypeError(f"cannot store {type(value).__name__} in a recording's metadata")
+
+
+def _encode(value: Any) -> Any:
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        out: dict[str, Any] = {"type": type(value).__name__}
+        for f in dataclasses.fields(value):
+            out[f.name] = _encode(getattr(value, f.name))
+        return out
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_encode(v) for v in value]
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    return value
+
+
+def scene_to_json(scene: Any) -> dict[str, Any]:
+    """The scene as plain JSON data (every dataclass tagged with its ``type``)."""
+    return _encode(scene)  # type: ignore[no-any-return]
+
+
+def scene_from_json(data: Mapping[str, Any]) -> Any:
+    """Rebuild a :class:`~puckboard.sim.scene.Scene` from :func:`scene_to_json` data.
+
+    Fields this version does not know are ignored, so an older puckboard can still draw
+    a newer recording's floor.
+    """
+    from .sim import scene as scene_module
+
+    def decode(value: Any) -> Any:
+        if isinstance(value, dict) and "type" in value:
+            cls = getattr(scene_module, value["type"], None)
+            if cls is None or not dataclasses.is_dataclass(cls):
+                log.warning("recording holds an unknown scene part %r; ignoring it", value["type"])
+                return None
+            known = {f.name for f in dataclasses.fields(cls)}
+            return cls(**{k: decode(v) for k, v in value.items() if k in known})
+        if isinstance(value, list):
+            return tuple(d for d in (decode(v) for v in value) if d is not None)
+        return value
+
+    return decode(dict(data))

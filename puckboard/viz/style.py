@@ -1,0 +1,119 @@
+"""One visual language for every view: colours per robot and per layer, font sizes.
+
+The live view, the animations and the plots all take their colours from here, so a
+layer is the same colour in the window, in the GIF and in the arbitration timeline, and
+a robot keeps its colour everywhere. Layer colours come from the Okabe-Ito palette,
+which stays distinguishable for colour-blind viewers and on washed-out projectors.
+
+Nothing here imports matplotlib: colours are ``#rrggbb`` strings any library accepts.
+"""
+
+from __future__ import annotations
+
+import zlib
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+__all__ = [
+    "FONT",
+    "LINE",
+    "NO_DATA_COLOUR",
+    "layer_colour",
+    "layer_colours",
+    "robot_colours",
+]
+
+FONT = {"title": 17, "label": 14, "tick": 12, "legend": 12, "annotation": 13}
+"""Font sizes (points) chosen to stay readable on a projector at the back of a room."""
+
+LINE = {"trail": 2.5, "trace": 2.0, "heading": 3.0, "body_edge": 3.5, "wall": 4.0}
+"""Line widths (points)."""
+
+NO_DATA_COLOUR = "#d9d9d9"
+
+# Okabe-Ito, by role.
+_VERMILLION = "#D55E00"
+_BLUE = "#0072B2"
+_ORANGE = "#E69F00"
+_GREEN = "#4DAF4A"  # Set1 green: Okabe-Ito's bluish green reads as blue when small
+_PURPLE = "#CC79A7"
+_SKY = "#56B4E9"
+_YELLOW = "#F0E442"
+_GREY = "#999999"
+_DARK = "#404040"
+
+_BY_KEYWORD: tuple[tuple[str, str], ...] = (
+    ("obstacle", _VERMILLION),
+    ("avoid", _VERMILLION),
+    ("braitenberg", _VERMILLION),
+    ("line", _BLUE),
+    ("wall", _ORANGE),
+    ("cruise", _GREEN),
+    ("wander", _GREEN),
+)
+_EXTRA = (_PURPLE, _SKY, _YELLOW, "#8C564B", "#7F7F7F", "#BCBD22", "#17BECF", "#9467BD")
+
+_ROBOT_PALETTE = ("#2ca02c", "#1f77b4", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2")
+
+
+def layer_colour(name: str | None) -> str:
+    """The colour of a layer, stable across runs, files and processes.
+
+    Layers are coloured by role (obstacle avoidance vermillion, line following blue,
+    wall keeping orange, cruising green), so ``FrontBraitenbergAvoid`` in the stock
+    controller and ``FrontObstacleLeftTurn`` in the improved one share a colour; other
+    names get a colour from a hash of the name.
+    """
+    if name is None:
+        return NO_DATA_COLOUR
+    if name == "(none)":
+        return _GREY
+    if name.startswith("("):
+        return _DARK
+    lower = name.lower()
+    for word, colour in _BY_KEYWORD:
+        if word in lower:
+            return colour
+    return _EXTRA[zlib.crc32(name.encode()) % len(_EXTRA)]
+
+
+def layer_colours(names: Sequence[str]) -> dict[str, str]:
+    """Colours for several layers at once; two different unknown layers in one set never
+    share a colour when the palette has room."""
+    out: dict[str, str] = {}
+    used: set[str] = set()
+    spare = [c for c in _EXTRA]
+    for name in names:
+        colour = layer_colour(name)
+        if colour in _EXTRA and colour in used:
+            colour = next((c for c in spare if c not in used), colour)
+        out[name] = colour
+        used.add(colour)
+    return out
+
+
+def robot_colours(names: Sequence[str], given: Mapping[str, Any] | None = None) -> dict[str, str]:
+    """A distinct colour per robot: the scene's colour when it has one, else a palette's."""
+    given = given or {}
+    out: dict[str, str] = {}
+    for i, name in enumerate(names):
+        rgb = given.get(name)
+        colour = _hex(rgb) if rgb is not None else _ROBOT_PALETTE[i % len(_ROBOT_PALETTE)]
+        if colour in out.values():
+            colour = next(
+                (c for c in _ROBOT_PALETTE if c not in out.values()),
+                _ROBOT_PALETTE[i % len(_ROBOT_PALETTE)],
+            )
+        out[name] = colour
+    return out
+
+
+def rgb01(colour: Sequence[int]) -> tuple[float, float, float]:
+    """A 0..255 RGB triple (as scenes store colours) as matplotlib's 0..1 floats."""
+    r, g, b = (float(c) / 255.0 for c in colour[:3])
+    return (r, g, b)
+
+
+def _hex(rgb: Sequence[int]) -> str:
+    r, g, b = (max(0, min(255, int(c))) for c in rgb[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"

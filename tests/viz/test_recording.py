@@ -1,0 +1,112 @@
+import json
+import math
+
+import numpy as np
+import pytest
+from viz_standin import StandInEpisode
+
+from puckboard.recording import FORMAT_VERSION, Recorder, load_recording
+
+
+def _recorded(tmp_path, seconds=2.0):
+    ep = StandInEpisode()
+    recorder = Recorder.for_episode(ep, tmp_path / "run.npz").attach(ep)
+    ep.run(seconds)
+    return ep, recorder
+
+
+def test_round_trip_has_a_series_per_robot_of_the_right_length(tmp_path):
+    ep, recorder = _recorded(tmp_path)
+    rec = load_recording(tmp_path / "run.npz")
+    cycles = ep.loop.cycles
+    assert cycles == 40
+    assert len(rec) == cycles
+    assert rec.robot_names == ("red", "blue")
+    for name in rec.robot_names:
+        s = rec.robot(name)
+        assert s.pose.shape == (cycles, 3)
+        assert s.wheels.shape == (cycles, 2)
+        assert s.proximity.shape == (cycles, 8)
+        assert s.ground.shape == (cycles, 3)
+        assert s.layer_index.shape == (cycles,)
+        assert s.layers[0] == "FrontObstacleLeftTurn"
+    # time is the sensing time of each cycle: 0, dt, 2 dt, ...
+    np.testing.assert_allclose(rec.time, np.arange(cycles) * 0.05, atol=1e-9)
+    # the values are what the blackboard held
+    red = rec.robot("red")
+    assert red.proximity[0, 7] == pytest.approx(0.03)  # front_left as set on the fake
+    assert red.layer_at(0) == "FrontObstacleLeftTurn"
+    assert rec.robot("blue").layer_at(5) == "LineFollow"
+    assert rec.robot("blue").ground[0, 1] == pytest.approx(0.1)
+    wheels = ep.controllers["red"].last_command
+    assert tuple(red.wheels[-1]) == pytest.approx((wheels.left, wheels.right))
+
+
+def test_metadata_and_scene_survive_the_round_trip(tmp_path):
+    ep, _ = _recorded(tmp_path, 0.5)
+    rec = load_recording(tmp_path / "run.npz")
+    assert rec.meta["version"] == FORMAT_VERSION
+    assert rec.meta["scenario"] == "stand-in"
+    assert rec.meta["controller"] == "improved"
+    assert rec.meta["seed"] == 0
+    assert rec.meta["colours"]["red"] == [200, 40, 40]
+    scene = rec.scene
+    assert scene.name == "stand-in"
+    assert [r.name for r in scene.robots] == ["red", "blue"]
+    np.testing.assert_allclose(scene.track.points, ep.scene.track.points)
+    assert scene.obstacles[0].radius == pytest.approx(0.03)
+    assert scene.arena.xmax == pytest.approx(0.6)
+    assert "stand-in" in rec.title and "seed 0" in rec.title
+
+
+def test_recording_is_flushed_when_a_layer_raises(tmp_path):
+    ep = StandInEpisode()
+    Recorder.for_episode(ep, tmp_path / "crash.npz").attach(ep)
+    calls = {"n": 0}
+
+    def boom(_episode):
+        calls["n"] += 1
+        if calls["n"] == 7:
+            raise RuntimeError("layer bug")
+
+    ep.add_observer(boom)
+    with pytest.raises(RuntimeError, match="layer bug"):
+        ep.run(2.0)
+    rec = load_recording(tmp_path / "crash.npz")
+    assert len(rec) == 7
+
+
+def test_recorder_grows_past_its_capacity_and_missing_keys_are_nan():
+    from puckboard.blackboard import Blackboard
+    from puckboard.records import WheelCommand
+
+    board = Blackboard(clock=lambda: 0.0)
+    recorder = Recorder(["a"], capacity=16)
+    for k in range(50):
+        board.put("a/command/wheels", WheelCommand(k, -k), stamp=k * 0.1)
+        recorder.sample(board)
+    rec = recorder.close()
+    assert len(rec) == 50
+    assert rec.wheels[49, 0, 0] == 49
+    assert math.isnan(rec.pose[3, 0, 0])
+    assert rec.layer[0, 0] == -1
+    assert rec.robot("a").layer_at(0) is None
+
+
+def test_bad_files_give_clear_errors(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no recording"):
+        load_recording(tmp_path / "missing.npz")
+    other = tmp_path / "other.npz"
+    np.savez(other, x=np.zeros(3))
+    with pytest.raises(ValueError, match="not a puckboard recording"):
+        load_recording(other)
+    with pytest.raises(ValueError, match=r"\.npz"):
+        Recorder(["a"], path=tmp_path / "run.csv")
+
+
+def test_meta_is_plain_json(tmp_path):
+    _recorded(tmp_path, 0.2)
+    with np.load(tmp_path / "run.npz", allow_pickle=False) as data:
+        meta = json.loads(str(data["meta"]))
+    assert meta["format"] == "puckboard-recording"
+    assert meta["robots"] == ["red", "blue"]
