@@ -75,15 +75,6 @@ log = logging.getLogger(__name__)
 S = TypeVar("S", bound="KnowledgeSource")
 
 
-class _HasNamespace(Protocol):
-    name: str
-    ns: Namespace
-
-
-class _Binding(Protocol):
-    adapter: _HasNamespace
-
-
 class _LoopLike(Protocol):
     """What :meth:`KnowledgeSource.attach` needs of a control loop (duck-typed)."""
 
@@ -152,6 +143,11 @@ class KnowledgeSource:
 
     def reset(self) -> None:
         """Forget any internal state (called by :meth:`bind`). Default: nothing."""
+
+    def configure(self, robot: Any) -> None:
+        """Called by :meth:`attach` with the robot's adapter before :meth:`bind`, so a
+        source can take what it needs of the robot (its ``profile``, say). Default:
+        nothing."""
 
     # -- binding ---------------------------------------------------------------------------
     @property
@@ -232,7 +228,9 @@ class KnowledgeSource:
         """
         loop = getattr(loop, "loop", loop)  # an Episode carries its loop
         if robot is not None or self.ns is None:
-            self.bind(_robot_namespace(loop, robot))
+            adapter = _robot(loop, robot)
+            self.configure(adapter)
+            self.bind(adapter.ns)
         loop.add_before_tick(self._before_tick)
         return self
 
@@ -302,7 +300,7 @@ class KnowledgeSource:
         return f"<{type(self).__name__} {self.name!r} on {where}: {self.reads} -> {self.writes}>"
 
 
-def _robot_namespace(loop: _LoopLike, robot: str | None) -> Namespace:
+def _robot(loop: _LoopLike, robot: str | None) -> Any:
     adapters = [b.adapter for b in loop.bindings]
     if robot is None:
         if len(adapters) != 1:
@@ -311,9 +309,9 @@ def _robot_namespace(loop: _LoopLike, robot: str | None) -> Namespace:
                 f"this loop drives {len(adapters)} robots ({names}); say which one: "
                 "attach(loop, robot='name'), or use for_each_robot(loop)"
             )
-        return adapters[0].ns
+        return adapters[0]
     for adapter in adapters:
         if adapter.name == robot:
-            return adapter.ns
+            return adapter
     names = ", ".join(a.name for a in adapters)
     raise ValueError(f"no robot named {robot!r} in this loop; its robots are: {names}")
