@@ -1,0 +1,197 @@
+"""A protocol-level e-puck emulator: the embedded simulator behind a robot's protocol.
+
+:class:`Emulation` builds a :class:`~puckboard.sim.world.World` for a scene, serves its
+first robot over the e-puck2 Wi-Fi protocol (TCP) or advanced sercom (a pseudo-terminal
+on POSIX, or TCP for pyserial's ``socket://`` URLs), and steps the world in real time
+like a robot: one step of ``dt`` per ``dt`` of wall-clock time, the wheels turning at the
+last commanded speeds. The judge watches the ground-truth poses, and :meth:`run` returns
+its verdict as an :class:`~puckboard.episode.EpisodeResult`, the same fields as
+``puckboard run --json``.
+
+The clock starts with the first command a client sends (the moment a real robot would
+start moving), so a slow connect does not count against the controller. When the client
+disconnects the wheels stop. Other robots of the scene stay where they stand.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from ..sim.judge import Judge
+from ..sim.scene import Scene
+from .robot import EmulatedRobot
+from .servers import PtyServer, TcpServer, _ServerBase, pty_available
+from .sessions import SercomSession, WifiSession
+
+__all__ = ["PROTOCOLS", "Emulation", "EmulationInfo"]
+
+log = logging.getLogger(__name__)
+
+PROTOCOLS = ("wifi", "sercom")
+
+
+@dataclass(frozen=True)
+class EmulationInfo:
+    """Where the emulated robot can be reached and how to connect to it."""
+
+    protocol: str
+    endpoint: str  # "127.0.0.1:10000" or "/dev/pts/5"
+    backend: str  # --backend to use
+    options: dict[str, Any]  # keyword options for the backend factory
+
+    def command_line(self, scene: str) -> str:
+        opts = " ".join(f"--{k} {v}" for k, v in self.options.items())
+        return f"puckboard run {scene} --backend {self.backend} {opts}"
+
+
+class Emulation:
+    """Emulate the first robot of ``scene``; see the module docstring.
+
+    ``protocol`` is ``"wifi"`` or ``"sercom"``; ``port`` is the TCP port (``0``: any free
+    one). For sercom, ``serial="pty"`` (POSIX) or ``"tcp"`` chooses the carrier.
+    """
+
+    def __init__(
+        self,
+        scene: Scene | str,
+        *,
+        protocol: str = "wifi",
+        host: str = "127.0.0.1",
+        port: int = 0,
+        seed: int = 0,
+        serial: str | None = None,
+        realtime: float = 1.0,
+    ) -> None:
+        from ..sim.world import World
+
+        if protocol not in PROTOCOLS:
+            raise ValueError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
+        if realtime <= 0:
+            raise ValueError(f"realtime factor must be positive, got {realtime}")
+        if isinstance(scene, str):
+            from ..sim.scenefile import load_scene
+
+            scene = load_scene(scene)
+        self.scene = scene
+        self.protocol = protocol
+        self.seed = seed
+        self.realtime = realtime
+        self.world = World(scene, seed=seed)
+        self.robot = EmulatedRobot(self.world, 0, selector=15 if protocol == "wifi" else 3)
+        self.judge = Judge(scene)
+        self.judge.update(self.world.time, self.world.poses, self.world.collisions)
+        self._lock = self.robot.lock
+        self._stop = threading.Event()
+        self._started_at: float | None = None
+        self.wall_s = 0.0
+        server: _ServerBase
+        if protocol == "wifi":
+            server = TcpServer(lambda: WifiSession(self.robot), self.robot.stop, host, port)
+            self.info = EmulationInfo(
+                protocol, server.endpoint, "epuck2-wifi", {"host": server.host, "port": server.port}
+            )
+        else:
+            if serial is None:
+                serial = "pty" if pty_available() else "tcp"
+            if serial == "pty":
+                server = PtyServer(lambda: SercomSession(self.robot), self.robot.stop)
+                device = server.endpoint
+            elif serial == "tcp":
+                server = TcpServer(lambda: SercomSession(self.robot), self.robot.stop, host, port)
+                device = f"socket://{server.endpoint}"
+            else:
+                raise ValueError(f"serial carrier must be 'pty' or 'tcp', got {serial!r}")
+            self.info = EmulationInfo(protocol, server.endpoint, "sercom", {"device": device})
+        self.server = server
+
+    # -- running ---------------------------------------------------------------------------
+    def start(self) -> None:
+        """Start serving (the world waits for the first command)."""
+        self.server.start()
+
+    def stop(self) -> None:
+        """Ask :meth:`run` to return (thread-safe; also from a signal-free UI thread)."""
+        self._stop.set()
+
+    def close(self) -> None:
+        self._stop.set()
+        self.robot.stop()
+        self.server.stop()
+
+    def run(self, duration: float | None = None, *, wait_for_client: float | None = None) -> Any:
+        """Serve and step in real time for ``duration`` s of robot time (default: the
+        scene's), counted from the first command; returns the judge's verdict as an
+        :class:`~puckboard.episode.EpisodeResult`. Returns early after :meth:`stop`, or
+        when no client sent a command within ``wait_for_client`` seconds."""
+        duration = self.scene.duration if duration is None else float(duration)
+        if duration <= 0:
+            raise ValueError(f"duration must be positive seconds, got {duration}")
+        if self.server._thread is None:
+            self.start()
+        t_open = time.monotonic()
+        try:
+            while self.robot.commands == 0 and not self._stop.is_set():
+                if wait_for_client is not None and time.monotonic() - t_open > wait_for_client:
+                    log.warning("no client sent a command within %.1f s", wait_for_client)
+                    return self.result()
+                self._check_server()
+                self._stop.wait(0.01)
+            self._pace(duration)
+        finally:
+            self.close()
+        return self.result()
+
+    def _pace(self, duration: float) -> None:
+        dt = self.world.dt
+        period = dt / self.realtime
+        steps = int(round(duration / dt))
+        t0 = time.monotonic()
+        self._started_at = t0
+        for k in range(1, steps + 1):
+            if self._stop.is_set():
+                break
+            self._check_server()
+            delay = t0 + k * period - time.monotonic()
+            if delay > 0 and self._stop.wait(delay):
+                break
+            with self._lock:
+                self.world.step(1)
+                self.judge.update(self.world.time, self.world.poses, self.world.collisions)
+            self.wall_s = time.monotonic() - t0
+
+    def _check_server(self) -> None:
+        if self.server.error is not None:
+            raise RuntimeError(
+                f"the emulator's server failed: {self.server.error}"
+            ) from self.server.error
+
+    def result(self) -> Any:
+        """The judge's verdict so far, as an :class:`~puckboard.episode.EpisodeResult`."""
+        from ..episode import EpisodeResult
+
+        with self._lock:
+            self.judge.finish()
+            return EpisodeResult(
+                scenario=self.scene.name,
+                controller=f"external ({self.info.backend})",
+                seed=self.seed,
+                dt_s=self.world.dt,
+                steps=int(self.world.step_count),
+                sim_time_s=float(self.world.time),
+                wall_s=float(self.wall_s),
+                success=bool(self.judge.success),
+                failure=self.judge.failure,
+                robots=self.judge.metrics(),
+                events=list(self.judge.events),
+            )
+
+    def __enter__(self) -> Emulation:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
