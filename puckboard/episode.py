@@ -1,0 +1,352 @@
+"""An episode: one scene, one controller per robot, one backend, judged from start to end.
+
+This is what ``puckboard run`` does, as a library call::
+
+    from puckboard.episode import run_episode
+    result = run_episode("two-robot-pass", controller="stock", seed=3)
+    print(result.success, result.failure)        # False parallel_driving
+    print(result.to_dict())                      # the `puckboard run --json` object
+
+An :class:`Episode` opens the backend (``open_backend(backend, scene, seed=...)``), builds
+one fresh controller per robot from the scene's ``RobotSpec.controller`` (or the
+``controller`` given), binds them in a :class:`~puckboard.control.loop.ControlLoop` and
+feeds a :class:`~puckboard.sim.judge.Judge` after every cycle: from the embedded world's
+ground truth (poses and the simulator's collision counts) when there is one, else from
+each robot's ``pose`` blackboard key. Viewers and recorders hook in with
+:meth:`Episode.add_observer` and :meth:`Episode.add_close_observer`; they only read, so a
+run is the same with or without them.
+
+``overrides`` change a scene or the controllers without editing files, by dotted name:
+``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
+``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
+robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .adapters.registry import open_backend
+from .behaviours.controller import Controller
+from .behaviours.controllers import load_controller
+from .behaviours.layer import Layer
+from .control.loop import ControlLoop
+from .errors import SceneError
+from .sim.judge import Event, Judge, RobotMetrics
+from .sim.scene import Scene
+
+__all__ = ["OVERRIDE_NAMES", "Episode", "EpisodeResult", "apply_scene_overrides", "run_episode"]
+
+log = logging.getLogger(__name__)
+
+OVERRIDE_NAMES = (
+    "noise.wheel_speed",
+    "noise.proximity",
+    "noise.ground",
+    "noise.start_jitter",
+    "dt",
+    "duration",
+    "layer.<LayerName>.<attribute>",
+)
+"""The dotted names :class:`Episode` accepts in ``overrides``."""
+
+EpisodeObserver = Callable[["Episode"], None]
+
+
+@dataclass
+class EpisodeResult:
+    """The outcome of an episode; :meth:`to_dict` is the ``puckboard run --json`` object."""
+
+    scenario: str
+    controller: str
+    seed: int
+    dt_s: float
+    steps: int
+    sim_time_s: float
+    wall_s: float
+    success: bool
+    failure: str | None
+    robots: list[RobotMetrics] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
+        rtf = self.realtime_factor
+        return {
+            "scenario": self.scenario,
+            "controller": self.controller,
+            "seed": self.seed,
+            "dt_s": self.dt_s,
+            "steps": self.steps,
+            "sim_time_s": round(self.sim_time_s, 6),
+            "wall_s": round(self.wall_s, 6),
+            "realtime_factor": round(rtf, 3) if np.isfinite(rtf) else None,
+            "success": self.success,
+            "failure": self.failure,
+            "robots": [m.to_dict() for m in self.robots],
+            "events": [e.to_dict() for e in self.events],
+        }
+
+
+def _resolve_scene(scene: Scene | str | Path) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    from .sim.scenefile import load_scene
+
+    return load_scene(scene)
+
+
+def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
+    """``scene`` with the scene-level overrides applied (``noise.*``, ``dt``, ``duration``);
+    ``layer.*`` names are left for the controllers. Unknown names raise ``ValueError``."""
+    noise_changes: dict[str, float] = {}
+    scene_changes: dict[str, float] = {}
+    noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
+    for name, value in overrides.items():
+        if name.startswith("layer."):
+            continue
+        if name.startswith("noise."):
+            key = name.split(".", 1)[1]
+            if key not in noise_fields:
+                raise ValueError(
+                    f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
+                )
+            noise_changes[key] = _non_negative(name, value)
+        elif name in ("dt", "duration"):
+            number = _non_negative(name, value)
+            if number <= 0:
+                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
+            scene_changes[name] = number
+        else:
+            raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
+    if noise_changes:
+        scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
+    return dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
+
+
+def _non_negative(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"override {name} needs a number, got {value!r}")
+    if not np.isfinite(value) or value < 0:
+        raise ValueError(f"override {name} must be a finite number >= 0, got {value!r}")
+    return float(value)
+
+
+def apply_layer_overrides(
+    controllers: Mapping[str, Controller], overrides: Mapping[str, Any]
+) -> None:
+    """Set ``layer.<LayerName>.<attribute>`` overrides on every controller that has that
+    layer; an error when no controller has it or the layer has no such attribute."""
+    for name, value in overrides.items():
+        if not name.startswith("layer."):
+            continue
+        parts = name.split(".")
+        if len(parts) != 3 or not parts[1] or not parts[2]:
+            raise ValueError(f"override {name!r} must look like layer.<LayerName>.<attribute>")
+        _, layer_name, attr = parts
+        found = False
+        for ctrl in controllers.values():
+            try:
+                layer: Layer = ctrl.find(layer_name)
+            except KeyError:
+                continue
+            params = layer.parameters()
+            if attr not in params:
+                raise ValueError(
+                    f"override {name!r}: layer {layer_name} has no parameter {attr!r}; "
+                    f"its parameters: {', '.join(sorted(params))}"
+                )
+            current = params[attr]
+            number_wanted = isinstance(current, (int, float)) and not isinstance(current, bool)
+            if number_wanted and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                raise ValueError(f"override {name!r} needs a number, got {value!r}")
+            setattr(layer, attr, value)
+            found = True
+        if not found:
+            layers = sorted(
+                {
+                    n.name
+                    for c in controllers.values()
+                    for n in c.root.iterate()
+                    if isinstance(n, Layer)
+                }
+            )
+            raise ValueError(
+                f"override {name!r}: no controller has a layer {layer_name!r}; "
+                f"layers: {', '.join(layers)}"
+            )
+
+
+class Episode:
+    """One judged run; see the module docstring. Use it once: build, observe, :meth:`run`."""
+
+    def __init__(
+        self,
+        scene: Scene | str | Path,
+        *,
+        controller: Any = None,
+        seed: int = 0,
+        backend: str = "embedded",
+        overrides: Mapping[str, Any] | None = None,
+        **backend_options: Any,
+    ) -> None:
+        overrides = dict(overrides or {})
+        self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
+        self.seed = int(seed)
+        self.backend = backend
+        specs = {
+            r.name: (controller if controller is not None else r.controller)
+            for r in self.scene.robots
+        }
+        # build the controllers first: a bad spec must fail before a backend is opened
+        self.controllers: dict[str, Controller] = {
+            name: load_controller(spec) for name, spec in specs.items()
+        }
+        apply_layer_overrides(self.controllers, overrides)
+        self.controller_label = _label(specs)
+        self.connection = open_backend(backend, self.scene, seed=self.seed, **backend_options)
+        try:
+            self.world = self.connection.world
+            self.blackboard = self.connection.blackboard
+            missing = [n for n in specs if n not in self.connection.adapters]
+            if missing:
+                raise SceneError(
+                    f"backend {backend!r} has no robot called {', '.join(missing)}; it has "
+                    f"{', '.join(self.connection.adapters)}"
+                )
+            bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
+            self.loop = ControlLoop(bindings)
+            self.judge = Judge(self.scene)
+            self._order = [self.world.index(n) for n in specs] if self.world is not None else None
+        except BaseException:
+            self.connection.close()
+            raise
+        self.observers: list[EpisodeObserver] = []
+        self.close_observers: list[EpisodeObserver] = []
+        self.result: EpisodeResult | None = None
+        self.wall_s = 0.0
+        self.loop.add_observer(self._after_cycle)
+        self.loop.add_close_observer(self._on_close)
+        if self.world is not None:
+            self._feed_judge()  # the start poses (after any start jitter)
+
+    # -- observation -----------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        return self.loop.time
+
+    def add_observer(self, observer: EpisodeObserver) -> None:
+        """``observer(episode)`` after every control cycle (after the judge has seen it)."""
+        self.observers.append(observer)
+
+    def add_close_observer(self, observer: EpisodeObserver) -> None:
+        """``observer(episode)`` once when the run ends, however it ends."""
+        self.close_observers.append(observer)
+
+    def _feed_judge(self) -> None:
+        if self.world is not None:
+            poses = self.world.poses
+            collisions = self.world.collisions
+            if self._order is not None and self._order != list(range(len(self._order))):
+                poses = poses[self._order]
+                collisions = collisions[self._order]
+            self.judge.update(self.world.time, poses, collisions)
+            return
+        poses = np.empty((len(self.controllers), 3))
+        for k, name in enumerate(self.controllers):
+            pose = self.connection.adapters[name].ns.value("pose")
+            if pose is None:
+                return  # this backend gives no pose (yet): nothing to judge on this cycle
+            poses[k] = (pose.x, pose.y, pose.theta)
+        self.judge.update(self.loop.time, poses)
+
+    def _after_cycle(self, loop: ControlLoop) -> None:
+        self._feed_judge()
+        for obs in self.observers:
+            obs(self)
+
+    def _on_close(self, loop: ControlLoop) -> None:
+        for obs in self.close_observers:
+            try:
+                obs(self)
+            except Exception:
+                log.exception("episode close observer %r failed", obs)
+
+    # -- running ---------------------------------------------------------------------------
+    def run(self, duration: float | None = None, *, stop_early: bool = True) -> EpisodeResult:
+        """Run for ``duration`` s of simulation (default: the scene's), stopping as soon as
+        the judge's verdict is final when ``stop_early``. Everything is closed at the end,
+        on error and on Ctrl-C."""
+        if self.result is not None:
+            raise RuntimeError("an Episode runs once; build a new one for another run")
+        duration = self.scene.duration if duration is None else float(duration)
+        if duration <= 0:
+            raise ValueError(f"duration must be positive seconds, got {duration}")
+        until = (lambda loop: self.judge.decided) if stop_early else None
+        t0 = time.perf_counter()
+        try:
+            self.loop.run(duration, until=until)
+        finally:
+            self.wall_s = time.perf_counter() - t0
+            self.connection.close()
+        self.judge.finish()
+        steps = (
+            self.world.step_count
+            if self.world is not None
+            else self.loop.cycles * max(1, self.loop.steps_per_cycle)
+        )
+        self.result = EpisodeResult(
+            scenario=self.scene.name,
+            controller=self.controller_label,
+            seed=self.seed,
+            dt_s=self.scene.dt,
+            steps=int(steps),
+            sim_time_s=float(self.loop.time),
+            wall_s=self.wall_s,
+            success=bool(self.judge.success),
+            failure=self.judge.failure,
+            robots=self.judge.metrics(),
+            events=list(self.judge.events),
+        )
+        return self.result
+
+
+def _label(specs: Mapping[str, Any]) -> str:
+    names = []
+    for spec in specs.values():
+        text = spec if isinstance(spec, str) else getattr(spec, "__name__", repr(spec))
+        if text not in names:
+            names.append(text)
+    return ",".join(names)
+
+
+def run_episode(
+    scene: Scene | str | Path,
+    *,
+    controller: Any = None,
+    seed: int = 0,
+    duration: float | None = None,
+    overrides: Mapping[str, Any] | None = None,
+    backend: str = "embedded",
+    stop_early: bool = True,
+    **backend_options: Any,
+) -> EpisodeResult:
+    """Build an :class:`Episode` and run it; see the module docstring."""
+    episode = Episode(
+        scene, controller=controller, seed=seed, backend=backend, overrides=overrides,
+        **backend_options,
+    )  # fmt: skip
+    return episode.run(duration, stop_early=stop_early)
