@@ -165,6 +165,10 @@ class SensorBlock:
         )
         if check:
             block.check_plausible()
+            if n == SENSOR_BLOCK_SERIAL_SIZE and v[48] != 0:
+                raise ImplausibleDataError(
+                    f"implausible sensor block: the spare byte 102 is {v[48]}, the robot sends 0"
+                )
         return block
 
     def check_plausible(self) -> None:

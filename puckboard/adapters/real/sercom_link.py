@@ -16,16 +16,20 @@ Binary replies carry no header, so the only way to notice garbage is a wrong len
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 import numpy.typing as npt
 
 from . import sercom_codec as sc
 from .blocks import ActuatorBlock, ImplausibleDataError, SensorBlock
-from .link import LinkBase, Reply
+from .link import LinkBase, Reply, _Garbage
 from .transport import Transport
 from .units import ACC_COUNTS_PER_G
 
 __all__ = ["SercomLink"]
+
+log = logging.getLogger(__name__)
 
 MODELS = ("e-puck2", "e-puck1")
 
@@ -80,6 +84,9 @@ class SercomLink(LinkBase):
         return self._attempt("sercom exchange", lambda: self._exchange_once(request, expect, image))
 
     def _exchange_once(self, request: bytes, expect: list[int], image: bool) -> Reply:
+        stale = self.transport.discard_pending()
+        if stale:
+            log.info("discarded %d stale bytes from %s", stale, self.description)
         self.transport.write(request)
         parts: dict[int, bytes] = {}
         for cmd in expect:
@@ -95,6 +102,11 @@ class SercomLink(LinkBase):
                 raise ImplausibleDataError(str(exc)) from None
             body = self.transport.read_exact(size, self.timeout * 3)
             frame = sc.decode_camera(header, body)
+        # A binary reply has no header: bytes beyond the expected length mean that what
+        # we just read was shifted by garbage. Throw it all away and ask again.
+        extra = self.transport.discard_pending()
+        if extra:
+            raise _Garbage(f"{extra} bytes more than the reply's length")
         block: SensorBlock | None = None
         if sc.ALL_SENSORS in parts:
             block = SensorBlock.decode(parts[sc.ALL_SENSORS])

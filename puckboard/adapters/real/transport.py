@@ -46,6 +46,8 @@ class Transport(Protocol):
 
     def drain(self, quiet: float = 0.05) -> int: ...
 
+    def discard_pending(self) -> int: ...
+
     def close(self) -> None: ...
 
 
@@ -116,6 +118,30 @@ class TcpTransport:
             if not chunk:
                 raise ConnectionLostError(f"the robot at {self.description} closed the connection")
             dropped += len(chunk)
+        return dropped
+
+    def discard_pending(self) -> int:
+        """Discard bytes that have already arrived, without waiting; return how many."""
+        self._check_open()
+        dropped = 0
+        self._sock.setblocking(False)
+        try:
+            while True:
+                try:
+                    chunk = self._sock.recv(65536)
+                except (BlockingIOError, InterruptedError):
+                    break
+                except OSError as exc:
+                    raise ConnectionLostError(
+                        f"connection to the robot at {self.description} failed: {exc}"
+                    ) from exc
+                if not chunk:
+                    raise ConnectionLostError(
+                        f"the robot at {self.description} closed the connection"
+                    )
+                dropped += len(chunk)
+        finally:
+            self._sock.setblocking(True)
         return dropped
 
     def close(self) -> None:
@@ -193,6 +219,18 @@ class SerialTransport:
         except self._errors as exc:
             raise ConnectionLostError(f"reading from {self.description} failed: {exc}") from exc
         return dropped
+
+    def discard_pending(self) -> int:
+        """Discard bytes that have already arrived, without waiting; return how many."""
+        self._check_open()
+        try:
+            waiting = int(self._port.in_waiting)
+            if waiting:
+                self._port.timeout = 0
+                return len(self._port.read(waiting))
+        except self._errors as exc:
+            raise ConnectionLostError(f"reading from {self.description} failed: {exc}") from exc
+        return 0
 
     def close(self) -> None:
         if self._closed:

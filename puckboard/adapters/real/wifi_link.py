@@ -36,6 +36,7 @@ class WifiLink(LinkBase):
 
     def _exchange_once(self, command: bytes, sensors: bool, image: bool) -> Reply:
         self._framer.clear()
+        self.transport.discard_pending()  # late replies to an exchange that timed out
         self.transport.write(command)
         timeout = self.timeout * (_IMAGE_TIMEOUT_FACTOR if image else 1.0)
         deadline = time.monotonic() + timeout

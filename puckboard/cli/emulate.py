@@ -1,0 +1,113 @@
+"""``puckboard emulate``: a simulated e-puck that speaks the real robot's protocol.
+
+Serves the first robot of a scene over the e-puck2 Wi-Fi protocol (TCP) or advanced
+sercom (a pseudo-terminal on Linux/macOS, or TCP with ``--port``), paced in real time,
+and prints the judge's verdict (the ``puckboard run --json`` fields) when it stops:
+after ``--duration`` seconds counted from the client's first command, or on Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from . import CliError
+
+DEFAULT_WIFI_PORT = 10000  # the robot uses 1000, which needs administrator rights to bind
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = subparsers.add_parser(
+        "emulate",
+        help="emulate a real e-puck's protocol (Wi-Fi or sercom) with the simulator behind it",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=(
+            "example:\n"
+            "  puckboard emulate line-follow --protocol wifi --port 10000\n"
+            "  puckboard run line-follow --backend epuck2-wifi --host 127.0.0.1 --port 10000\n"
+        ),
+    )
+    p.add_argument(
+        "scenario",
+        nargs="?",
+        default="line-follow",
+        help="scene name or file (default: line-follow)",
+    )
+    p.add_argument("--protocol", choices=("wifi", "sercom"), default="wifi")
+    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1)")
+    p.add_argument(
+        "--port",
+        type=int,
+        default=None,
+        help=f"TCP port (wifi: default {DEFAULT_WIFI_PORT}; sercom: serve over TCP instead of a "
+        "pseudo-terminal, connect with --device socket://HOST:PORT; 0 = any free port)",
+    )
+    p.add_argument(
+        "--duration", type=float, default=None, help="seconds of robot time (default: the scene's)"
+    )
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", action="store_true", help="print only the verdict as JSON on stdout")
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..emulator import Emulation, pty_available
+    from ..errors import SceneError
+
+    if args.duration is not None and args.duration <= 0:
+        raise CliError(f"--duration must be positive seconds, got {args.duration}")
+    serial = None
+    port = args.port
+    if args.protocol == "wifi":
+        port = DEFAULT_WIFI_PORT if port is None else port
+    elif port is not None:
+        serial = "tcp"
+    elif not pty_available():
+        raise CliError(
+            "serving sercom on a pseudo-terminal needs Linux or macOS; on this system add "
+            "--port 10001 and connect with --device socket://127.0.0.1:10001, or use "
+            "--protocol wifi"
+        )
+    else:
+        serial = "pty"
+    try:
+        emulation = Emulation(
+            args.scenario,
+            protocol=args.protocol,
+            host=args.host,
+            port=port or 0,
+            seed=args.seed,
+            serial=serial,
+        )
+    except (SceneError, FileNotFoundError, KeyError) as exc:
+        raise CliError(str(exc)) from None
+    except OSError as exc:
+        raise CliError(str(exc)) from None
+    info = emulation.info
+    banner = sys.stderr if args.json else sys.stdout
+    print(
+        f"emulating robot {emulation.robot.name!r} of scene {emulation.scene.name!r} over "
+        f"{'Wi-Fi (TCP)' if args.protocol == 'wifi' else 'advanced sercom'} at {info.endpoint}",
+        file=banner,
+    )
+    print(f"connect with: {info.command_line(args.scenario)}", file=banner)
+    print("the clock starts with the first command; Ctrl-C stops", file=banner, flush=True)
+    try:
+        result = emulation.run(args.duration)
+    except KeyboardInterrupt:
+        emulation.close()
+        result = emulation.result()
+    data = result.to_dict()
+    if args.json:
+        print(json.dumps(data, indent=2))
+    else:
+        verdict = "success" if data["success"] else f"failure: {data['failure']}"
+        print(f"{data['scenario']}: {verdict} after {data['sim_time_s']:.1f} s of robot time")
+        for r in data["robots"]:
+            print(
+                f"  {r['name']}: {r['progress_laps']:.2f} laps, {r['distance_m']:.2f} m, "
+                f"on line {100 * r['on_line_fraction']:.0f}%, {r['collisions']} collisions"
+            )
+    return 0
