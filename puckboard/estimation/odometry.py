@@ -106,7 +106,7 @@ class OdometryNoise:
     travel_variance: float = 1e-5
     relative_sigma: float = 0.0
     gyro_sigma: float = 0.01
-    slip_accel: float = 1.5
+    slip_accel: float = 0.25
     slip_inflation: float = 100.0
     slip_hold: float = 0.5
 
