@@ -1,0 +1,125 @@
+"""``puckboard serve``: serve a scene over CoppeliaSim's ZeroMQ remote API.
+
+The embedded simulator holds the scene; clients drive it exactly as they would drive
+CoppeliaSim: the official Python client, EPuckVRep, ``puckboard run --backend
+coppeliasim``. Each robot of the scene is served as a copy of the stock e-puck model
+(ePuck, ePuck#0, ePuck#1 ...), keeps its start pose from the scene, and moves only when
+a client commands it. The simulation starts when a client calls sim.startSimulation;
+while clients are in stepping mode it advances when every one of them has called
+sim.step, otherwise in real time. sim.stopSimulation restores the scene.
+
+Serving a classroom: bind all interfaces explicitly with --host 0.0.0.0 and give the
+students this machine's address. Nothing a client sends is executed: only the listed
+sim.* functions are served.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = subparsers.add_parser(
+        "serve",
+        help="serve a scene over CoppeliaSim's ZeroMQ remote API (for EPuckVRep and classes)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=(
+            "examples:\n"
+            "  puckboard serve two-robot-pass\n"
+            "  puckboard run two-robot-pass --backend coppeliasim --port 23000\n"
+            "  puckboard serve my-scene.toml --host 0.0.0.0 --port 23000   # a whole class\n"
+        ),
+    )
+    p.add_argument(
+        "scenario",
+        nargs="?",
+        default="two-robot-pass",
+        help="scene name or scene file (default: two-robot-pass)",
+    )
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1, this machine only; 0.0.0.0 = every "
+        "interface, for a class)",
+    )
+    p.add_argument(
+        "--port", type=int, default=23000, help="TCP port (default 23000, CoppeliaSim's; 0 = any)"
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the simulation's noise")
+    p.add_argument(
+        "--stepping-timeout",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="a stepping client silent this long stops holding the others back (default 10 s)",
+    )
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..errors import SceneError
+    from ..remote.server import RemoteApiServer
+    from ..sim.scenefile import load_scene
+
+    if not 0 <= args.port <= 65535:
+        raise CliError(f"--port must be 0..65535, got {args.port}")
+    if args.stepping_timeout <= 0:
+        raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
+    try:
+        scene = load_scene(args.scenario)
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        raise CliError(str(exc)) from None
+    try:
+        server = RemoteApiServer(
+            scene,
+            host=args.host,
+            port=args.port,
+            seed=args.seed,
+            stepping_timeout=args.stepping_timeout,
+        )
+    except ImportError as exc:
+        raise CliError(
+            f"serving needs a missing package ({exc.name}); install: pip install 'puckboard[coppeliasim]'"
+        ) from None
+    except OSError as exc:
+        raise CliError(str(exc)) from None
+    shown_host = "127.0.0.1" if args.host in ("127.0.0.1", "localhost") else args.host
+    out = sys.stdout
+    print(
+        f"serving scene {scene.name!r} (dt {scene.dt:g} s, seed {args.seed}) over the ZeroMQ "
+        f"remote API, protocol 2, at tcp://{args.host}:{server.port}",
+        file=out,
+    )
+    for line in server.describe():
+        print(f"  {line}", file=out)
+    if args.host in ("0.0.0.0", "*"):
+        print("  listening on every interface: clients use this machine's address", file=out)
+        shown_host = "<this machine's address>"
+    print("connect with:", file=out)
+    print(
+        f"  puckboard run {args.scenario} --backend coppeliasim --host {shown_host} "
+        f"--port {server.port}",
+        file=out,
+    )
+    print(
+        f"  python: RemoteAPIClient('{shown_host}', {server.port}).require('sim'), or "
+        f"EPuckVRep(object_path='ePuck', host='{shown_host}', port={server.port})",
+        file=out,
+    )
+    print("Ctrl-C stops the server", file=out, flush=True)
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.close()
+        print(
+            f"server stopped after {server.requests} requests "
+            f"({server.errors} answered with an error), t={server.api.world.time:.2f} s",
+            file=out,
+        )
+    return 0
