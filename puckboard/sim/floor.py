@@ -35,12 +35,44 @@ FloatArray = npt.NDArray[np.float64]
 DEFAULT_FOOTPRINT = 0.002
 #: Cell size (m) of the camera's line raster.
 RASTER_CELL = 0.002
+#: Cell size (m) of the grid that finds the track segments near a robot.
+GRID_CELL = 0.02
 
 
 def luminance(colour: Colour) -> float:
     """Brightness 0..1 of an RGB colour (Rec. 601 luma)."""
     r, g, b = colour
     return (0.299 * r + 0.587 * g + 0.114 * b) / 255.0
+
+
+def _segment_distance_each(
+    point: FloatArray, seg_start: FloatArray, seg_vector: FloatArray
+) -> FloatArray:
+    """Squared distance from one point to each of S segments."""
+    length2 = np.maximum((seg_vector * seg_vector).sum(axis=1), 1e-300)
+    w = point - seg_start
+    s = np.clip((w * seg_vector).sum(axis=1) / length2, 0.0, 1.0)
+    q = w - s[:, None] * seg_vector
+    return (q * q).sum(axis=1)
+
+
+class _Near:
+    """Track segments prepared for the ground-sensor distance query.
+
+    Points and segments are complex numbers (x + iy): the point–segment distance then
+    takes half as many numpy calls, and at a few hundred elements the calls, not the
+    arithmetic, are what cost.
+    """
+
+    __slots__ = ("count", "inv_len2", "start", "vector", "vector_conj")
+
+    def __init__(self, seg_start: FloatArray, seg_vector: FloatArray) -> None:
+        self.count = int(seg_start.shape[0])
+        self.start = (seg_start[:, 0] + 1j * seg_start[:, 1])[None, :]
+        self.vector = (seg_vector[:, 0] + 1j * seg_vector[:, 1])[None, :]
+        self.vector_conj = self.vector.conj()
+        len2 = (self.vector * self.vector_conj).real
+        self.inv_len2 = 1.0 / np.where(len2 > 0.0, len2, 1.0)
 
 
 class Floor:
@@ -67,22 +99,81 @@ class Floor:
             self.line_colour = track.colour
             self.line_brightness = luminance(track.colour)
         self._build_raster()
+        self._cell_segments: dict[tuple[int, int], npt.NDArray[np.intp]] = {}
+        self._near_cache: dict[tuple[tuple[int, int], ...], _Near] = {}
+        self._all = _Near(self.seg_start, self.seg_vector)
 
     # -- ground sensors --------------------------------------------------------------------
-    def coverage(self, points: FloatArray) -> FloatArray:
-        """Fraction (0..1) of each sensor footprint centred at ``points`` (P×2) on the line."""
-        if self.seg_start.shape[0] == 0:
-            return np.zeros(points.shape[0])
-        d = segment_distance(points, self.seg_start, self.seg_vector)
-        rho = self.footprint
-        h = self.half_width
-        overlap = np.minimum(d + rho, h) - np.maximum(d - rho, -h)
-        return np.clip(overlap / (2.0 * rho), 0.0, 1.0)
+    def coverage(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
+        """Fraction (0..1) of each sensor footprint centred at ``points`` on the line.
 
-    def brightness(self, points: FloatArray) -> FloatArray:
-        """Noise-free ground reading 0..1 at ``points`` (P×2)."""
-        c = self.coverage(points)
-        return self.floor_brightness + c * (self.line_brightness - self.floor_brightness)
+        ``points`` is P×2 (x, y), or P complex numbers x + iy.
+
+        ``near`` (from :meth:`segments_near`) limits the search to the segments that can
+        matter; without it every segment of the track is tested.
+        """
+        if near is None:
+            near = self._all
+        if near.count == 0:
+            return np.zeros(points.shape[0])
+        if points.dtype.kind != "c":
+            points = points[:, 0] + 1j * points[:, 1]
+        w = points[:, None] - near.start  # P×S
+        t = (w * near.vector_conj).real
+        t *= near.inv_len2
+        np.clip(t, 0.0, 1.0, out=t)
+        w -= t * near.vector
+        d = np.abs(w).min(axis=1)
+        # covered length of the footprint strip [d - rho, d + rho] inside [-h, h]
+        overlap = np.minimum(d + self.footprint, self.half_width)
+        overlap -= np.maximum(d - self.footprint, -self.half_width)
+        overlap *= 1.0 / (2.0 * self.footprint)
+        return np.clip(overlap, 0.0, 1.0, out=overlap)
+
+    def brightness(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
+        """Noise-free ground reading 0..1 at ``points`` (P×2); ``near`` as in :meth:`coverage`."""
+        c = self.coverage(points, near)
+        c *= self.line_brightness - self.floor_brightness
+        c += self.floor_brightness
+        return c
+
+    def segments_near(self, centres: list[tuple[float, float]], reach: float) -> _Near:
+        """The track segments that can lie within ``reach`` (m) of any of ``centres``.
+
+        A track can have hundreds of segments, and measuring the distance to all of them
+        for every ground sensor every step would cost more than the rest of the step.
+        The floor is divided into cells of :data:`GRID_CELL`; each cell's candidate
+        segments are found once (the first time a robot is in it) and the union for the
+        robots' current cells is cached, so a step usually costs one dictionary lookup.
+        ``reach`` must stay the same between calls (the world passes the centroid of each
+        robot's ground sensors and their largest distance from it).
+        """
+        inv = 1.0 / GRID_CELL
+        key = tuple((int(np.floor(x * inv)), int(np.floor(y * inv))) for x, y in centres)
+        found = self._near_cache.get(key)
+        if found is not None:
+            return found
+        idx = np.unique(np.concatenate([self._segments_in_cell(c, reach) for c in key]))
+        found = _Near(self.seg_start[idx], self.seg_vector[idx])
+        if len(self._near_cache) > 4096:
+            self._near_cache.clear()
+        self._near_cache[key] = found
+        return found
+
+    def _segments_in_cell(self, cell: tuple[int, int], reach: float) -> npt.NDArray[np.intp]:
+        idx = self._cell_segments.get(cell)
+        if idx is None:
+            centre = (np.array(cell, dtype=float) + 0.5) * GRID_CELL
+            # anything within reach of any point of the cell, plus the line's half-width and
+            # the footprint, can touch a sensor of a robot whose centre is in the cell
+            limit = GRID_CELL * np.sqrt(0.5) + reach + self.half_width + self.footprint
+            if self.seg_start.shape[0]:
+                d = np.sqrt(_segment_distance_each(centre, self.seg_start, self.seg_vector))
+                idx = np.nonzero(d <= limit)[0]
+            else:
+                idx = np.zeros(0, dtype=np.intp)
+            self._cell_segments[cell] = idx
+        return idx
 
     # -- camera ----------------------------------------------------------------------------
     def _build_raster(self) -> None:

@@ -13,12 +13,32 @@ For an arc with forward speed v and turn rate w over dt, the chord has length
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["arc_step", "body_velocity"]
+__all__ = ["arc", "arc_step", "body_velocity"]
 
 FloatArray = npt.NDArray[np.float64]
+
+
+def arc(
+    x: float, y: float, theta: float, forward: float, turn: float, dt: float
+) -> tuple[float, float, float]:
+    """One robot's pose after moving along an exact arc for ``dt`` (plain floats).
+
+    The simulator steps a handful of robots; for so few, scalar maths costs less than
+    one numpy call. The returned heading is wrapped to (-π, π].
+    """
+    half = 0.5 * turn * dt
+    chord = forward * dt * (math.sin(half) / half if half != 0.0 else 1.0)
+    heading = theta + half
+    return (
+        x + chord * math.cos(heading),
+        y + chord * math.sin(heading),
+        math.remainder(theta + 2.0 * half, math.tau),
+    )
 
 
 def body_velocity(

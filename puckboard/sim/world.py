@@ -45,13 +45,14 @@ from ..records import (
     Sensor,
     WheelEncoders,
     WheelSpeeds,
+    _unchecked,
 )
 from .camera import CameraRenderer
 from .contacts import Statics
 from .floor import Floor
 from .geometry import cast_rays, polygon_edges
 from .ir import RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
-from .kinematics import arc_step, body_velocity
+from .kinematics import arc
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["GRAVITY", "IR_RAYS", "OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "World"]
@@ -70,6 +71,13 @@ WALL_HEIGHT = 0.08
 #: Largest distance (as a fraction of the body radius) a robot may move in one physics
 #: sub-step; longer steps are split so contacts are never skipped.
 MAX_SUBSTEP_FRACTION = 0.25
+
+
+def _row(array: FloatArray, i: int) -> FloatArray:
+    """A read-only copy of row ``i`` (records own their arrays)."""
+    row = array[i].copy()
+    row.flags.writeable = False
+    return row
 
 
 class World(Stepper):
@@ -130,11 +138,24 @@ class World(Stepper):
         self._command = np.zeros((n, 2))
         self._wheels = np.zeros((n, 2))
         self._encoders = np.zeros((n, 2))
-        self._velocity = np.zeros((n, 2))  # world frame, m/s
         self._accel = np.zeros((n, 3))
         self._accel[:, 2] = GRAVITY
         self._collisions = np.zeros(n, dtype=np.int64)
         self._contacts = np.zeros(n, dtype=bool)
+        # the step works on plain Python floats (cheaper than numpy for a few robots) and
+        # copies them into the arrays above once per step
+        self._wheel_radius_list = self._wheel_radius.tolist()
+        self._axle_list = self._axle.tolist()
+        self._max_wheel_list = self._max_wheel.tolist()
+        self._max_substep_move = MAX_SUBSTEP_FRACTION * min(self._radius_list)
+        self._pose_list: list[list[float]] = self._poses.tolist()
+        self._velocity_list: list[tuple[float, float]] = [(0.0, 0.0)] * n
+        self._accel_list: list[list[float]] = self._accel.tolist()
+        self._encoder_list: list[list[float]] = self._encoders.tolist()
+        self._contact_list: list[bool] = [False] * n
+        self._wheel_list: list[list[float]] = [[0.0, 0.0] for _ in range(n)]
+        self._range_list: list[float] = self._range.tolist()
+        self._collision_list: list[int] = [0] * n
 
         # -- static geometry ------------------------------------------------------------
         self.floor = (
@@ -184,6 +205,27 @@ class World(Stepper):
             vectors.append(e)
             seg_colours += [ar.colour] * 4
             seg_heights += [WALL_HEIGHT] * 4
+        # bounding data for the IR broad phase: circles, polygons (bounding circle and
+        # their edges' indices) and walls (each wall segment tested exactly)
+        self._ir_circles = tuple((float(c[0]), float(c[1]), float(c[2])) for c in circles)
+        polygons: list[tuple[float, float, float, tuple[int, ...]]] = []
+        walls: list[tuple[float, float, float, float, float, int]] = []
+        first = 0
+        for ob in scene.obstacles:
+            if isinstance(ob, PolygonObstacle):
+                v = np.asarray(ob.vertices, dtype=float)
+                centre = v.mean(axis=0)
+                radius = float(np.hypot(*(v - centre).T).max())
+                idx = tuple(range(first, first + len(v)))
+                polygons.append((float(centre[0]), float(centre[1]), radius, idx))
+                first += len(v)
+        if scene.arena is not None:
+            for k in range(4):
+                ax, ay = starts[-1][k].tolist()
+                ex, ey = vectors[-1][k].tolist()
+                walls.append((ax, ay, ex, ey, ex * ex + ey * ey, first + k))
+        self._ir_polygons = tuple(polygons)
+        self._ir_walls = tuple(walls)
         self._seg_start = np.vstack(starts) if starts else np.zeros((0, 2))
         self._seg_vector = np.vstack(vectors) if vectors else np.zeros((0, 2))
         n_static = len(circles)
@@ -211,8 +253,6 @@ class World(Stepper):
         origin_y = np.zeros((n, 8 * k))
         angle = np.zeros((n, 8 * k))
         weights = np.zeros((n, 8, k))
-        ground_x = np.zeros((n, 3))
-        ground_y = np.zeros((n, 3))
         for i, p in enumerate(self.profiles):
             if len(p.prox_poses) != 8 or len(p.ground_poses) != 3:
                 raise ValueError(
@@ -230,19 +270,32 @@ class World(Stepper):
                 origin_y[i, s * k : (s + 1) * k] = pose.y
                 angle[i, s * k : (s + 1) * k] = pose.heading + offsets
                 weights[i, s] = w / w.sum()
-            for g, pose in enumerate(p.ground_poses):
-                ground_x[i, g] = pose.x
-                ground_y[i, g] = pose.y
         self._ray_ox, self._ray_oy, self._ray_angle = origin_x, origin_y, angle
         self._ray_weights = weights
-        self._ground_lx, self._ground_ly = ground_x, ground_y
         # a robot's rays never see its own body (its sensors sit inside the body circle)
         n_circ = self._circle_centres.shape[0]
         ignore = np.zeros((n, 8 * k, n_circ), dtype=bool)
         for i in range(n):
             ignore[i, :, self._n_static_circles + i] = True
-        self._ray_ignore = ignore.reshape(n * 8 * k, n_circ)
+        self._ray_ignore = ignore
         self._cast_length = max(TABLE_RANGE, float(self._range.max()))
+        self._range_col = self._range[:, None]
+        # what a sensor reads when its rays hit nothing: the table's far baseline
+        self._baseline_raw = (raw_from_distance(np.inf) * weights).sum(axis=2)
+        # broad phase: how far from a robot's centre its rays can reach
+        sensor_offset = max(math.hypot(q.x, q.y) for p in self.profiles for q in p.prox_poses)
+        self._ir_reach = sensor_offset + self._cast_length
+        # ground sensors: local positions, and their centroid for the segment grid
+        self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in self.profiles]
+        self._ground_mid = [
+            (sum(q[0] for q in g) / len(g), sum(q[1] for q in g) / len(g))
+            for g in self._ground_local
+        ]
+        self._ground_reach = max(
+            math.hypot(q[0] - m[0], q[1] - m[1])
+            for g, m in zip(self._ground_local, self._ground_mid)
+            for q in g
+        )
 
     def _read_only_views(self) -> None:
         def ro(a: np.ndarray) -> np.ndarray:
@@ -263,18 +316,18 @@ class World(Stepper):
         }
 
     def _resolve_start_contacts(self) -> None:
-        pos = self._poses[:, :2].tolist()
+        pos = self._pose_list
         contact = self.statics.resolve(pos, self._radius_list)
-        if any(contact):
-            moved = np.abs(np.array(pos) - self._poses[:, :2]).max()
-            if moved > 1e-9:
-                log.warning(
-                    "scene %r: a robot starts overlapping something; moved it by %.4f m",
-                    self.scene.name,
-                    moved,
-                )
-            self._poses[:, :2] = pos
+        moved = float(np.abs(np.array(pos) - self._poses).max())
+        if moved > 1e-9:
+            log.warning(
+                "scene %r: a robot starts overlapping something; moved it by %.4f m",
+                self.scene.name,
+                moved,
+            )
+        self._poses[:] = pos
         self._contacts[:] = contact
+        self._contact_list = list(contact)
 
     # -- Stepper -----------------------------------------------------------------------------
     @property
@@ -364,8 +417,10 @@ class World(Stepper):
 
     def set_pose(self, i: int, x: float, y: float, theta: float) -> None:
         """Place robot ``i`` (for tests and scripted set-ups); sensors are recomputed."""
-        self._poses[i] = (x, y, math.remainder(theta, math.tau))
-        self._velocity[i] = 0.0
+        pose = [float(x), float(y), math.remainder(float(theta), math.tau)]
+        self._pose_list[i] = pose
+        self._poses[i] = pose
+        self._velocity_list[i] = (0.0, 0.0)
         self._sense(None)
 
     # -- the step ------------------------------------------------------------------------------
@@ -373,86 +428,182 @@ class World(Stepper):
         dt = self._dt
         n = self.n
         z = self.rng.standard_normal(n * 13) if self._noisy else None
-        wheels = self._command
+        command = self._command.tolist()
         if z is not None and self._noise_wheel > 0:
-            wheels = wheels * (1.0 + self._noise_wheel * z[: 2 * n].reshape(n, 2))
-            np.clip(wheels, -self._max_wheel[:, None], self._max_wheel[:, None], out=wheels)
-        self._wheels[:] = wheels
-        self._encoders += wheels * dt
-        forward, turn = body_velocity(wheels, self._wheel_radius, self._axle)
-        old_xy = self._poses[:, :2].copy()
-        max_move = float(np.abs(forward).max()) * dt
-        substeps = max(1, math.ceil(max_move / (MAX_SUBSTEP_FRACTION * min(self._radius_list))))
+            zw = z[: 2 * n].tolist()
+            sigma = self._noise_wheel
+            for i in range(n):
+                limit = self._max_wheel_list[i]
+                left = command[i][0] * (1.0 + sigma * zw[2 * i])
+                right = command[i][1] * (1.0 + sigma * zw[2 * i + 1])
+                command[i] = [
+                    -limit if left < -limit else limit if left > limit else left,
+                    -limit if right < -limit else limit if right > limit else right,
+                ]
+        poses = self._pose_list
+        old = [(p[0], p[1]) for p in poses]
+        forward = [0.0] * n
+        turn = [0.0] * n
+        for i in range(n):
+            left = command[i][0] * self._wheel_radius_list[i]
+            right = command[i][1] * self._wheel_radius_list[i]
+            forward[i] = 0.5 * (left + right)
+            turn[i] = (right - left) / self._axle_list[i]
+        fastest = max(abs(v) for v in forward) * dt
+        substeps = max(1, math.ceil(fastest / self._max_substep_move))
         h = dt / substeps
         touched = [False] * n
         for _ in range(substeps):
-            self._poses += arc_step(self._poses, forward, turn, h)
-            pos = self._poses[:, :2].tolist()
-            contact = self.statics.resolve(pos, self._radius_list)
-            self._poses[:, :2] = pos
+            for i in range(n):
+                p = poses[i]
+                p[0], p[1], p[2] = arc(p[0], p[1], p[2], forward[i], turn[i], h)
+            contact = self.statics.resolve(poses, self._radius_list)
             touched = [a or b for a, b in zip(touched, contact)]
-        self._poses[:, 2] = np.remainder(self._poses[:, 2] + math.pi, math.tau) - math.pi
-        now = np.array(touched)
-        self._collisions += now & ~self._contacts
-        self._contacts[:] = now
         # accelerometer: change of the actual (contact-limited) velocity, in the robot frame
-        velocity = (self._poses[:, :2] - old_xy) / dt
-        acc = (velocity - self._velocity) / dt
-        self._velocity[:] = velocity
-        c = np.cos(self._poses[:, 2])
-        s = np.sin(self._poses[:, 2])
-        self._accel[:, 0] = acc[:, 0] * c + acc[:, 1] * s
-        self._accel[:, 1] = -acc[:, 0] * s + acc[:, 1] * c
-        self._time = (self.step_count + 1) * dt
+        inv_dt = 1.0 / dt
+        accel = self._accel_list
+        velocity = self._velocity_list
+        encoders = self._encoder_list
+        for i in range(n):
+            p = poses[i]
+            vx = (p[0] - old[i][0]) * inv_dt
+            vy = (p[1] - old[i][1]) * inv_dt
+            ax = (vx - velocity[i][0]) * inv_dt
+            ay = (vy - velocity[i][1]) * inv_dt
+            velocity[i] = (vx, vy)
+            c, s = math.cos(p[2]), math.sin(p[2])
+            accel[i] = [ax * c + ay * s, -ax * s + ay * c, GRAVITY]
+            encoders[i][0] += command[i][0] * dt
+            encoders[i][1] += command[i][1] * dt
+            if touched[i] and not self._contact_list[i]:
+                self._collision_list[i] += 1
+        self._contact_list = touched
+        # publish the state to the read-only arrays in a few bulk copies
+        self._poses[:] = poses
+        self._wheels[:] = command
+        self._wheel_list = command
+        self._encoders[:] = encoders
+        self._accel[:] = accel
+        self._contacts[:] = touched
+        self._collisions[:] = self._collision_list
         self.step_count += 1
+        self._time = self.step_count * dt
         self._sense(z)
+
+    def _near_ir(self) -> tuple[list[int], list[int], list[int]]:
+        """Broad phase for the IR rays: which robots see anything, and what they may see.
+
+        Most of the time nothing is within a few centimetres of any robot and the rays
+        need not be cast at all; otherwise only the nearby circles and segments are
+        passed to the cast. Returns (robots, circle indices, segment indices); the test
+        is conservative (bounding circles, exact wall distances), so it never drops a hit.
+        """
+        poses = self._pose_list
+        reach = self._ir_reach
+        robots: list[int] = []
+        circles: set[int] = set()
+        segments: set[int] = set()
+        n = self.n
+        for i in range(n):
+            x, y = poses[i][0], poses[i][1]
+            found = False
+            for k, (cx, cy, cr) in enumerate(self._ir_circles):
+                dx, dy = x - cx, y - cy
+                lim = reach + cr
+                if dx * dx + dy * dy < lim * lim:
+                    circles.add(k)
+                    found = True
+            for j in range(n):
+                if j != i:
+                    dx, dy = x - poses[j][0], y - poses[j][1]
+                    lim = reach + self._radius_list[j]
+                    if dx * dx + dy * dy < lim * lim:
+                        circles.add(self._n_static_circles + j)
+                        found = True
+            for cx, cy, cr, idx in self._ir_polygons:
+                dx, dy = x - cx, y - cy
+                lim = reach + cr
+                if dx * dx + dy * dy < lim * lim:
+                    segments.update(idx)
+                    found = True
+            for ax, ay, ex, ey, len2, k in self._ir_walls:
+                wx, wy = x - ax, y - ay
+                t = (wx * ex + wy * ey) / len2
+                t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
+                qx, qy = wx - t * ex, wy - t * ey
+                if qx * qx + qy * qy < reach * reach:
+                    segments.add(k)
+                    found = True
+            if found:
+                robots.append(i)
+        return robots, sorted(circles), sorted(segments)
 
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
         n = self.n
-        x = self._poses[:, 0:1]
-        y = self._poses[:, 1:2]
-        th = self._poses[:, 2:3]
-        c = np.cos(th)
-        s = np.sin(th)
-        # -- IR: every ray of every robot in one cast ------------------------------------
-        self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
-        ox = x + c * self._ray_ox - s * self._ray_oy
-        oy = y + s * self._ray_ox + c * self._ray_oy
-        ang = th + self._ray_angle
-        origins = np.stack([ox.ravel(), oy.ravel()], axis=1)
-        dirs = np.stack([np.cos(ang).ravel(), np.sin(ang).ravel()], axis=1)
-        dist, _ = cast_rays(
-            origins,
-            dirs,
-            self._cast_length,
-            self._seg_start,
-            self._seg_vector,
-            self._circle_centres,
-            self._circle_radii,
-            self._ray_ignore,
-        )
-        dist = dist.reshape(n, 8, self._ir_rays)
-        nearest = dist.min(axis=2)
-        response = (raw_from_distance(dist) * self._ray_weights).sum(axis=2)
-        rng_ = self._range[:, None]
-        distance = np.minimum(nearest, rng_)
+        # -- IR: the rays of every robot near something, in one cast ----------------------
+        robots, circles, segments = self._near_ir()
+        distance = self._prox_distance
+        response = self._prox_raw
+        distance[:] = self._range_col
+        response[:] = self._baseline_raw
+        if robots:
+            self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
+            sub = self._poses[robots]
+            x = sub[:, 0:1]
+            y = sub[:, 1:2]
+            th = sub[:, 2:3]
+            c = np.cos(th)
+            s = np.sin(th)
+            lx = self._ray_ox[robots]
+            ly = self._ray_oy[robots]
+            ang = (th + self._ray_angle[robots]).ravel()
+            origins = np.empty((ang.shape[0], 2))
+            origins[:, 0] = (x + c * lx - s * ly).ravel()
+            origins[:, 1] = (y + s * lx + c * ly).ravel()
+            dirs = np.empty_like(origins)
+            dirs[:, 0] = np.cos(ang)
+            dirs[:, 1] = np.sin(ang)
+            ignore = self._ray_ignore[robots][:, :, circles].reshape(ang.shape[0], len(circles))
+            dist, _ = cast_rays(
+                origins,
+                dirs,
+                self._cast_length,
+                self._seg_start[segments],
+                self._seg_vector[segments],
+                self._circle_centres[circles],
+                self._circle_radii[circles],
+                ignore,
+            )
+            dist = dist.reshape(len(robots), 8, self._ir_rays)
+            nearest = dist.min(axis=2)
+            distance[robots] = np.minimum(nearest, self._range_col[robots])
+            response[robots] = (raw_from_distance(dist) * self._ray_weights[robots]).sum(axis=2)
         if z is not None and self._noise_prox > 0:
             zp = z[2 * n : 10 * n].reshape(n, 8)
-            sigma = np.hypot(self._noise_prox, relative_sigma(nearest))
-            response = response * (1.0 + sigma * zp)
+            seen = distance < self._range_col
+            sigma = np.hypot(self._noise_prox, relative_sigma(np.where(seen, distance, np.inf)))
+            response *= 1.0 + sigma * zp
             # a reading that comes back high means "closer": raw ~ 1/d², so d moves by −½
-            seen = nearest < rng_
-            noisy = np.clip(distance * (1.0 - 0.5 * self._noise_prox * zp), 0.0, rng_)
-            distance = np.where(seen, noisy, distance)
-        self._prox_distance[:] = distance
-        np.clip(response, 0.0, RAW_MAX, out=self._prox_raw)
-        # -- ground ---------------------------------------------------------------------------
-        gx = x + c * self._ground_lx - s * self._ground_ly
-        gy = y + s * self._ground_lx + c * self._ground_ly
-        value = self.floor.brightness(np.stack([gx.ravel(), gy.ravel()], axis=1)).reshape(n, 3)
+            if seen.any():
+                noisy = np.minimum(distance * (1.0 - 0.5 * self._noise_prox * zp), self._range_col)
+                np.copyto(distance, noisy, where=seen)
+                np.maximum(distance, 0.0, out=distance)
+        np.clip(response, 0.0, RAW_MAX, out=response)
+        # -- ground: only the track segments near the robots ------------------------------
+        # three points per robot: plain floats are cheaper than a dozen numpy calls here
+        points: list[complex] = []
+        centres = []
+        for i, (x, y, th) in enumerate(self._pose_list):
+            c, s = math.cos(th), math.sin(th)
+            for lx, ly in self._ground_local[i]:
+                points.append(complex(x + c * lx - s * ly, y + s * lx + c * ly))
+            mx, my = self._ground_mid[i]
+            centres.append((x + c * mx - s * my, y + s * mx + c * my))
+        near = self.floor.segments_near(centres, self._ground_reach)
+        value = self.floor.brightness(np.array(points), near).reshape(n, 3)
         if z is not None and self._noise_ground > 0:
-            value = value + self._noise_ground * z[10 * n : 13 * n].reshape(n, 3)
+            value += self._noise_ground * z[10 * n : 13 * n].reshape(n, 3)
         np.clip(value, 0.0, 1.0, out=self._ground)
         np.multiply(self._ground, 1023.0, out=self._ground_raw)
 
@@ -464,26 +615,33 @@ class World(Stepper):
         asking for :attr:`Sensor.LIGHT` or the camera here is an error; use
         :meth:`camera` for images.
         """
+        # The arrays are finite and in range by construction, so the records skip their
+        # validation (which would cost more than the whole simulation step).
         out: dict[Sensor, Any] = {}
         for sensor in sensors:
             if sensor is Sensor.PROXIMITY:
-                out[sensor] = Proximity(
-                    self._prox_distance[i], self._prox_raw[i], float(self._range[i])
+                out[sensor] = _unchecked(
+                    Proximity,
+                    distance=_row(self._prox_distance, i),
+                    raw=_row(self._prox_raw, i),
+                    range=self._range_list[i],
                 )
             elif sensor is Sensor.GROUND:
-                out[sensor] = Ground(self._ground[i], self._ground_raw[i])
+                out[sensor] = _unchecked(
+                    Ground, value=_row(self._ground, i), raw=_row(self._ground_raw, i)
+                )
             elif sensor is Sensor.POSE:
-                px, py, pt = self._poses[i].tolist()
-                out[sensor] = Pose(px, py, pt, ground_truth=True)
+                x, y, theta = self._pose_list[i]
+                out[sensor] = _unchecked(Pose, x=x, y=y, theta=theta, ground_truth=True)
             elif sensor is Sensor.ENCODERS:
-                left, right = self._encoders[i].tolist()
-                out[sensor] = WheelEncoders(left, right)
+                left, right = self._encoder_list[i]
+                out[sensor] = _unchecked(WheelEncoders, left=left, right=right)
             elif sensor is Sensor.WHEEL_SPEEDS:
-                left, right = self._wheels[i].tolist()
-                out[sensor] = WheelSpeeds(left, right)
+                left, right = self._wheel_list[i]
+                out[sensor] = _unchecked(WheelSpeeds, left=left, right=right)
             elif sensor is Sensor.ACCELERATION:
-                ax, ay, az = self._accel[i].tolist()
-                out[sensor] = Acceleration(ax, ay, az)
+                ax, ay, az = self._accel_list[i]
+                out[sensor] = _unchecked(Acceleration, x=ax, y=ay, z=az)
             else:
                 raise ValueError(
                     f"the embedded simulator has no {Sensor(sensor).value} sensor in read(); "
