@@ -30,6 +30,11 @@ if TYPE_CHECKING:
 
 __all__ = ["Frame", "Layer"]
 
+# Public attributes py_trees sets on every behaviour: bookkeeping, not tunable parameters.
+_PY_TREES_ATTRIBUTES = frozenset(
+    ("name", "id", "status", "feedback_message", "blackbox_level", "qualified_name")
+)
+
 
 class Frame:
     """What the layers see during one tick: a snapshot plus convenient typed accessors.
@@ -101,5 +106,5 @@ class Layer(py_trees.behaviour.Behaviour):
             for k, v in vars(self).items()
             if not k.startswith("_")
             and isinstance(v, (int, float, str, bool, tuple))
-            and k not in ("name", "id", "status", "feedback_message", "blackbox_level")
+            and k not in _PY_TREES_ATTRIBUTES
         }
