@@ -37,6 +37,7 @@ import json
 import logging
 import math
 import statistics
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -400,7 +401,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     result = run_suite(args.steps, seeds=args.seeds)
     if args.json:
         args.json.write_text(json.dumps(result, indent=1))
-    print(json.dumps({"summary": result["summary"], "costs": result["costs"]}, indent=1))
+    sys.stdout.write(json.dumps({"summary": result["summary"], "costs": result["costs"]}, indent=1))
+    sys.stdout.write("\n")
     if args.plot:
         _, traces = run_case("line-follow", 0.03, args.seeds[0], steps=args.steps, laps=LAPS)
         keep = [t for t in traces if t.variant in ("encoders", "step counter", "axle +1 mm")]
@@ -409,7 +411,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.plot,
             title=f"line-follow, 3 laps, wheel noise 3 %, seed {args.seeds[0]}",
         )
-        print(f"plot written to {args.plot}")
+        sys.stdout.write(f"plot written to {args.plot}\n")
     return 0
 
 
