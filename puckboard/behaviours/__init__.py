@@ -7,6 +7,7 @@ neither :mod:`puckboard.adapters` nor :mod:`puckboard.sim`.
 from .controller import NO_LAYER, Controller
 from .controllers import CONTROLLERS, improved, load_controller, stock
 from .cruise import DEFAULT_SPEED, Cruise
+from .go_home import GoHome
 from .layer import Frame, Layer
 from .line_follow import LineFollow
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
@@ -22,6 +23,7 @@ __all__ = [
     "Frame",
     "FrontBraitenbergAvoid",
     "FrontObstacleLeftTurn",
+    "GoHome",
     "HoldFor",
     "Layer",
     "LineFollow",
