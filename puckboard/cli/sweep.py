@@ -219,6 +219,14 @@ def main(args: argparse.Namespace) -> int:
         plot_success(groups, plot_param, args.plot, title=plan.scenario)
         if not args.json:
             print(f"\nplot written to {args.plot}")
+    errors = result.errors
+    if errors:
+        print(
+            f"puckboard sweep: warning: {len(errors)} of {result.ran} episodes raised an "
+            f"exception (counted as failure 'error'; see the error column of --out). "
+            f"First: {errors[0]}",
+            file=sys.stderr,
+        )
     if result.interrupted:
         print(
             f"puckboard sweep: interrupted; {result.ran} episodes of this run kept"
@@ -226,4 +234,6 @@ def main(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 130
+    if result.ran and len(errors) == result.ran:
+        return 1  # nothing ran properly: a broken setup, not a bad controller
     return 0

@@ -13,7 +13,7 @@ Nothing heavy is imported here: Dask, pyarrow, rich and matplotlib load only whe
 from __future__ import annotations
 
 from .discover import FACTORY_NAME, controllers_in_dir
-from .executors import DaskExecutor, LocalExecutor, SweepExecutor
+from .executors import DaskExecutor, InlineExecutor, LocalExecutor, SweepExecutor
 from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
 from .progress import make_progress
 from .run import SweepResult, check_plan, run_sweep
@@ -28,6 +28,7 @@ __all__ = [
     "DaskExecutor",
     "EpisodeSpec",
     "GroupSummary",
+    "InlineExecutor",
     "LocalExecutor",
     "PlanError",
     "SweepExecutor",

@@ -28,7 +28,7 @@ from typing import Any
 
 from .worker import ignore_interrupts
 
-__all__ = ["DaskExecutor", "LocalExecutor", "SweepExecutor", "available_cpus"]
+__all__ = ["DaskExecutor", "InlineExecutor", "LocalExecutor", "SweepExecutor", "available_cpus"]
 
 log = logging.getLogger(__name__)
 
@@ -79,6 +79,23 @@ class SweepExecutor(ABC):
         self.close()
 
 
+class InlineExecutor(SweepExecutor):
+    """Run tasks one by one in this process: for debugging a controller (breakpoints and
+    tracebacks work as usual) and for tests. Same rows as the parallel executors."""
+
+    workers = 1
+
+    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+        for task in tasks:
+            yield fn(*task)
+
+    def cancel(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
 class LocalExecutor(SweepExecutor):
     """A pool of ``workers`` local processes (default: every available CPU)."""
 
@@ -121,27 +138,23 @@ class LocalExecutor(SweepExecutor):
         pool, self._pool = self._pool, None
         if pool is None:
             return
+        terminate = getattr(pool, "terminate_workers", None)  # Python >= 3.14
+        if terminate is not None:
+            terminate()
+            return
+        # shutdown() forgets the worker processes, so take them first.
+        processes = list((getattr(pool, "_processes", None) or {}).values())
         pool.shutdown(wait=False, cancel_futures=True)
-        _stop_workers(pool)
+        for process in processes:
+            if process.is_alive():
+                process.terminate()
+        for process in processes:
+            process.join(timeout=5)
 
     def close(self) -> None:
         pool, self._pool = self._pool, None
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _stop_workers(pool: cf.ProcessPoolExecutor) -> None:
-    """Terminate a pool's processes so a cancelled sweep does not wait for running batches."""
-    terminate = getattr(pool, "terminate_workers", None)  # Python >= 3.14
-    if terminate is not None:
-        terminate()
-        return
-    processes = dict(getattr(pool, "_processes", None) or {})
-    for process in processes.values():
-        if process.is_alive():
-            process.terminate()
-    for process in processes.values():
-        process.join(timeout=5)
 
 
 def _is_controller_file(spec: str) -> tuple[Path, str] | None:

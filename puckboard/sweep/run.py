@@ -61,6 +61,11 @@ class SweepResult:
     interrupted: bool = False
     wall_s: float = 0.0
 
+    @property
+    def errors(self) -> list[str]:
+        """``error`` messages of this run's episodes that raised (one per episode)."""
+        return [str(r["error"]) for r in self.rows if r.get("error")]
+
     def groups(self) -> list[GroupSummary]:
         order = {c: i for i, c in enumerate(self.plan.controllers)}
         groups = summarise(self.outcomes)
@@ -88,6 +93,7 @@ class SweepResult:
             "ran": self.ran,
             "skipped": self.skipped,
             "interrupted": self.interrupted,
+            "errors": len(self.errors),
             "wall_s": self.wall_s,
             "controllers": list(self.plan.controllers),
             "seeds": f"{seeds.start}:{seeds.stop}{step}",
@@ -130,8 +136,12 @@ def check_plan(plan: SweepPlan, scene: Any) -> list[str]:
             raise PlanError(
                 f"parameter {name}: no controller in this sweep has a layer named {layer_name!r}"
             )
-        if holders and not any(hasattr(layer, attr) for layer in holders):
-            raise PlanError(f"parameter {name}: layer {layer_name} has no attribute {attr!r}")
+        tunable = {a for layer in holders for a in layer.parameters()}
+        if holders and attr not in tunable:
+            raise PlanError(
+                f"parameter {name}: layer {layer_name} has no parameter {attr!r}; its "
+                f"parameters: {', '.join(sorted(tunable))}"
+            )
     return warnings
 
 

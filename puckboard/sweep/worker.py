@@ -46,7 +46,8 @@ def run_spec(
             overrides=overrides or None,
         )
     except Exception as exc:
-        log.warning("episode %s failed: %s", spec, exc, exc_info=log.isEnabledFor(logging.DEBUG))
+        # Reported once by the driver from the rows' ``error`` column, not per worker.
+        log.debug("episode %s raised", spec, exc_info=True)
         return error_row(scenario, spec, exc)
     return result_row(scenario, spec, result.to_dict())
 

@@ -1,0 +1,202 @@
+"""Small real sweeps: same rows on every executor, resuming, Ctrl-C, grading, the CLI."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+from conftest import DURATION, CountingExecutor
+
+from puckboard.sweep import (
+    DaskExecutor,
+    InlineExecutor,
+    LocalExecutor,
+    SweepPlan,
+    open_store,
+    run_sweep,
+)
+
+# Timing columns legitimately differ between runs; everything else must not.
+TIMING = {"wall_s", "realtime_factor"}
+
+
+def outcome_table(rows):
+    return {r["key"]: {k: v for k, v in r.items() if k not in TIMING} for r in rows}
+
+
+def small_plan(scene, seeds="0:3"):
+    return SweepPlan.from_specs(
+        scene.name,
+        controllers=["stock", "improved"],
+        seeds=seeds,
+        sets=["noise.wheel_speed=0,0.2"],
+        fixed={"duration": DURATION},
+    )
+
+
+@pytest.fixture(scope="module")
+def inline_rows(short_scene):
+    result = run_sweep(small_plan(short_scene), short_scene, executor=InlineExecutor())
+    assert not result.errors, result.errors[:1]
+    return result.rows
+
+
+def test_plan_runs_every_episode_once_with_real_outcomes(inline_rows, short_scene):
+    plan = small_plan(short_scene)
+    assert sorted(r["key"] for r in inline_rows) == sorted(
+        s.key(plan.scenario) for s in plan.episodes()
+    )
+    assert all(r["sim_time_s"] > 0 and r["steps"] > 0 for r in inline_rows)
+    # noise makes seeds differ, so equality between executors below is not vacuous
+    noisy = [r["distance_m"] for r in inline_rows if r["param.noise.wheel_speed"] == 0.2]
+    assert len(set(noisy)) > 1
+
+
+@pytest.mark.slow
+def test_local_processes_give_the_same_rows(inline_rows, short_scene):
+    with LocalExecutor(workers=2) as executor:
+        result = run_sweep(small_plan(short_scene), short_scene, executor=executor, batch_size=2)
+    assert result.ran == len(inline_rows)
+    assert outcome_table(result.rows) == outcome_table(inline_rows)
+
+
+@pytest.mark.slow
+def test_dask_local_cluster_gives_the_same_rows(inline_rows, short_scene):
+    pytest.importorskip("dask.distributed")
+    with DaskExecutor(local_workers=2) as executor:
+        assert executor.workers == 2
+        result = run_sweep(small_plan(short_scene), short_scene, executor=executor, batch_size=3)
+    assert executor.client is None  # client and cluster shut down
+    assert result.ran == len(inline_rows)
+    assert outcome_table(result.rows) == outcome_table(inline_rows)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".parquet"])
+def test_resuming_runs_only_the_missing_episodes(tmp_path, short_scene, suffix):
+    if suffix == ".parquet":
+        pytest.importorskip("pyarrow")
+    out = tmp_path / f"runs{suffix}"
+    first = CountingExecutor()
+    with open_store(out) as store:
+        r1 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=first, store=store)
+    assert len(first.ran) == r1.ran == 8
+
+    second = CountingExecutor()
+    with open_store(out) as store:
+        r2 = run_sweep(small_plan(short_scene, "0:3"), short_scene, executor=second, store=store)
+    assert len(second.ran) == r2.ran == 4
+    assert {s.seed for s in second.ran} == {2}
+    assert r2.skipped == 8
+    assert len(r2.outcomes) == 12  # the summary covers old and new episodes
+    assert sum(g["episodes"] for g in r2.to_dict()["groups"]) == 12
+
+    third = CountingExecutor()
+    with open_store(out) as store:
+        r3 = run_sweep(small_plan(short_scene, "0:3"), short_scene, executor=third, store=store)
+        assert len(store.rows()) == 12
+    assert third.ran == [] and r3.ran == 0 and r3.skipped == 12
+
+
+def test_ctrl_c_keeps_finished_rows_and_the_rerun_completes(tmp_path, short_scene):
+    out = tmp_path / "runs.csv"
+    plan = small_plan(short_scene, "0:2")
+    interrupted = CountingExecutor(interrupt_after=1)
+    with open_store(out) as store:
+        result = run_sweep(plan, short_scene, executor=interrupted, store=store, batch_size=3)
+    assert result.interrupted
+    assert result.ran == 3 == len(open_store(out).rows())
+
+    rest = CountingExecutor()
+    with open_store(out) as store:
+        again = run_sweep(plan, short_scene, executor=rest, store=store, batch_size=3)
+    assert not again.interrupted
+    assert again.ran == len(rest.ran) == len(plan) - 3
+    assert len(open_store(out).rows()) == len(plan)
+
+
+@pytest.mark.slow
+def test_cancelling_a_local_pool_stops_running_workers():
+    executor = LocalExecutor(workers=2)
+    try:
+        results = executor.run(time.sleep, [(0.0,), (60.0,), (60.0,), (60.0,)])
+        assert next(results) is None
+        processes = list(executor._pool._processes.values())
+        assert processes
+        results.close()  # what Ctrl-C in the consuming loop does
+        assert executor._pool is None
+        assert not any(p.is_alive() for p in processes)
+    finally:
+        executor.close()
+
+
+def test_grading_a_folder_ranks_and_scores_broken_submissions(tmp_path, short_scene):
+    from puckboard.sweep import controllers_in_dir
+
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "alice.py").write_text(
+        "from puckboard.behaviours import improved\n"
+        "def make_controller(**params):\n    return improved(**params)\n"
+    )
+    (folder / "bob.py").write_text(
+        "def make_controller(**params):\n    raise RuntimeError('oops')\n"
+    )
+    (folder / "_helpers.py").write_text("X = 1\n")
+    specs = controllers_in_dir(folder)
+    assert [Path(s.split(":")[0]).name for s in specs] == ["alice.py", "bob.py"]
+    plan = SweepPlan.from_specs(
+        short_scene.name, controllers=specs, seeds="0:2", fixed={"duration": DURATION}
+    )
+    result = run_sweep(plan, short_scene, executor=InlineExecutor())
+    ranking = result.ranking()
+    assert ranking[0].controller.endswith("alice.py:make_controller")
+    bob = ranking[1]
+    assert bob.failures == {"error": 2} and bob.successes == 0
+    assert len(result.errors) == 2 and "oops" in result.errors[0]
+
+
+def test_cli_json_summary(tmp_path, capsys):
+    from puckboard.cli import main
+
+    out = tmp_path / "runs.csv"
+    plot = tmp_path / "rate.png"
+    argv = [
+        "sweep", "line-follow", "--controller", "stock", "--seeds", "0:2",
+        "--set", "noise.proximity=0,0.1", "--duration", "3", "--workers", "1",
+        "--out", str(out), "--json", "--quiet", "--plot", str(plot),
+    ]  # fmt: skip
+    assert main(argv) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["episodes"] == 4 and summary["ran"] == 4
+    assert len(summary["groups"]) == 2
+    for group in summary["groups"]:
+        assert set(group) >= {
+            "controller", "params", "episodes", "successes", "success_rate",
+            "ci95_low", "ci95_high", "failures",
+        }  # fmt: skip
+        assert group["controller"] == "stock" and group["episodes"] == 2
+        assert group["ci95_low"] <= group["success_rate"] <= group["ci95_high"]
+        assert sum(group["failures"].values()) == 2 - group["successes"]
+    assert plot.stat().st_size > 0
+    assert main(argv) == 0  # resumed: nothing left to run
+    assert json.loads(capsys.readouterr().out)["ran"] == 0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--seeds", "3"], "expected A:B"),
+        (["--set", "noise.prox=1"], "unknown parameter"),
+        (["--set", "layer.Nope.gain=1"], "has a layer named 'Nope'"),
+        (["--out", "runs.txt"], ".csv or .parquet"),
+        (["--plot", "x.png"], "--plot needs a parameter swept"),
+        (["--workers", "0"], "at least 1"),
+    ],
+)
+def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys):
+    from puckboard.cli import main
+
+    assert main(["sweep", "line-follow", *args]) == 2
+    assert message in capsys.readouterr().err
