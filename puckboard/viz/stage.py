@@ -96,6 +96,9 @@ class Stage:
         self._title = fig.text(
             0.06, 0.955, title, fontsize=FONT["title"], fontweight="bold", va="center"
         )
+        self._footer = fig.text(
+            0.985, 0.015, "", fontsize=FONT["tick"], ha="right", va="bottom", color="#505050"
+        )
         self._clock = fig.text(
             0.985, 0.955, "", fontsize=FONT["title"], ha="right", va="center", family="monospace"
         )
@@ -242,6 +245,10 @@ class Stage:
             self._closeup_titles[i].set_bbox(
                 {"facecolor": self._colour_of(layers[i]), "edgecolor": "none", "pad": 3}
             )
+
+    def set_footer(self, text: str) -> None:
+        """A line of help or status text at the bottom right (keys, 'finished', ...)."""
+        self._footer.set_text(text)
 
     def key_colours(self) -> list[str]:
         """Colours that carry meaning in this figure (for palettes of indexed images)."""

@@ -1,0 +1,71 @@
+"""``puckboard monitor``: a live table of every robot's blackboard keys, any backend."""
+
+from __future__ import annotations
+
+import argparse
+
+from . import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    p = subparsers.add_parser(
+        "monitor",
+        help="live table of the robots' sensor values, their age and update rate",
+        description=(
+            "Run a scenario (or drive a real robot) with a live terminal table of every "
+            "blackboard key: value, age and update rate. Works with every backend."
+        ),
+    )
+    p.add_argument(
+        "scenario", nargs="?", default="two-robot-pass", help="scene name or .toml/.json file"
+    )
+    p.add_argument(
+        "--backend", default="embedded", help="embedded (default), coppeliasim, epuck2-wifi, sercom"
+    )
+    p.add_argument(
+        "--controller", default=None, metavar="SPEC", help="override every robot's controller"
+    )
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--duration",
+        type=float,
+        default=None,
+        metavar="S",
+        help="seconds to run (default: the scene's)",
+    )
+    p.add_argument("--host", default=None, help="backend host (CoppeliaSim, e-puck2 Wi-Fi)")
+    p.add_argument("--port", type=int, default=None, help="backend port")
+    p.add_argument(
+        "--device", default=None, help="serial device (sercom), e.g. /dev/rfcomm0 or COM5"
+    )
+    p.add_argument(
+        "--refresh", type=float, default=4.0, help="table redraws per second (default 4)"
+    )
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..episode import Episode
+    from ..errors import PuckboardError
+    from ..viz.monitor import SensorMonitor
+
+    if args.refresh <= 0:
+        raise CliError("--refresh must be positive")
+    options = {
+        k: getattr(args, k) for k in ("host", "port", "device") if getattr(args, k) is not None
+    }
+    try:
+        episode = Episode(
+            args.scenario,
+            controller=args.controller,
+            seed=args.seed,
+            backend=args.backend,
+            **options,
+        )
+    except (ValueError, KeyError, TypeError, PuckboardError) as exc:
+        raise CliError(str(exc)) from exc
+    SensorMonitor.for_episode(episode, refresh=args.refresh).attach(episode)
+    result = episode.run(args.duration)
+    verdict = "success" if result.success else f"failure ({result.failure})"
+    print(f"{result.scenario}: {verdict} after {result.sim_time_s:.1f} s")
+    return 0

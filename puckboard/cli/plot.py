@@ -1,0 +1,63 @@
+"""``puckboard plot``: plots (and animations) of a recorded run."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from . import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    p = subparsers.add_parser(
+        "plot",
+        help="plot a recorded run (trajectories, arbitration, sensors, wheels)",
+        description=(
+            "Plot a run recorded with 'puckboard run --record run.npz': trajectories, "
+            "the arbitration timeline (which layer had control when), sensor traces and "
+            "wheel commands. --animate also renders a GIF or MP4 from the recording."
+        ),
+    )
+    p.add_argument("recording", metavar="RECORDING", help="a .npz recording")
+    p.add_argument("--out", default=None, metavar="DIR", help="output directory (default: .)")
+    p.add_argument("--format", choices=("png", "svg"), default="png", help="image format")
+    p.add_argument(
+        "--animate", metavar="FILE", default=None, help="also write an animation (.gif or .mp4)"
+    )
+    p.add_argument(
+        "--speed", type=float, default=4.0, help="animation playback speed (default: 4x)"
+    )
+    p.add_argument("--fps", type=float, default=10.0, help="animation frames per second")
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..recording import load_recording
+    from ..viz.animation import VideoSupportError, check_animation_path, render_animation
+    from ..viz.plots import save_plots
+
+    try:
+        rec = load_recording(args.recording)
+    except (FileNotFoundError, ValueError) as exc:
+        raise CliError(str(exc)) from exc
+    if args.animate:
+        try:
+            check_animation_path(args.animate)
+        except (ValueError, VideoSupportError) as exc:
+            raise CliError(str(exc)) from exc
+    if args.speed <= 0 or args.fps <= 0:
+        raise CliError("--speed and --fps must be positive")
+    out = Path(args.out) if args.out else Path(".")
+    try:
+        paths = save_plots(rec, out, args.format)
+    except ValueError as exc:
+        raise CliError(str(exc)) from exc
+    for path in paths:
+        print(f"wrote {path}")
+    if args.animate:
+        info = render_animation(rec, args.animate, fps=args.fps, speed=args.speed)
+        w, h = info["size"]
+        print(
+            f"wrote {info['path']} ({info['frames']} frames, {w}x{h}, {info['bytes'] / 1e6:.1f} MB)"
+        )
+    return 0

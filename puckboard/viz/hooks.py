@@ -1,0 +1,125 @@
+"""Wiring the visual tools to a run: what ``puckboard run --view/--record/--plots/--monitor`` do.
+
+:func:`attach` registers observers on an episode before it runs. Everything that needs
+the run's states shares one :class:`~puckboard.recording.Recorder`, registered first so
+the live view and the end-of-run outputs read the states of the cycle just finished.
+Outputs that need extra packages are checked here, before the run starts, so a missing
+MP4 writer is reported in a second and not after a two-minute run.
+
+When the run ends (normally, on an error or on Ctrl-C) one close observer writes the
+outputs in order of value: the data recording first (cheap, and everything else can be
+made from it later), then the animation, then the plots.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+from typing import Any
+
+from ..recording import Recorder
+
+__all__ = ["RunOutputs", "attach"]
+
+log = logging.getLogger(__name__)
+
+
+class RunOutputs:
+    """The tools attached to one episode, and the files they wrote (``written``)."""
+
+    def __init__(self) -> None:
+        self.recorder: Recorder | None = None
+        self.view: Any = None
+        self.monitor: Any = None
+        self.animation: Path | None = None
+        self.plots_dir: Path | None = None
+        self.plot_format = "png"
+        self.written: list[Path] = []
+
+    def finish(self, episode: Any = None) -> None:
+        """Write the outputs; each failure is logged and does not stop the others."""
+        if self.recorder is None:
+            return
+        rec = self.recorder.close()
+        if self.recorder.saved_path is not None:
+            self.written.append(self.recorder.saved_path)
+        if len(rec) == 0:
+            log.warning("the run ended before its first cycle: no animation or plots written")
+            return
+        if self.animation is not None:
+            from .animation import render_animation
+
+            try:
+                self.written.append(render_animation(rec, self.animation)["path"])
+            except Exception:
+                log.exception("could not write the animation %s", self.animation)
+        if self.plots_dir is not None:
+            from .plots import save_plots
+
+            try:
+                self.written += save_plots(rec, self.plots_dir, self.plot_format)
+            except Exception:
+                log.exception("could not write the plots to %s", self.plots_dir)
+
+
+def attach(
+    episode: Any,
+    *,
+    view: bool = False,
+    record: str | os.PathLike[str] | None = None,
+    plots: str | os.PathLike[str] | None = None,
+    monitor: bool = False,
+    plot_format: str = "png",
+    speed: float | None = 1.0,
+) -> RunOutputs:
+    """Attach the visual tools to ``episode`` before :meth:`run`.
+
+    ``view``: a live window (or notebook figure). ``record``: ``.npz`` saves the data
+    recording, ``.gif``/``.mp4`` an animation rendered from it. ``plots``: a directory
+    for the post-run plots (``plot_format`` png or svg). ``monitor``: a live terminal
+    table of every robot's blackboard keys. ``speed``: live-view playback speed (1 =
+    real time, ``None`` = as fast as possible). Raises ``ValueError`` (bad file name) or
+    :class:`~puckboard.viz.animation.VideoSupportError` (missing package) before
+    anything runs.
+    """
+    outputs = RunOutputs()
+    npz_path: Path | None = None
+    if record is not None:
+        path = Path(record)
+        suffix = path.suffix.lower()
+        if suffix == ".npz":
+            npz_path = path
+        else:
+            from .animation import check_animation_path
+
+            try:
+                outputs.animation = check_animation_path(path)
+            except ValueError:
+                raise ValueError(
+                    f"--record {str(path)!r}: use a .npz (data), .gif or .mp4 file name"
+                ) from None
+    if plots is not None:
+        from .plots import PLOT_FORMATS
+
+        if plot_format not in PLOT_FORMATS:
+            raise ValueError(f"plot format must be one of {', '.join(PLOT_FORMATS)}")
+        p = Path(plots)
+        if p.exists() and not p.is_dir():
+            raise ValueError(f"--plots {str(p)!r} is a file; give a directory for the plots")
+        outputs.plots_dir = p
+        outputs.plot_format = plot_format
+    if view or record is not None or plots is not None:
+        outputs.recorder = Recorder.for_episode(episode, npz_path)
+        episode.add_observer(outputs.recorder)
+        episode.add_close_observer(outputs.finish)
+    if view:
+        from .live import LiveView
+
+        assert outputs.recorder is not None
+        outputs.view = LiveView(outputs.recorder, speed=speed).attach(episode)
+    if monitor:
+        from .monitor import SensorMonitor
+
+        outputs.monitor = SensorMonitor.for_episode(episode).attach(episode)
+    return outputs

@@ -1,0 +1,202 @@
+"""The live view: watch a run in a matplotlib window or a Jupyter notebook.
+
+The view is an episode observer. It reads the states a :class:`~puckboard.recording.Recorder`
+has taken from the blackboard and draws them on a :class:`~puckboard.viz.stage.Stage`, the
+same picture the animations use. It never touches the simulation: pausing blocks the
+control loop between two cycles and single-stepping lets exactly one cycle through, so a
+seeded run takes the same course with or without a window.
+
+Keys (window): ``space`` pause/resume, ``right`` or ``n`` one cycle while paused,
+``+``/``-`` double/halve the playback speed, closing the window ends the viewing (the run
+goes on without it). In a notebook with the ``widget`` (ipympl) backend the keys work too;
+with the default ``inline`` backend the figure is redrawn in place a few times a second.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+import time as _time
+from typing import Any
+
+import numpy as np
+
+from ..recording import Recorder
+
+__all__ = ["LiveView"]
+
+log = logging.getLogger(__name__)
+
+_NON_INTERACTIVE = {"agg", "pdf", "ps", "svg", "pgf", "cairo", "template"}
+
+
+class LiveView:
+    """Draw a run as it happens; see the module docstring.
+
+    ``speed`` is the playback speed relative to simulation time (1 = real time; ``None``
+    = as fast as the simulation goes). ``fps`` caps the redraws per wall-clock second;
+    when drawing falls behind, states are skipped, never the simulation slowed down
+    further. ``figure`` is a matplotlib figure to draw on (default: a new pyplot one).
+    """
+
+    def __init__(
+        self,
+        recorder: Recorder,
+        *,
+        speed: float | None = 1.0,
+        fps: float = 20.0,
+        figure: Any = None,
+        block_at_end: bool = True,
+    ) -> None:
+        import matplotlib
+
+        self.recorder = recorder
+        self.speed = speed
+        self.fps = fps
+        self.block_at_end = block_at_end
+        backend = matplotlib.get_backend().lower()
+        self.notebook = "inline" in backend
+        self.interactive = not self.notebook and backend not in _NON_INTERACTIVE
+        if figure is None:
+            import matplotlib.pyplot as plt
+
+            figure = plt.figure(figsize=(12.8, 7.2))
+        self.fig = figure
+        rec = recorder.recording()
+        from .animation import stage_for_recording
+
+        self.stage = stage_for_recording(figure, rec)
+        self._title = rec.title
+        self.paused = False
+        self._steps_allowed = 0
+        self._closed_window = False
+        self._wall0: float | None = None
+        self._sim0 = 0.0
+        self._last_draw = -1e9
+        self.frames_drawn = 0
+        self._handle: Any = None
+        if self.interactive:
+            manager = getattr(figure.canvas, "manager", None)
+            if manager is not None:
+                manager.set_window_title(f"puckboard: {rec.title}")
+            figure.canvas.mpl_connect("key_press_event", self._on_key)
+            figure.canvas.mpl_connect("close_event", self._on_close_window)
+            import matplotlib.pyplot as plt
+
+            plt.show(block=False)
+        self._set_hint()
+
+    # -- observer --------------------------------------------------------------------------
+    def attach(self, episode: Any) -> LiveView:
+        """Register as ``episode``'s cycle and close observer (after the recorder)."""
+        episode.add_observer(self)
+        episode.add_close_observer(self.close)
+        return self
+
+    def __call__(self, _episode: Any = None) -> None:
+        if self._closed_window or len(self.recorder) == 0:
+            return
+        arrays = self.recorder.arrays()
+        t = float(arrays["time"][-1])
+        now = _time.perf_counter()
+        if self._wall0 is None:
+            self._wall0, self._sim0 = now, t
+        due = now - self._last_draw >= 1.0 / self.fps
+        if due or self.paused:
+            self._draw(arrays)
+        if self.paused:
+            self._wait_while_paused(arrays)
+        elif self.speed is not None and self.interactive:
+            ahead = (t - self._sim0) / self.speed - (_time.perf_counter() - self._wall0)
+            if ahead > 0:
+                self._sleep(ahead)
+
+    def _draw(self, arrays: dict[str, np.ndarray]) -> None:
+        n = len(arrays["time"])
+        names = self.recorder.layer_names
+        layers = [names[k] if k >= 0 else None for k in arrays["layer"][n - 1]]
+        trails = [arrays["pose"][:, r, :2] for r in range(arrays["pose"].shape[1])]
+        self.stage.update(
+            float(arrays["time"][-1]),
+            arrays["pose"][-1],
+            arrays["proximity"][-1],
+            arrays["ground"][-1],
+            layers,
+            trails,
+        )
+        self._last_draw = _time.perf_counter()
+        self.frames_drawn += 1
+        if self.interactive:
+            self.fig.canvas.draw_idle()
+            self.fig.canvas.flush_events()
+        elif self.notebook:
+            self._show_inline()
+        else:
+            self.fig.canvas.draw()  # headless: render anyway, so tests exercise the path
+
+    def _show_inline(self) -> None:
+        from IPython.display import display
+
+        if self._handle is None:
+            self._handle = display(self.fig, display_id=True)
+        else:
+            self._handle.update(self.fig)
+
+    def _sleep(self, seconds: float) -> None:
+        if self.interactive:
+            self.fig.canvas.start_event_loop(max(seconds, 1e-3))
+        else:
+            _time.sleep(seconds)
+
+    def _wait_while_paused(self, arrays: dict[str, np.ndarray]) -> None:
+        while self.paused and not self._closed_window:
+            if self._steps_allowed > 0:
+                self._steps_allowed -= 1
+                break
+            self._sleep(0.05)
+        # re-anchor pacing so a long pause does not make the run race to catch up
+        self._wall0 = _time.perf_counter()
+        self._sim0 = float(arrays["time"][-1])
+
+    # -- keys ------------------------------------------------------------------------------
+    def _on_key(self, event: Any) -> None:
+        key = event.key
+        if key == " ":
+            self.paused = not self.paused
+        elif key in ("right", "n"):
+            self.paused = True
+            self._steps_allowed += 1
+        elif key in ("+", "="):
+            self.speed = (self.speed or 1.0) * 2.0
+        elif key in ("-", "_"):
+            self.speed = max(0.125, (self.speed or 1.0) / 2.0)
+        else:
+            return
+        self._set_hint()
+        self.fig.canvas.draw_idle()
+
+    def _set_hint(self) -> None:
+        speed = "max" if self.speed is None else f"{self.speed:g}×"
+        state = "PAUSED, right/n: step" if self.paused else "space: pause"
+        self.stage.set_footer(f"{state}   +/-: speed ({speed})" if self.interactive else "")
+
+    def _on_close_window(self, _event: Any) -> None:
+        self._closed_window = True
+        log.info("live view closed; the run goes on without it")
+
+    # -- end -------------------------------------------------------------------------------
+    def close(self, _episode: Any = None) -> None:
+        """Draw the final state; in a window, keep it open until the user closes it
+        (unless the run ended with an error or Ctrl-C)."""
+        if self._closed_window or len(self.recorder) == 0:
+            return
+        self._draw(self.recorder.arrays())
+        if not self.interactive:
+            return
+        failing = sys.exc_info()[0] is not None
+        if self.block_at_end and not failing:
+            self.stage.set_footer("finished: close the window to exit")
+            self.fig.canvas.draw_idle()
+            import matplotlib.pyplot as plt
+
+            plt.show(block=True)

@@ -1,0 +1,271 @@
+"""Plots of a recorded run: trajectories, arbitration timeline, sensor traces, wheels.
+
+Each ``plot_*`` function takes a :class:`~puckboard.recording.Recording` and returns a
+matplotlib figure (drawn off-screen, no window); :func:`save_plots` writes all four as
+PNG or SVG. Titles carry the scenario, controller and seed; axes are in metres,
+seconds and rad/s; robots and layers have the colours they have in the live view.
+
+The arbitration timeline is the one to look at first when a controller misbehaves: one
+band per robot, coloured by the layer in control at each moment, shows at a glance who
+drove when (the stock controller's obstacle layer taking over on both robots at the
+same instant, for example).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..recording import Recording
+from .style import FONT, LINE, layer_colours, robot_colours
+
+__all__ = [
+    "PLOT_FORMATS",
+    "plot_arbitration",
+    "plot_sensors",
+    "plot_trajectories",
+    "plot_wheels",
+    "save_plots",
+]
+
+PLOT_FORMATS = ("png", "svg")
+
+
+def _figure(width: float, height: float) -> Any:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _colours(rec: Recording) -> dict[str, str]:
+    return robot_colours(rec.robot_names, rec.meta.get("colours"))
+
+
+def _all_layers(rec: Recording) -> list[str]:
+    """Every layer in priority order, then any others that took control."""
+    names: list[str] = []
+    for r in rec.robot_names:
+        names += [n for n in rec.robot(r).layers if n not in names]
+    used = {rec.layer_names[k] for k in np.unique(rec.layer) if k >= 0}
+    names += sorted(used - set(names))
+    return names
+
+
+def _style_axes(ax: Any) -> None:
+    ax.tick_params(labelsize=FONT["tick"])
+    ax.xaxis.label.set_size(FONT["label"])
+    ax.yaxis.label.set_size(FONT["label"])
+    ax.grid(True, alpha=0.3)
+
+
+def plot_trajectories(rec: Recording) -> Any:
+    """The scene with every robot's path, its start (circle) and end (triangle)."""
+    from .animation import _bounds
+    from .scene_art import draw_scene
+
+    fig = _figure(10, 6.5)
+    ax = fig.add_subplot()
+    draw_scene(ax, rec.scene)
+    xmin, xmax, ymin, ymax = _bounds(rec.scene, rec.pose[..., :2])
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim(ymin, ymax)
+    colours = _colours(rec)
+    for name in rec.robot_names:
+        s = rec.robot(name)
+        ok = np.isfinite(s.pose[:, 0])
+        if not ok.any():
+            continue
+        xy = s.pose[ok, :2]
+        ax.plot(xy[:, 0], xy[:, 1], color=colours[name], lw=LINE["trail"], label=name, zorder=5)
+        ax.plot(*xy[0], "o", ms=12, color=colours[name], mec="white", mew=2, zorder=6)
+        th = s.pose[ok, 2][-1]
+        ax.plot(
+            *xy[-1], marker=(3, 0, np.degrees(th) - 90), ms=16, color=colours[name],
+            mec="black", mew=1.5, zorder=6, ls="none",
+        )  # fmt: skip
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"Trajectories: {rec.title}", fontsize=FONT["title"])
+    from matplotlib.lines import Line2D
+
+    handles, _ = ax.get_legend_handles_labels()
+    handles += [
+        Line2D([], [], marker="o", ls="none", color="#606060", ms=10, label="start"),
+        Line2D([], [], marker=(3, 0, -90), ls="none", color="#606060", ms=12, label="end"),
+    ]
+    ax.legend(handles=handles, fontsize=FONT["legend"], loc="best", framealpha=0.9)
+    _style_axes(ax)
+    return fig
+
+
+def layer_spans(rec: Recording, robot: str) -> list[tuple[str | None, float, float]]:
+    """(layer, start, end) runs of the layer in control for ``robot``; the last run ends
+    one cycle after the last row."""
+    s = rec.robot(robot)
+    t = rec.time
+    if len(t) == 0:
+        return []
+    step = float(np.median(np.diff(t))) if len(t) > 1 else 0.05
+    idx = s.layer_index
+    change = np.flatnonzero(np.diff(idx)) + 1
+    starts = np.concatenate([[0], change])
+    ends = np.concatenate([change, [len(t)]])
+    out = []
+    for a, b in zip(starts, ends):
+        k = int(idx[a])
+        end = float(t[b]) if b < len(t) else float(t[-1]) + step
+        out.append((rec.layer_names[k] if k >= 0 else None, float(t[a]), end))
+    return out
+
+
+def plot_arbitration(rec: Recording) -> Any:
+    """One band per robot over time, coloured by the layer in control."""
+    from matplotlib.patches import Patch
+
+    names = list(rec.robot_names)
+    layers = _all_layers(rec)
+    lcol = layer_colours([*layers, "(none)"])
+    fig = _figure(12, 1.9 + 0.85 * len(names))
+    ax = fig.add_subplot()
+    shares: dict[str, float] = dict.fromkeys(layers, 0.0)
+    total = 0.0
+    for row, name in enumerate(names):
+        spans = layer_spans(rec, name)
+        by_layer: dict[str | None, list[tuple[float, float]]] = {}
+        for layer, a, b in spans:
+            by_layer.setdefault(layer, []).append((a, b - a))
+            if layer is not None:
+                shares[layer] = shares.get(layer, 0.0) + (b - a)
+            total += b - a
+        y = len(names) - 1 - row
+        for layer, bars in by_layer.items():
+            colour = lcol.get(layer, "#d9d9d9") if layer is not None else "#d9d9d9"
+            ax.broken_barh(bars, (y - 0.38, 0.76), facecolors=colour, edgecolor="none")
+        switches = max(0, len(spans) - 1)
+        ax.annotate(
+            f"{switches} switches", (1.0, y), xycoords=("axes fraction", "data"),
+            xytext=(8, 0), textcoords="offset points", va="center", fontsize=FONT["tick"],
+        )  # fmt: skip
+    ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=FONT["label"])
+    ax.set_ylim(-0.6, len(names) - 0.4)
+    if len(rec):
+        ax.set_xlim(float(rec.time[0]), float(rec.time[-1]))
+    ax.set_xlabel("time (s)")
+    ax.set_title(f"Which layer had control: {rec.title}", fontsize=FONT["title"])
+    handles = [
+        Patch(
+            facecolor=lcol[layer],
+            label=f"{layer} ({100 * shares.get(layer, 0.0) / total:.0f} %)" if total else layer,
+        )
+        for layer in layers
+    ]
+    ax.legend(
+        handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.32 - 0.05 / len(names)),
+        ncol=min(4, max(1, len(handles))), fontsize=FONT["legend"], frameon=False,
+    )  # fmt: skip
+    _style_axes(ax)
+    ax.grid(True, axis="x", alpha=0.3)
+    ax.grid(False, axis="y")
+    return fig
+
+
+def plot_sensors(rec: Recording) -> Any:
+    """Per robot: the 8 IR distances as a heat strip and the 3 ground values as lines."""
+    from ..records import GROUND_NAMES, PROX_NAMES
+
+    names = list(rec.robot_names)
+    fig = _figure(12, 1.0 + 3.6 * len(names))
+    axes = fig.subplots(2 * len(names), 1, sharex=True, height_ratios=[1.2, 1] * len(names))
+    t = rec.time
+    t0, t1 = (float(t[0]), float(t[-1])) if len(t) else (0.0, 1.0)
+    colours = _colours(rec)
+    image = None
+    for r, name in enumerate(names):
+        s = rec.robot(name)
+        ax_p, ax_g = axes[2 * r], axes[2 * r + 1]
+        rng = float(np.nanmax(s.proximity)) if np.isfinite(s.proximity).any() else 0.05
+        rng = max(rng, 1e-6)
+        closeness = 100.0 * (1.0 - np.clip(s.proximity.T / rng, 0.0, 1.0))
+        image = ax_p.imshow(
+            closeness, aspect="auto", cmap="YlOrRd", vmin=0, vmax=100, origin="lower",
+            extent=(t0, t1, -0.5, 7.5), interpolation="nearest",
+        )  # fmt: skip
+        ax_p.set_yticks(range(8), labels=[f"ps{k} {n}" for k, n in enumerate(PROX_NAMES)])
+        ax_p.tick_params(axis="y", labelsize=FONT["tick"] - 3)
+        ax_p.set_title(
+            f"{name}: IR proximity (how close, % of range)", fontsize=FONT["label"],
+            color=colours[name], loc="left", fontweight="bold",
+        )  # fmt: skip
+        for k, gname in enumerate(GROUND_NAMES):
+            ax_g.plot(t, s.ground[:, k], lw=LINE["trace"], label=gname, color=f"C{k}")
+        ax_g.axhline(0.5, color="#404040", ls="--", lw=1.2, label="line threshold")
+        ax_g.set_ylim(-0.05, 1.05)
+        ax_g.set_ylabel("ground (0..1)")
+        ax_g.legend(
+            fontsize=FONT["legend"] - 2, loc="upper left", bbox_to_anchor=(1.005, 1.0),
+            frameon=False,
+        )  # fmt: skip
+        _style_axes(ax_g)
+        ax_p.tick_params(axis="x", labelsize=FONT["tick"])
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(f"Sensors: {rec.title}", fontsize=FONT["title"])
+    if image is not None:
+        fig.colorbar(image, ax=list(axes[0::2]), label="closeness (%)", shrink=0.8, pad=0.01)
+    return fig
+
+
+def plot_wheels(rec: Recording) -> Any:
+    """Per robot: the commanded left and right wheel speeds (rad/s) over time."""
+    names = list(rec.robot_names)
+    fig = _figure(12, 1.0 + 2.6 * len(names))
+    axes = np.atleast_1d(fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0])
+    colours = _colours(rec)
+    for ax, name in zip(axes, names):
+        s = rec.robot(name)
+        ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#0072B2", label="left")
+        ax.plot(rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#D55E00", label="right")
+        ax.axhline(0.0, color="#404040", lw=1.0)
+        ax.set_ylabel("rad/s")
+        ax.set_title(
+            f"{name}: wheel commands", fontsize=FONT["label"], color=colours[name], loc="left",
+            fontweight="bold",
+        )  # fmt: skip
+        ax.legend(fontsize=FONT["legend"], loc="lower right", ncol=2, framealpha=0.85)
+        _style_axes(ax)
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(f"Wheels: {rec.title}", fontsize=FONT["title"])
+    return fig
+
+
+PLOTS = {
+    "trajectories": plot_trajectories,
+    "arbitration": plot_arbitration,
+    "sensors": plot_sensors,
+    "wheels": plot_wheels,
+}
+
+
+def save_plots(rec: Recording, out_dir: str | os.PathLike[str], fmt: str = "png") -> list[Path]:
+    """Write every plot of ``rec`` into ``out_dir`` as ``<name>.<fmt>``; returns the paths."""
+    fmt = fmt.lower().lstrip(".")
+    if fmt not in PLOT_FORMATS:
+        raise ValueError(f"plot format must be one of {', '.join(PLOT_FORMATS)}, got {fmt!r}")
+    if len(rec) == 0:
+        raise ValueError("the recording is empty: nothing to plot")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, fn in PLOTS.items():
+        fig = fn(rec)
+        path = out / f"{name}.{fmt}"
+        # no timestamps in the files: the same run gives the same bytes
+        meta = {"Date": None} if fmt == "svg" else {"Software": "puckboard"}
+        fig.savefig(path, format=fmt, metadata=meta)
+        written.append(path)
+    return written

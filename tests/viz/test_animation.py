@@ -1,0 +1,73 @@
+import sys
+
+import numpy as np
+import pytest
+from helpers import stand_in_recording
+from PIL import Image
+
+from puckboard.viz.animation import (
+    VideoSupportError,
+    check_animation_path,
+    frame_indices,
+    render_animation,
+)
+
+
+@pytest.fixture(scope="module")
+def rec():
+    return stand_in_recording(4.0)
+
+
+def test_frame_indices_sample_run_time_at_speed_over_fps(rec):
+    idx = frame_indices(rec, fps=10, speed=4)
+    # 3.95 s of run at 0.4 s of run per frame -> frames at 0, 0.4, ..., 3.6
+    assert len(idx) == 10
+    np.testing.assert_allclose(rec.time[idx], np.arange(10) * 0.4, atol=1e-9)
+
+
+def test_gif_has_the_expected_frames_and_size(rec, tmp_path):
+    out = tmp_path / "run.gif"
+    info = render_animation(rec, out, fps=10, speed=4, size=(320, 180))
+    assert out.is_file() and info["bytes"] == out.stat().st_size
+    with Image.open(out) as im:
+        assert im.format == "GIF"
+        assert im.size == (320, 180)
+        assert im.n_frames == info["frames"] == len(frame_indices(rec, 10, 4))
+        assert im.info["duration"] == 100
+        im.seek(im.n_frames - 1)
+        last = np.asarray(im.convert("RGB"))
+    # the robots are drawn in their scene colours (red robot: 200, 40, 40)
+    reds = (abs(last[..., 0].astype(int) - 200) < 12) & (last[..., 1] < 60) & (last[..., 2] < 60)
+    assert reds.sum() > 20
+
+
+def test_gif_is_identical_when_rendered_twice(rec, tmp_path):
+    a = render_animation(rec, tmp_path / "a.gif", speed=16, size=(320, 180))["path"].read_bytes()
+    b = render_animation(rec, tmp_path / "b.gif", speed=16, size=(320, 180))["path"].read_bytes()
+    assert a == b
+
+
+def test_mp4_frame_count(rec, tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    import imageio.v2 as imageio
+
+    out = tmp_path / "run.mp4"
+    info = render_animation(rec, out, fps=10, speed=8, size=(320, 176))
+    reader = imageio.get_reader(out)
+    try:
+        assert reader.count_frames() == info["frames"]
+        assert reader.get_data(0).shape == (176, 320, 3)
+    finally:
+        reader.close()
+
+
+def test_missing_mp4_support_says_how_to_install(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    with pytest.raises(VideoSupportError, match=r"pip install 'puckboard\[video\]'"):
+        check_animation_path(tmp_path / "x.mp4")
+    check_animation_path(tmp_path / "x.gif")  # GIFs need no ffmpeg
+
+
+def test_bad_suffix_is_refused(tmp_path):
+    with pytest.raises(ValueError, match=r"\.gif or \.mp4"):
+        check_animation_path(tmp_path / "x.avi")

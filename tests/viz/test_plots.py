@@ -1,0 +1,54 @@
+import xml.etree.ElementTree as ET
+
+import pytest
+from helpers import stand_in_recording
+from PIL import Image
+
+from puckboard.viz.plots import layer_spans, save_plots
+
+
+@pytest.fixture(scope="module")
+def rec():
+    return stand_in_recording(2.0)
+
+
+def test_png_plots_exist_open_and_have_their_size(rec, tmp_path):
+    paths = save_plots(rec, tmp_path, "png")
+    assert [p.name for p in paths] == [
+        "trajectories.png",
+        "arbitration.png",
+        "sensors.png",
+        "wheels.png",
+    ]
+    sizes = {}
+    for p in paths:
+        with Image.open(p) as im:
+            assert im.format == "PNG"
+            sizes[p.stem] = im.size
+    assert sizes["trajectories"] == (1000, 650)
+    assert sizes["arbitration"] == (1200, round(100 * (1.9 + 0.85 * 2)))
+    assert sizes["sensors"][1] == round(100 * (1.0 + 3.6 * 2))
+
+
+def test_svg_plots_parse_and_name_the_robots_and_layers(rec, tmp_path):
+    paths = save_plots(rec, tmp_path, "svg")
+    for p in paths:
+        root = ET.parse(p).getroot()
+        assert root.tag.endswith("svg")
+    text = (tmp_path / "arbitration.svg").read_text()
+    for word in ("red", "blue", "FrontObstacleLeftTurn", "LineFollow", "stand-in"):
+        assert word in text
+
+
+def test_arbitration_spans_follow_the_recorded_layers(rec):
+    red = layer_spans(rec, "red")
+    blue = layer_spans(rec, "blue")
+    assert [s[0] for s in red] == ["FrontObstacleLeftTurn"]
+    assert [s[0] for s in blue] == ["LineFollow"]
+    assert red[0][1] == 0.0
+    assert red[0][2] == pytest.approx(2.0)
+
+
+def test_bad_format_and_empty_recordings_are_refused(rec, tmp_path):
+    with pytest.raises(ValueError, match="png, svg"):
+        save_plots(rec, tmp_path, "jpg")
