@@ -47,6 +47,8 @@ class OdometrySource(KnowledgeSource):
     e-puck2). ``initial`` is the pose at the first encoder reading (default: the
     origin, so the estimate is relative to the start); ``initial_cov`` its covariance.
     ``use_accelerometer`` / ``use_gyro`` switch those fusions off for comparison.
+    ``encoders_key`` names the key holding the accumulated wheel angles, should they live
+    elsewhere than ``encoders`` (a second, independent estimate, say).
     """
 
     reads = ("encoders", "acceleration", GYRO_KEY)
@@ -62,9 +64,11 @@ class OdometrySource(KnowledgeSource):
         initial_cov: Any = None,
         use_accelerometer: bool = True,
         use_gyro: bool = True,
+        encoders_key: str = "encoders",
         name: str | None = None,
         strict: bool = False,
     ) -> None:
+        self.reads = (encoders_key, *type(self).reads[1:])  # type: ignore[misc]
         self._profile = None if profile is None else get_profile(profile)
         self.noise = noise if noise is not None else OdometryNoise()
         self.initial = initial
@@ -94,7 +98,7 @@ class OdometrySource(KnowledgeSource):
         self._last_speed = None
 
     def compute(self, inputs: Snapshot) -> Mapping[str, Any] | None:
-        enc_rec = inputs.record("encoders")
+        enc_rec = inputs.record(self.reads[0])
         assert enc_rec is not None  # the trigger
         enc, stamp = enc_rec.value, enc_rec.stamp
         flt = self.filter
