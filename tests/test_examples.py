@@ -180,3 +180,26 @@ def test_example_runs_as_a_script_and_prints_its_outcome(name: str) -> None:
     )  # fmt: skip
     assert result.returncode == 0, result.stderr[-2000:]
     assert result.stdout.strip(), "the example should print its outcome"
+
+
+@pytest.mark.network
+def test_switch_backend_coppeliasim_line_drives_a_served_simulation() -> None:
+    """The documented CoppeliaSim line, against `puckboard serve` on the loopback: the
+    same controller, a different backend, the same outcome."""
+    pytest.importorskip("zmq")
+    pytest.importorskip("cbor2")
+    pytest.importorskip("coppeliasim_zmqremoteapi_client")
+    from puckboard.remote.server import serve_scene
+
+    example = load("switch_backend")
+    server = serve_scene("line-follow", host="127.0.0.1", port=0)
+    try:
+        result = example.main(
+            duration=5.0, backend="coppeliasim", options={"host": "127.0.0.1", "port": server.port}
+        )
+    finally:
+        server.close()
+    assert result.sim_time_s == pytest.approx(5.0, abs=0.06)
+    robot = result.robots[0]
+    assert robot.on_line_fraction > 0.9
+    assert robot.distance_m > 0.1  # it drove through the remote API
