@@ -1,0 +1,272 @@
+"""``puckboard run``: one judged episode from the command line.
+
+``puckboard run`` with no arguments runs the thesis's two-robot pass with the improved
+controller in the embedded simulator. ``--json`` prints exactly one JSON object on
+stdout (the fields of :meth:`puckboard.episode.EpisodeResult.to_dict`) and nothing else,
+so scripts can pipe it. The exit status is 0 whenever the run completed, whatever its
+outcome; bad input (unknown scenario, unreadable scene, bad controller, bad ``--set``)
+exits with 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+from . import CliError
+
+#: A run longer than this (wall seconds) gets a progress indicator on stderr.
+PROGRESS_AFTER_S = 0.5
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    parser = subparsers.add_parser(
+        "run",
+        help="run a scenario (default: the two-robot pass) and judge it",
+        description=(
+            "Run one episode of a scenario and print how it went: per-robot progress, "
+            "passes, collisions, the outcome and what happened when. With --json, print "
+            "one JSON object instead. Exit status 0 whenever the run completed."
+        ),
+    )
+    parser.add_argument(
+        "scenario",
+        nargs="?",
+        default="two-robot-pass",
+        metavar="SCENARIO | SCENE_FILE",
+        help="a shipped scene (see 'puckboard scenes') or a .toml/.json scene file "
+        "(default: two-robot-pass)",
+    )
+    parser.add_argument(
+        "--controller",
+        default=None,
+        metavar="stock|improved|MODULE:FACTORY",
+        help="controller for every robot (default: each robot's controller in the scene, "
+        "improved in the shipped scenes)",
+    )
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    parser.add_argument(
+        "--duration", type=float, default=None, metavar="SECONDS",
+        help="simulated seconds (default: the scene's)",
+    )  # fmt: skip
+    parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    parser.add_argument(
+        "--full", action="store_true",
+        help="run the whole duration even after the outcome is decided",
+    )  # fmt: skip
+    parser.add_argument(
+        "--backend", default="embedded",
+        help="embedded (default), coppeliasim, epuck2-wifi or sercom",
+    )  # fmt: skip
+    parser.add_argument("--host", default=None, help="backend host (coppeliasim, epuck2-wifi)")
+    parser.add_argument("--port", type=int, default=None, help="backend port")
+    parser.add_argument("--device", default=None, help="serial device (sercom backend)")
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
+        "noise.start_jitter, dt, duration or layer.<LayerName>.<attribute> (repeatable)",
+    )
+    parser.add_argument("--view", action="store_true", help="show a live view of the run")
+    parser.add_argument(
+        "--record", default=None, metavar="PATH",
+        help="save the run: .npz (data), .gif or .mp4 (animation)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--plots", default=None, metavar="DIR", help="write plots of the run to DIR"
+    )
+    parser.add_argument(
+        "--monitor", action="store_true", help="live table of every robot's blackboard"
+    )
+    parser.set_defaults(func=main)
+
+
+def parse_overrides(items: list[str]) -> dict[str, Any]:
+    """``NAME=VALUE`` strings to a dict; values are numbers, true/false or text."""
+    out: dict[str, Any] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise CliError(
+                f"--set {item!r}: expected NAME=VALUE, e.g. --set noise.wheel_speed=0.05"
+            )
+        text = text.strip()
+        value: Any
+        if text.lower() in ("true", "false"):
+            value = text.lower() == "true"
+        else:
+            try:
+                value = int(text)
+            except ValueError:
+                try:
+                    value = float(text)
+                except ValueError:
+                    value = text
+        out[name] = value
+    return out
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..episode import Episode
+    from ..errors import PuckboardError
+
+    overrides = parse_overrides(args.overrides)
+    if args.duration is not None and not args.duration > 0:
+        raise CliError(f"--duration must be positive seconds, got {args.duration}")
+    backend_options = {
+        key: value
+        for key, value in (("host", args.host), ("port", args.port), ("device", args.device))
+        if value is not None
+    }
+    if args.backend == "embedded" and backend_options:
+        flags = ", ".join(f"--{k}" for k in backend_options)
+        raise CliError(f"{flags} do not apply to the embedded simulator; use them with --backend")
+    try:
+        from ..sim.scenefile import load_scene
+
+        scene = load_scene(args.scenario)
+    except PuckboardError as exc:
+        raise CliError(str(exc)) from None
+    try:
+        episode = Episode(
+            scene,
+            controller=args.controller,
+            seed=args.seed,
+            backend=args.backend,
+            overrides=overrides,
+            **backend_options,
+        )
+    except (PuckboardError, ValueError, TypeError, ImportError) as exc:
+        raise CliError(_first_line(exc)) from None
+    wants_visuals = args.view or args.record or args.plots or args.monitor
+    if wants_visuals:
+        try:
+            from ..viz.hooks import attach
+        except ImportError as exc:
+            episode.connection.close()
+            raise CliError(
+                f"visual tools not available ({exc}); install them with: pip install 'puckboard[viz]'"
+            ) from None
+        try:
+            attach(
+                episode, view=args.view, record=args.record, plots=args.plots, monitor=args.monitor
+            )
+        except (ValueError, ImportError) as exc:
+            episode.connection.close()
+            raise CliError(_first_line(exc)) from None
+    duration = args.duration if args.duration is not None else episode.scene.duration
+    progress = None if args.json and not sys.stderr.isatty() else _Progress(duration)
+    if progress is not None and not args.monitor:
+        episode.add_observer(progress.update)
+    try:
+        result = episode.run(duration, stop_early=not args.full)
+    finally:
+        if progress is not None:
+            progress.close()
+    if args.json:
+        sys.stdout.write(json.dumps(result.to_dict()) + "\n")
+        sys.stdout.flush()
+    else:
+        print(format_summary(result))
+    return 0
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip() or type(exc).__name__
+    return text.splitlines()[0]
+
+
+def format_summary(result: Any) -> str:
+    """A readable summary of an :class:`~puckboard.episode.EpisodeResult`."""
+    d = result.to_dict()
+    lines = [
+        f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
+        f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
+        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} steps of {d['dt_s'] * 1000:g} ms)",
+        "",
+        f"{'robot':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}{'on line':>9}"
+        f"{'obstacles':>11}{'passed other':>14}",
+    ]
+    for r in d["robots"]:
+        lines.append(
+            f"{r['name']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
+            f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
+            f"{r['obstacles_passed']:>11d}{'yes' if r['passed_other'] else 'no':>14}"
+        )
+    lines.append("")
+    if d["success"]:
+        lines.append("outcome: SUCCESS")
+    else:
+        from ..sim.judge import FAILURES
+
+        lines.append(f"outcome: FAILED ({d['failure']}: {FAILURES.get(d['failure'], '')})")
+    if d["events"]:
+        lines.append("")
+        lines.append("events:")
+        for e in d["events"]:
+            who = e["robot"] or "-"
+            lines.append(f"  {e['time_s']:7.2f} s  {who:<12} {e['kind']}")
+    return "\n".join(lines)
+
+
+class _Progress:
+    """A progress indicator on stderr, shown only once a run has taken a moment:
+    rich's bar when rich is installed and stderr is a terminal, else a plain line."""
+
+    def __init__(self, duration: float) -> None:
+        import time
+
+        self.duration = max(duration, 1e-9)
+        self.clock = time.perf_counter
+        self.t0 = self.clock()
+        self.bar: Any = None
+        self.task: Any = None
+        self.plain = False
+        self.last_plain = 0.0
+
+    def _start(self) -> None:
+        if sys.stderr.isatty():
+            try:
+                from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+                self.bar = Progress(
+                    TextColumn("simulating"),
+                    BarColumn(),
+                    TextColumn("{task.completed:.0f}/{task.total:.0f} s"),
+                    TimeRemainingColumn(),
+                    transient=True,
+                )
+                self.bar.start()
+                self.task = self.bar.add_task("run", total=self.duration)
+                return
+            except ImportError:
+                pass
+        self.plain = True
+
+    def update(self, episode: Any) -> None:
+        now = self.clock()
+        if self.bar is None and not self.plain:
+            if now - self.t0 < PROGRESS_AFTER_S:
+                return
+            self._start()
+        t = episode.time
+        if self.bar is not None:
+            self.bar.update(self.task, completed=min(t, self.duration))
+        elif now - self.last_plain >= 1.0:
+            self.last_plain = now
+            end = "\r" if sys.stderr.isatty() else "\n"
+            print(
+                f"simulating: {t:.0f}/{self.duration:.0f} s", end=end, file=sys.stderr, flush=True
+            )
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+        elif self.plain and sys.stderr.isatty():
+            print(" " * 40, end="\r", file=sys.stderr, flush=True)
