@@ -1,0 +1,78 @@
+"""Ground sensors: dark over the line, light off it, smooth across the edge."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from simworld_helpers import empty_scene, loop_track, robot
+
+from puckboard.records import Sensor
+from puckboard.sim.floor import Floor, luminance
+from puckboard.sim.scene import Noise, Track
+from puckboard.sim.world import World
+
+STRAIGHT = Track([[-1.0, 0.0], [1.0, 0.0]], width=0.012, closed=False)
+
+
+def world_at(y: float, theta: float = 0.0, track: Track = STRAIGHT, **kw) -> World:
+    return World(empty_scene(robot("a", 0.0, y, theta), track=track, **kw))
+
+
+def test_centre_sensor_on_a_narrow_line_is_dark_and_the_sides_light():
+    w = world_at(0.0)
+    ground = w.read(0, {Sensor.GROUND})[Sensor.GROUND]
+    floor = luminance(w.scene.floor_colour)
+    line = luminance(STRAIGHT.colour)
+    assert ground.value.tolist() == pytest.approx([floor, line, floor])
+    assert ground.dark().tolist() == [False, True, False]
+    assert ground.raw == pytest.approx(ground.value * 1023)
+
+
+def test_the_left_sensor_finds_a_line_to_the_robots_left():
+    # robot 1 cm to the right of the line (line at y = 0, robot heading +x at y = -0.01)
+    w = world_at(-0.01)
+    assert w.ground[0].tolist() == pytest.approx(
+        [luminance(STRAIGHT.colour), w.floor.floor_brightness, w.floor.floor_brightness]
+    )
+
+
+def test_off_the_line_everything_is_light_close_to_one():
+    w = world_at(0.2)
+    assert (w.ground[0] > 0.9).all()
+    w = World(empty_scene(robot("a")))  # no track at all
+    assert (w.ground[0] > 0.9).all()
+
+
+def test_crossing_the_edge_changes_the_reading_smoothly():
+    values = []
+    for y in np.arange(-0.012, 0.0005, 0.0005):
+        values.append(world_at(y, theta=0.0).ground[0, 1])
+    diffs = np.diff(values)
+    assert (diffs <= 1e-12).all()  # moving onto the line only darkens the centre sensor
+    assert np.abs(diffs).max() < 0.25  # never jumps from light to dark in one half-millimetre
+    assert values[0] > 0.9 and values[-1] < 0.1
+
+
+def test_ground_noise_is_added_and_clipped():
+    w = world_at(0.0, noise=Noise(ground=0.05))
+    seen = []
+    for _ in range(30):
+        w.step()
+        seen.append(w.ground[0].copy())
+    seen = np.array(seen)
+    assert seen[:, 1].std() > 0.01
+    assert (seen >= 0).all() and (seen <= 1).all()
+
+
+def test_nearby_segment_search_gives_the_same_readings_as_testing_every_segment():
+    track = loop_track(0.4, 0.25, n=300, width=0.02)
+    floor = Floor(empty_scene(track=track))
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        angle = rng.uniform(0, 2 * math.pi)
+        centre = (0.4 * math.cos(angle) + rng.normal(0, 0.02), 0.25 * math.sin(angle))
+        points = np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
+        near = floor.segments_near([centre], 0.0142)
+        assert floor.brightness(points, near) == pytest.approx(floor.brightness(points))

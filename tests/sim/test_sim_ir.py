@@ -1,0 +1,116 @@
+"""IR proximity: known geometry gives known distances and raw values."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from simworld_helpers import empty_scene, robot
+
+from puckboard.profile import EPUCK2
+from puckboard.records import PROX_NAMES, Sensor
+from puckboard.sim.ir import TABLE, raw_from_distance
+from puckboard.sim.scene import CircleObstacle, Noise, PolygonObstacle
+from puckboard.sim.world import World
+
+PS7 = PROX_NAMES.index("front_left")
+PS0 = PROX_NAMES.index("front_right")
+
+
+def obstacle_on_sensor_axis(sensor: int, gap: float, radius: float = 0.02) -> CircleObstacle:
+    """A round obstacle whose nearest point lies ``gap`` m straight out from ``sensor``
+    of a robot at the origin heading +x."""
+    pose = EPUCK2.prox_poses[sensor]
+    cx = pose.x + (gap + radius) * math.cos(pose.heading)
+    cy = pose.y + (gap + radius) * math.sin(pose.heading)
+    return CircleObstacle(cx, cy, radius)
+
+
+def wall_facing_sensor(sensor: int, gap: float) -> PolygonObstacle:
+    """A wide flat box whose face is perpendicular to ``sensor``'s axis, ``gap`` away."""
+    pose = EPUCK2.prox_poses[sensor]
+    ux, uy = math.cos(pose.heading), math.sin(pose.heading)
+    px, py = pose.x + gap * ux, pose.y + gap * uy  # a point on the face
+    vx, vy = -uy, ux  # along the face
+    corners = [
+        (px - 0.05 * vx, py - 0.05 * vy),
+        (px + 0.05 * vx, py + 0.05 * vy),
+        (px + 0.05 * vx + 0.03 * ux, py + 0.05 * vy + 0.03 * uy),
+        (px - 0.05 * vx + 0.03 * ux, py - 0.05 * vy + 0.03 * uy),
+    ]
+    return PolygonObstacle(corners)
+
+
+@pytest.mark.parametrize("sensor", [PS7, PS0])
+@pytest.mark.parametrize("gap", [0.007, 0.012, 0.03, 0.045])
+def test_obstacle_at_a_known_distance_reads_that_distance(sensor, gap):
+    w = World(empty_scene(robot("a"), obstacles=(obstacle_on_sensor_axis(sensor, gap),)))
+    assert w.prox_distance[0, sensor] == pytest.approx(gap, abs=1e-9)
+    prox = w.read(0, {Sensor.PROXIMITY})[Sensor.PROXIMITY]
+    assert prox.detected(PROX_NAMES[sensor])
+    # the sensor on the far side of the robot sees nothing
+    assert prox.distance[(sensor + 4) % 8] == prox.range
+
+
+def test_nothing_in_range_reads_exactly_the_range_and_the_table_baseline():
+    w = World(empty_scene(robot("a"), obstacles=(obstacle_on_sensor_axis(PS7, 0.08),)))
+    assert (w.prox_distance[0] == EPUCK2.prox_range).all()
+    assert w.prox_raw[0] == pytest.approx(np.full(8, TABLE[-1, 1]))
+
+
+def test_an_obstacle_between_range_and_table_end_raises_raw_but_not_distance():
+    w = World(empty_scene(robot("a"), obstacles=(wall_facing_sensor(PS7, 0.06),)))
+    assert w.prox_distance[0, PS7] == EPUCK2.prox_range
+    assert TABLE[-1, 1] < w.prox_raw[0, PS7] < TABLE[-3, 1]
+
+
+def test_raw_follows_the_response_table_for_a_flat_wall():
+    for gap in (0.007, 0.01, 0.02, 0.03, 0.04):
+        w = World(empty_scene(robot("a"), obstacles=(wall_facing_sensor(PS7, gap),)))
+        # off-axis rays travel gap/cos(angle): a little further, a little less light
+        assert w.prox_raw[0, PS7] == pytest.approx(float(raw_from_distance(gap)), rel=0.06)
+        assert w.prox_raw[0, PS7] <= float(raw_from_distance(gap)) + 1e-9
+
+
+def test_raw_falls_monotonically_with_distance():
+    gaps = np.linspace(0.002, 0.075, 40)
+    raws = []
+    for gap in gaps:
+        w = World(empty_scene(robot("a"), obstacles=(wall_facing_sensor(PS0, gap),)))
+        raws.append(w.prox_raw[0, PS0])
+    assert (np.diff(raws) <= 0).all()
+    assert raws[0] > 2000 and raws[-1] == pytest.approx(TABLE[-1, 1])
+
+
+def test_the_aperture_sees_an_obstacle_slightly_off_the_sensor_axis():
+    # a thin post 6° off ps7's axis: one central ray would miss it, the aperture does not
+    pose = EPUCK2.prox_poses[PS7]
+    ang = pose.heading + math.radians(6.0)
+    post = CircleObstacle(pose.x + 0.03 * math.cos(ang), pose.y + 0.03 * math.sin(ang), 0.002)
+    w = World(empty_scene(robot("a"), obstacles=(post,)))
+    assert w.prox_distance[0, PS7] < EPUCK2.prox_range
+    single = World(empty_scene(robot("a"), obstacles=(post,)), ir_rays=1)
+    assert single.prox_distance[0, PS7] == EPUCK2.prox_range
+
+
+def test_a_robot_sees_another_robot_but_never_its_own_body():
+    gap = 0.02
+    scene = empty_scene(robot("a", 0.0, 0.0, 0.0), robot("b", 2 * 0.037 + gap, 0.0, math.pi))
+    w = World(scene)
+    front = [PS0, PS7]
+    # the front sensors sit inside the body and look 17° outwards: a little further
+    for i in (0, 1):
+        assert (w.prox_distance[i, front] < gap + 0.015).all()
+        assert (w.prox_distance[i, front] > gap).all()
+        assert (w.prox_distance[i, [2, 3, 4, 5]] == EPUCK2.prox_range).all()
+
+
+def test_proximity_noise_perturbs_raw_values_but_not_an_empty_reading():
+    w = World(empty_scene(robot("a"), noise=Noise(proximity=0.1)), seed=4)
+    raws = []
+    for _ in range(20):
+        w.step()
+        raws.append(w.prox_raw[0].copy())
+        assert (w.prox_distance[0] == EPUCK2.prox_range).all()
+    assert np.std(np.array(raws)[:, PS7]) > 1.0
