@@ -193,6 +193,10 @@ def test_factory_errors_are_clear() -> None:
         open_wifi(SCENE)
     with pytest.raises(ValueError, match="--device"):
         open_sercom(SCENE)
+    with pytest.raises(ValueError, match="backend sercom"):
+        open_wifi(SCENE, host="127.0.0.1", device="/dev/rfcomm0")
+    with pytest.raises(ValueError, match="socket://"):
+        open_sercom(SCENE, device="/dev/rfcomm0", host="127.0.0.1")
     with pytest.raises(TypeError, match="colour"):
         open_wifi(SCENE, host="127.0.0.1", colour="red")
     free = socket.create_server(("127.0.0.1", 0))

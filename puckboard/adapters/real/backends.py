@@ -39,6 +39,7 @@ def open_wifi(
     command_timeout: float | None = 1.0,
     blackboard: Blackboard | None = None,
     name: str | None = None,
+    device: str | None = None,
     **options: Any,
 ) -> Connection:
     """Connect to an e-puck2 over Wi-Fi (selector 15, Wi-Fi firmwares) at ``host:port``.
@@ -49,6 +50,11 @@ def open_wifi(
     factory signature and unused: a real robot is not seeded.
     """
     _reject_unknown("epuck2-wifi", options)
+    if device:
+        raise ValueError(
+            f"--device {device} is for --backend sercom; the epuck2-wifi backend takes "
+            "--host (and --port)"
+        )
     if not host:
         raise ValueError(
             "the epuck2-wifi backend needs the robot's address: pass host='192.168.x.y' "
@@ -72,6 +78,8 @@ def open_sercom(
     command_timeout: float | None = 1.0,
     blackboard: Blackboard | None = None,
     name: str | None = None,
+    host: str | None = None,
+    port: int | None = None,
     **options: Any,
 ) -> Connection:
     """Connect to an e-puck over advanced sercom on ``device``.
@@ -83,6 +91,11 @@ def open_sercom(
     default it follows the scene robot's profile.
     """
     _reject_unknown("sercom", options)
+    if host or port:
+        raise ValueError(
+            "--host/--port are for --backend epuck2-wifi; the sercom backend takes --device "
+            "(for a sercom emulator on TCP: --device socket://HOST:PORT)"
+        )
     if not device:
         raise ValueError(
             "the sercom backend needs the serial device: pass device='/dev/rfcomm0' or 'COM5' "
