@@ -652,7 +652,7 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
     if obstacles:
         out["obstacles"] = obstacles
     out["robots"] = [
-        {"name": r.name, "x": num(r.x), "y": num(r.y), "theta": num(r.theta),
+        {"name": r.name, "x": num(r.x), "y": num(r.y), "theta": float(r.theta),
          "controller": r.controller, "colour": list(r.colour), "profile": r.profile}
         for r in scene.robots
     ]  # fmt: skip
