@@ -388,6 +388,8 @@ class EPuckVRep(RobotAdapter):
                 self.link.close()
             raise
         self._enc_last: np.ndarray | None = None
+        self._enc_speed: np.ndarray | None = None
+        self._enc_time = 0.0
         self._enc_total = np.zeros(2)
         self._ground_res: tuple[int, int] | None = None
 
@@ -495,7 +497,11 @@ class EPuckVRep(RobotAdapter):
             elif s is Sensor.GROUND:
                 out[s] = _ground(np.asarray(data["ground"], dtype=float))
             elif s is Sensor.ENCODERS:
-                out[s] = self._encoders(data["joints"])
+                if "encoders" in data:  # accumulated by the model's script: never wraps
+                    left, right = data["encoders"]
+                    out[s] = WheelEncoders(float(left), float(right))
+                else:
+                    out[s] = self._encoders(data["joints"], data.get("speeds"), t)
             elif s is Sensor.WHEEL_SPEEDS:
                 left, right = data["speeds"]
                 out[s] = WheelSpeeds(float(left), float(right))
@@ -520,12 +526,16 @@ class EPuckVRep(RobotAdapter):
             elif s is Sensor.GROUND:
                 out[s] = _ground(self._ground_from_image())
             elif s is Sensor.ENCODERS:
-                out[s] = self._encoders(
-                    [
-                        call("sim.getJointPosition", [h["left"]]),
-                        call("sim.getJointPosition", [h["right"]]),
-                    ]
-                )
+                angles = [
+                    call("sim.getJointPosition", [h["left"]]),
+                    call("sim.getJointPosition", [h["right"]]),
+                ]
+                speeds = [
+                    call("sim.getJointVelocity", [h["left"]]),
+                    call("sim.getJointVelocity", [h["right"]]),
+                ]
+                t = self.stepper.time if self.stepper is not None else None
+                out[s] = self._encoders(angles, speeds, t)
             elif s is Sensor.WHEEL_SPEEDS:
                 out[s] = WheelSpeeds(
                     float(call("sim.getJointVelocity", [h["left"]])),
@@ -560,14 +570,29 @@ class EPuckVRep(RobotAdapter):
             raw = raw_from_distance(np.where(distance < rng, distance, np.inf))
         return Proximity(distance, raw, rng)
 
-    def _encoders(self, wrapped: Sequence[float]) -> WheelEncoders:
+    def _encoders(
+        self, wrapped: Sequence[float], speeds: Sequence[float] | None, t: Any
+    ) -> WheelEncoders:
+        """Unwrap joint angles (CoppeliaSim wraps them to (-π, π]) into encoders.
+
+        The turn between two reads is taken as the one closest to what the wheel speeds
+        predict (mean of the two reads' speeds times the elapsed simulation time); without
+        speeds or time, as the smallest turn. Exact while the wheel speed changes by less
+        than π rad between reads in total.
+        """
         now = np.array([float(wrapped[0]), float(wrapped[1])])
+        speed = None if speeds is None else np.array([float(speeds[0]), float(speeds[1])])
         if self._enc_last is None:
             self._enc_total = now.copy()  # a run opened at t = 0 starts at 0, as embedded
         else:
-            delta = np.remainder(now - self._enc_last + math.pi, math.tau) - math.pi
-            self._enc_total += delta
+            predicted = np.zeros(2)
+            if speed is not None and self._enc_speed is not None and isinstance(t, (int, float)):
+                predicted = 0.5 * (speed + self._enc_speed) * (float(t) - self._enc_time)
+            delta = now - self._enc_last - predicted
+            self._enc_total += predicted + np.remainder(delta + math.pi, math.tau) - math.pi
         self._enc_last = now
+        self._enc_speed = speed
+        self._enc_time = float(t) if isinstance(t, (int, float)) else 0.0
         return WheelEncoders(float(self._enc_total[0]), float(self._enc_total[1]))
 
     def _pose(self, x: float, y: float, yaw: float) -> Pose:

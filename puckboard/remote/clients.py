@@ -15,8 +15,10 @@ inferred from silence. Two thresholds:
   client), capped by ``max_idle``: after that it is forgotten and the wheels it
   commanded are stopped.
 
-A client that is waiting inside ``sim.step`` is never silent: the server answers it
-with ``_*wait*_`` heartbeats, and each ``_*executed*_`` counts as a sign of life.
+A client that is waiting inside ``sim.step`` is never silent: the server holds its
+``_*executed*_`` and answers it with a ``_*wait*_`` heartbeat now and then, and each new
+``_*executed*_`` counts as a sign of life. A client that stops answering the heartbeat
+is treated like any other silent client.
 """
 
 from __future__ import annotations
@@ -98,7 +100,8 @@ class ClientTable:
         return [
             c
             for c in self._clients.values()
-            if c.stepping > 0 and (c.waiting or now - c.last_seen <= self.stepping_timeout)
+            if c.stepping > 0
+            and (c.parked is not None or now - c.last_seen <= self.stepping_timeout)
         ]
 
     def gate_open(self, step: int, now: float) -> bool:
@@ -115,7 +118,7 @@ class ClientTable:
         gone = [
             c
             for c in self._clients.values()
-            if not c.waiting and now - c.last_seen > c.idle_timeout
+            if c.parked is None and now - c.last_seen > c.idle_timeout
         ]
         for c in gone:
             del self._clients[c.uuid]

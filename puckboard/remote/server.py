@@ -212,6 +212,8 @@ class RemoteApiServer:
             )  # fmt: skip
         client.parked = None  # a new request makes any held envelope stale
         func = req.func
+        if func != EXECUTED:
+            client.waiting = False  # a REQ client only sends anew once it gave up waiting
         if func == EXECUTED:
             self._executed(client, envelope, now)
         elif func == END:

@@ -555,6 +555,7 @@ class SimApi:
                 math.remainder(float(enc[0]), math.tau),
                 math.remainder(float(enc[1]), math.tau),
             ],
+            "encoders": enc.tolist(),
             "speeds": w.wheel_speeds[robot].tolist(),
             "pose": w.poses[robot].tolist(),
         }
