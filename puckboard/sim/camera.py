@@ -48,7 +48,11 @@ class CameraRenderer:
         height: int,
         fov: float,
         camera_height: float,
+        object_colours: npt.NDArray[np.uint8],
+        object_heights: FloatArray,
     ) -> None:
+        """``object_colours`` (K×3) and ``object_heights`` (K, m) describe what a ray can
+        hit, in :func:`cast_rays` order: segments first, then circles."""
         if width < 1 or height < 1:
             raise ValueError(f"camera size must be positive pixels, got {width}×{height}")
         if not 0 < fov < math.pi:
@@ -66,17 +70,22 @@ class CameraRenderer:
         # row offsets below the image centre (pixels, positive downwards)
         self.row_v = (np.arange(height) + 0.5 - height / 2.0)[:, None]  # H×1
         floor_rows = np.nonzero(self.row_v[:, 0] > 0)[0]
-        self.floor_rows = slice(int(floor_rows[0]), height) if len(floor_rows) else slice(0, 0)
-        v = self.row_v[self.floor_rows]  # F×1
+        self.first_floor_row = int(floor_rows[0]) if len(floor_rows) else height
+        v = self.row_v[self.first_floor_row :]  # F×1
         depth = focal * camera_height / v  # forward distance of each floor row (m)
         self.floor_fwd = np.broadcast_to(depth, (len(v), width)).copy()  # F×W
         self.floor_left = depth * lateral[None, :]
         self.floor_far = self.floor_fwd > MAX_VIEW
-        fc = np.array(floor.floor_colour, dtype=np.uint8)
-        lc = np.array(floor.line_colour, dtype=np.uint8)
-        self._floor_colour = fc
-        self._line_colour = lc
-        self._background = np.array(BACKGROUND, dtype=np.uint8)
+        # every pixel is an index into one palette: background, floor, line, objects
+        self.palette = np.vstack(
+            [
+                np.array([BACKGROUND, floor.floor_colour, floor.line_colour], dtype=np.uint8),
+                np.asarray(object_colours, dtype=np.uint8).reshape(-1, 3),
+            ]
+        )
+        self.object_heights = np.asarray(object_heights, dtype=float)
+        self._index = np.zeros((height, width), dtype=np.intp)
+        self._columns = np.arange(width)
 
     def render(
         self,
@@ -87,21 +96,22 @@ class CameraRenderer:
         seg_vector: FloatArray,
         circle_centres: FloatArray,
         circle_radii: FloatArray,
-        colours: npt.NDArray[np.uint8],
-        heights: FloatArray,
         ignore_circle: int = -1,
     ) -> npt.NDArray[np.uint8]:
         """An upright H×W×3 uint8 image from a robot at (x, y, theta).
 
-        ``colours`` and ``heights`` describe the hit objects in :func:`cast_rays` order
-        (segments, then circles); ``ignore_circle`` is the robot's own body.
+        ``ignore_circle`` is the robot's own body, which encloses the camera.
         """
         c, s = math.cos(theta), math.sin(theta)
         cx = x + CAMERA_FORWARD * c
         cy = y + CAMERA_FORWARD * s
         angles = theta + self.col_angle
-        dirs = np.column_stack([np.cos(angles), np.sin(angles)])
-        origins = np.broadcast_to(np.array([cx, cy]), (self.width, 2))
+        dirs = np.empty((self.width, 2))
+        dirs[:, 0] = np.cos(angles)
+        dirs[:, 1] = np.sin(angles)
+        origins = np.empty_like(dirs)
+        origins[:, 0] = cx
+        origins[:, 1] = cy
         ignore = None
         if ignore_circle >= 0:
             ignore = np.zeros((self.width, circle_centres.shape[0]), dtype=bool)
@@ -109,27 +119,24 @@ class CameraRenderer:
         dist, hit = cast_rays(
             origins, dirs, MAX_VIEW, seg_start, seg_vector, circle_centres, circle_radii, ignore
         )
-        depth = dist * self.col_cos  # inf where nothing was hit
-        seen = hit >= 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            v_bottom = np.where(seen, self.focal * self.camera_height / depth, np.inf)
-            v_top = np.where(
-                seen, -self.focal * (heights[hit] - self.camera_height) / depth, np.inf
-            )
-        image = np.empty((self.height, self.width, 3), dtype=np.uint8)
-        image[:] = self._background
+        index = self._index
+        index.fill(0)
         # floor: world coordinates of each floor pixel, then the line raster
         fx = cx + self.floor_fwd * c - self.floor_left * s
         fy = cy + self.floor_fwd * s + self.floor_left * c
-        on_line = self.floor.on_line(fx, fy)
-        floor_img = np.where(on_line[..., None], self._line_colour, self._floor_colour)
-        floor_img[self.floor_far] = self._background
-        image[self.floor_rows] = floor_img
+        floor_index = index[self.first_floor_row :]
+        floor_index[...] = self.floor.on_line(fx, fy)
+        floor_index += 1
+        floor_index[self.floor_far] = 0
         # objects: from their foot on the floor up to their top edge
-        v = self.row_v
-        covered = (v >= v_top[None, :]) & (v <= v_bottom[None, :])
-        obj_colour = colours[np.where(seen, hit, 0)]  # W×3
-        np.copyto(
-            image, np.broadcast_to(obj_colour[None, :, :], image.shape), where=covered[..., None]
-        )
-        return image
+        seen = hit >= 0
+        if seen.any():
+            with np.errstate(divide="ignore", invalid="ignore"):
+                scale = self.focal / (dist * self.col_cos)  # pixels per metre at that depth
+                v_bottom = np.where(seen, scale * self.camera_height, np.inf)
+                v_top = np.where(
+                    seen, -scale * (self.object_heights[hit] - self.camera_height), np.inf
+                )
+            covered = (self.row_v >= v_top) & (self.row_v <= v_bottom)
+            np.copyto(index, (hit + 3)[None, :], where=covered)
+        return self.palette[index]

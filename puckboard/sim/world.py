@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import logging
 import math
+import threading
 from collections.abc import Sequence
 from typing import Any
 
@@ -105,6 +106,8 @@ class World(Stepper):
         self.scene = scene
         self.seed = seed
         self.rng = np.random.Generator(np.random.PCG64(seed))
+        # a camera or sensing thread may read while the control loop steps
+        self._lock = threading.RLock()
         self._dt = float(scene.dt)
         self._time = 0.0
         self.step_count = 0
@@ -343,15 +346,17 @@ class World(Stepper):
 
     def stop(self) -> None:
         """Stop: wheels commanded to zero. Stepping again resumes from here."""
-        self.running = False
-        self._command[:] = 0.0
+        with self._lock:
+            self.running = False
+            self._command[:] = 0.0
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` steps of ``dt``; sensors then describe the new state."""
         if n < 0:
             raise ValueError(f"cannot step a negative number of times ({n})")
-        for _ in range(n):
-            self._step_once()
+        with self._lock:
+            for _ in range(n):
+                self._step_once()
 
     # -- state arrays (read-only views) ------------------------------------------------------
     @property
@@ -412,16 +417,18 @@ class World(Stepper):
     def set_wheel_speeds(self, i: int, left: float, right: float) -> None:
         """Command robot ``i``'s wheels (rad/s), clamped to its profile's limit."""
         limit = self.profiles[i].max_wheel_speed
-        self._command[i, 0] = max(-limit, min(limit, float(left)))
-        self._command[i, 1] = max(-limit, min(limit, float(right)))
+        with self._lock:
+            self._command[i, 0] = max(-limit, min(limit, float(left)))
+            self._command[i, 1] = max(-limit, min(limit, float(right)))
 
     def set_pose(self, i: int, x: float, y: float, theta: float) -> None:
         """Place robot ``i`` (for tests and scripted set-ups); sensors are recomputed."""
         pose = [float(x), float(y), math.remainder(float(theta), math.tau)]
-        self._pose_list[i] = pose
-        self._poses[i] = pose
-        self._velocity_list[i] = (0.0, 0.0)
-        self._sense(None)
+        with self._lock:
+            self._pose_list[i] = pose
+            self._poses[i] = pose
+            self._velocity_list[i] = (0.0, 0.0)
+            self._sense(None)
 
     # -- the step ------------------------------------------------------------------------------
     def _step_once(self) -> None:
@@ -615,6 +622,10 @@ class World(Stepper):
         asking for :attr:`Sensor.LIGHT` or the camera here is an error; use
         :meth:`camera` for images.
         """
+        with self._lock:
+            return self._records(i, sensors)
+
+    def _records(self, i: int, sensors: frozenset[Sensor] | Sequence[Sensor]) -> dict[Sensor, Any]:
         # The arrays are finite and in range by construction, so the records skip their
         # validation (which would cost more than the whole simulation step).
         out: dict[Sensor, Any] = {}
@@ -651,10 +662,16 @@ class World(Stepper):
 
     def camera(self, i: int, size: tuple[int, int] | None = None) -> CameraImage:
         """Robot ``i``'s camera image (``size`` = (width, height), default the scene's)."""
-        return CameraImage(self.render_camera(i, size))
+        pixels = self.render_camera(i, size)
+        pixels.flags.writeable = False
+        return _unchecked(CameraImage, pixels=pixels)  # a fresh array nobody else holds
 
     def render_camera(self, i: int, size: tuple[int, int] | None = None) -> npt.NDArray[np.uint8]:
-        """The camera pixels (H×W×3 uint8) without wrapping them in a record."""
+        """The camera pixels (a fresh H×W×3 uint8 array) without wrapping them in a record."""
+        with self._lock:
+            return self._render(i, size)
+
+    def _render(self, i: int, size: tuple[int, int] | None) -> npt.NDArray[np.uint8]:
         width, height = size if size is not None else self.scene.camera_size
         profile = self.profiles[i]
         key = (int(width), int(height), profile.camera_fov, profile.camera_height)
@@ -666,6 +683,8 @@ class World(Stepper):
                 height=int(height),
                 fov=profile.camera_fov,
                 camera_height=profile.camera_height,
+                object_colours=self._object_colours,
+                object_heights=self._object_heights,
             )
             self._cameras[key] = renderer
         self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
@@ -678,8 +697,6 @@ class World(Stepper):
             self._seg_vector,
             self._circle_centres,
             self._circle_radii,
-            self._object_colours,
-            self._object_heights,
             ignore_circle=self._n_static_circles + i,
         )
 
