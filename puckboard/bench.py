@@ -296,9 +296,10 @@ def sim_suite(steps: int | None = None) -> dict[str, Any]:
     world, loop = _build_stack(scene)
     width, height = scene.camera_size
     out["camera_size"] = [width, height]
-    out["camera_us_per_frame"] = _median_us(lambda: world.camera(0), 300)
+    frames = min(300, max(20, n_steps // 5))
+    out["camera_us_per_frame"] = _median_us(lambda: world.camera(0), frames)
     big = (160, 120)
-    out["camera_160x120_us_per_frame"] = _median_us(lambda: world.camera(0, big), 100)
+    out["camera_160x120_us_per_frame"] = _median_us(lambda: world.camera(0, big), frames)
     loop.close()
     return out
 

@@ -1,0 +1,56 @@
+"""``puckboard bench``: suites resolve by name, missing ones are skipped, output parses."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from puckboard import bench
+from puckboard.cli import main
+
+
+def test_list_names_every_registered_suite(capsys):
+    assert main(["bench", "--list"]) == 0
+    out = capsys.readouterr().out
+    for name in ("core", "sim", "coppeliasim", "sweep", "estimation"):
+        assert name in out
+
+
+def test_unknown_suite_is_a_one_line_error(capsys):
+    assert main(["bench", "--suite", "nope"]) == 2
+    err = capsys.readouterr().err
+    assert "unknown suite 'nope'" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_suite_whose_module_is_missing_is_skipped_with_a_note(monkeypatch):
+    monkeypatch.setitem(bench.SUITES, "ghost", "puckboard.no_such_module:run_suite")
+    result = bench.run_suites(["ghost"])
+    assert "skipped" in result["suites"]["ghost"]
+    assert "no_such_module" in result["suites"]["ghost"]["skipped"]
+
+
+def test_core_suite_json_has_both_sides_of_each_comparison(capsys):
+    assert main(["bench", "--suite", "core", "--steps", "50", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    core = data["suites"]["core"]
+    for key in (
+        "blackboard_put_get_us",
+        "py_trees_client_set_get_us",
+        "arbiter_tick_us",
+        "py_trees_selector_tick_us",
+    ):
+        assert core[key] > 0
+    assert core["arbiter_layers"] == 4
+    assert data["machine"]["cpus"] >= 1
+
+
+@pytest.mark.slow
+def test_sim_suite_reports_rate_split_and_camera():
+    res = bench.sim_suite(10)
+    assert res["steps_per_s"] > 0
+    assert res["realtime_factor"] == pytest.approx(res["steps_per_s"] * res["dt_s"])
+    assert len(res["cost_us_per_step"]) == 4
+    assert res["camera_us_per_frame"] > 0
+    text = bench.format_results({"machine": bench.machine(), "suites": {"sim": res}})
+    assert "steps_per_s" in text and "camera_us_per_frame" in text
