@@ -6,8 +6,9 @@ sends, with the same codecs and conversions :class:`~puckboard.adapters.real.EPu
 uses to read them (in the opposite direction):
 
 * proximity: the world's distances through the calibrated response curve
-  (:func:`~puckboard.adapters.real.units.prox_value_from_distance`), plus a little sensor
-  noise, so a free sensor reads ≈0 and can go slightly negative, as on the robot;
+  (:func:`~puckboard.adapters.real.units.prox_value_from_distance`), minus the baseline
+  of the last IR calibration (none at start: the robot was switched on in free space),
+  plus a little sensor noise, so a free sensor reads ≈0 and can go slightly negative;
 * ground: 0..1023 (0 black, 1023 white);
 * step counters: int16 that wrap every 65536 steps;
 * accelerometer: ≈768 counts per g, gravity on z;
@@ -62,7 +63,9 @@ class EmulatedRobot:
         self.leds = 0
         self.rgb: tuple[int, ...] = (0,) * 12
         self._step_offset = (0, 0)  # set by "set steps" commands
+        self._prox_baseline = np.zeros(8)  # what the last IR calibration saw
         self.commands = 0
+        self.calibrations = 0
 
     # -- actuators -------------------------------------------------------------------------
     def set_speeds(self, left: int, right: int) -> None:
@@ -85,6 +88,8 @@ class EmulatedRobot:
         """Apply a "set all actuators" block (Wi-Fi 0x80 bytes 2..20, sercom 0x09)."""
         with self.lock:
             self.commands += 1
+            if block.settings & ActuatorBlock.CALIBRATE_IR:
+                self.calibrate_ir()
             if block.settings & ActuatorBlock.SET_STEPS:
                 self.set_steps(block.left, block.right)
             else:
@@ -94,6 +99,13 @@ class EmulatedRobot:
 
     def stop(self) -> None:
         self.set_speeds(0, 0)
+
+    def calibrate_ir(self) -> None:
+        """Take the current IR readings as the new baselines, as the firmware does: an
+        object in front of the robot during calibration blinds those sensors later."""
+        with self.lock:
+            self.calibrations += 1
+            self._prox_baseline = prox_value_from_distance(self.world.prox_distance[self.index])
 
     # -- sensors ---------------------------------------------------------------------------
     def _world_steps(self) -> tuple[int, int]:
@@ -114,7 +126,7 @@ class EmulatedRobot:
         """8 calibrated IR values (int16), ps0..ps7."""
         with self.lock:
             w = self.world
-            values = prox_value_from_distance(w.prox_distance[self.index])
+            values = prox_value_from_distance(w.prox_distance[self.index]) - self._prox_baseline
             values = values + w.rng.normal(0.0, _PROX_NOISE, size=8)
             return tuple(clamp_int16(v) for v in np.clip(values, -50, 4095))
 

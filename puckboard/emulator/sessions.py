@@ -127,6 +127,9 @@ class SercomSession:
             if key == "S":
                 r.stop()
                 return "s"
+            if key == "K":
+                r.calibrate_ir()
+                return "k, Calibration finished"
             if key == "D":
                 left, right = int(parts[1]), int(parts[2])
                 with r.lock:

@@ -211,3 +211,18 @@ def test_registry_selects_the_real_backends() -> None:
 
     assert resolve_backend("epuck2-wifi") is open_wifi
     assert resolve_backend("sercom") is open_sercom
+
+
+@pytest.mark.parametrize("carrier", CARRIERS)
+def test_ir_calibration_request(carrier: tuple[str, str | None, str | None]) -> None:
+    protocol, serial, model = carrier
+    with emulated(protocol, serial) as em, connect(em, model) as conn:
+        robot = conn.adapters["epuck"]
+        if model == "e-puck1":
+            with pytest.raises(NotSupportedError, match="e-puck1"):
+                robot.calibrate_ir()
+            return
+        robot.calibrate_ir()
+        assert eventually(lambda: em.robot.calibrations == 1)
+        robot.sense_all()  # the flag was sent once: later exchanges do not recalibrate
+        assert em.robot.calibrations == 1

@@ -29,6 +29,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from ...blackboard import Blackboard, Namespace
+from ...errors import NotSupportedError
 from ...profile import EPUCK2, RobotProfile
 from ...records import (
     Acceleration,
@@ -151,6 +152,25 @@ class EPuckReal(RobotAdapter):
         a = self._actuators
         with self.io_lock:
             self._actuators = ActuatorBlock(left=a.left, right=a.right, leds=mask, rgb=tuple(rgb))
+
+    def calibrate_ir(self) -> None:
+        """Ask the e-puck2 to re-measure its IR baselines (nothing may be within ~10 cm).
+
+        The robot also calibrates when it starts, so switch it on in free space. e-puck1
+        firmware offers this only in ASCII mode (``K``): use GCtronic's tools there.
+        """
+        if getattr(self.link, "model", "e-puck2") != "e-puck2":
+            raise NotSupportedError(
+                "IR calibration over binary sercom needs an e-puck2; on an e-puck1 restart the "
+                "robot with nothing in front of it (it calibrates at start-up)"
+            )
+        a = self._actuators
+        block = ActuatorBlock(
+            left=a.left, right=a.right, leds=a.leds, rgb=a.rgb, settings=ActuatorBlock.CALIBRATE_IR
+        )
+        with self.io_lock:
+            self._ensure_open()
+            self._guarded(lambda: self.link.exchange(block, sensors=False, image=False))
 
     @property
     def link_broken(self) -> bool:
