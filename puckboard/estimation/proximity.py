@@ -1,4 +1,4 @@
-"""Filtered IR distances: one small Kalman filter per proximity sensor, in plain numpy.
+"""Filtered IR distances: one small Kalman filter per proximity sensor, in plain Python.
 
 An e-puck IR sensor's reading is noisy (a few per cent of the raw value; converted to
 distance, one to several millimetres, worst near the end of the range where the
@@ -21,16 +21,18 @@ Two things a textbook filter lacks and a proximity sensor needs:
   post at 1 cm. An innovation beyond ``gate`` standard deviations restarts the track
   rather than gliding towards the new distance over ten cycles.
 
-**Why plain numpy and not filterpy.** filterpy's ``KalmanFilter(1, 1)`` costs about
-64 µs per predict+update (its ``update`` spends most of that in a general matrix
-inverse, ``deepcopy`` and bookkeeping copies, all for a 1×1 matrix; reference figures
-measured with filterpy 2.0.0), so eight sensors would cost about 0.5 ms per robot per
-cycle -- as much as the rest of a simulation step of several robots. With a scalar
-measurement the Kalman equations are a few multiplications per sensor, and all eight
-sensors' 2×2 covariances fit in three length-8 arrays, so one vectorised update serves
-all of them in a few microseconds (measured by the ``estimation`` benchmark suite).
-The pose filter is different: one 3-state filter per robot, where filterpy's clarity is
-worth its 0.1 ms.
+**Why plain Python and not filterpy (or numpy).** filterpy's ``KalmanFilter`` spends
+most of a predict+update in a general matrix inverse, ``deepcopy`` and bookkeeping
+copies, all for a 1×1 innovation: 64 µs for ``KalmanFilter(1, 1)`` in the reference
+measurements, and about 600 µs for eight 2-state filters on the machine of the
+``estimation`` benchmark -- as much as a whole simulation step of two robots. With a
+scalar measurement the Kalman equations are a dozen multiplications per sensor. Done
+on Python floats they cost about 17 µs for all eight sensors; the same equations
+vectorised over the eight sensors with numpy cost about 67 µs, because each numpy call
+has a fixed overhead of a microsecond or two and eight elements never amortise it
+(figures: ``python -m puckboard.estimation.bench``, ``costs``). So: plain floats, one
+loop over the sensors, the equations written out as above. The pose filter is
+different: one 3-state filter per robot, where filterpy's clarity is worth its 0.1 ms.
 """
 
 from __future__ import annotations
@@ -48,12 +50,13 @@ FloatArray = npt.NDArray[np.float64]
 
 
 class ProximityFilter:
-    """Constant-velocity Kalman filters for ``n`` distance sensors, vectorised.
+    """Constant-velocity Kalman filters for ``n`` distance sensors; see the module docstring.
 
     ``sigma`` (m): σ of one distance reading. ``accel_sigma`` (m/s²): how quickly a
     distance's rate may change (the robot's acceleration and turning). ``gate``: an
     innovation beyond this many standard deviations restarts that sensor's track.
-    ``range`` (m): readings at or beyond it mean "nothing detected".
+    ``range`` (m): readings at or beyond it mean "nothing detected". ``max_rate``
+    (m/s): the prior σ of a new track's rate.
     """
 
     def __init__(
@@ -81,70 +84,67 @@ class ProximityFilter:
         self.gate = gate
         self.range = range
         self.var_rate0 = max_rate**2  # prior variance of ḋ when a track starts
-        self.d = np.full(n, range)  # distance (m)
-        self.rate = np.zeros(n)  # ḋ (m/s)
-        self.p00 = np.zeros(n)  # P, stored as its three distinct entries per sensor
-        self.p01 = np.zeros(n)
-        self.p11 = np.zeros(n)
-        self.active = np.zeros(n, dtype=bool)  # sensors currently tracking something
+        self.reset()
 
     def reset(self) -> None:
         """Forget every track."""
-        self.d[:] = self.range
-        self.rate[:] = 0.0
-        self.p00[:] = self.p01[:] = self.p11[:] = 0.0
-        self.active[:] = False
+        n = self.n
+        self.d = [self.range] * n  # distance (m)
+        self.rate = [0.0] * n  # ḋ (m/s)
+        self.p00 = [0.0] * n  # P, stored as its three distinct entries per sensor
+        self.p01 = [0.0] * n
+        self.p11 = [0.0] * n
+        self.active = [False] * n  # sensors currently tracking something
 
     @property
     def variance(self) -> FloatArray:
         """Variance (m²) of each filtered distance; 0 where nothing is detected."""
-        return np.where(self.active, self.p00, 0.0)
+        return np.array([p if a else 0.0 for p, a in zip(self.p00, self.active)])
 
     def update(self, z: npt.ArrayLike, dt: float) -> FloatArray:
         """Feed one reading per sensor (m) taken ``dt`` s after the previous; return the
         filtered distances (a new array)."""
-        z = np.asarray(z, dtype=float)
-        if z.shape != (self.n,):
-            raise ValueError(f"expected {self.n} distances, got an array of shape {z.shape}")
+        zs = np.asarray(z, dtype=float).tolist()
+        if not isinstance(zs, list) or len(zs) != self.n:
+            raise ValueError(f"expected {self.n} distances, got {z!r}")
         if not dt >= 0:
             raise ValueError(f"dt must be >= 0 seconds, got {dt}")
-        seen = z < self.range - 1e-9
-
-        # predict (every sensor; inactive ones are overwritten below)
         dt2 = dt * dt
-        self.d += self.rate * dt
-        p00 = self.p00 + 2 * dt * self.p01 + dt2 * self.p11 + self.var_a * dt2 * dt2 / 4
-        p01 = self.p01 + dt * self.p11 + self.var_a * dt2 * dt / 2
-        p11 = self.p11 + self.var_a * dt2
-
-        # update
-        s = p00 + self.var_z
-        y = z - self.d
-        k0 = p00 / s
-        k1 = p01 / s
-        self.d += k0 * y
-        self.rate += k1 * y
-        self.p00 = (1 - k0) * p00
-        self.p01 = (1 - k0) * p01
-        self.p11 = p11 - k1 * p01
-
-        # new tracks: a first detection, or an innovation outside the gate
-        restart = seen & (~self.active | (y * y > self.gate**2 * s))
-        self.d[restart] = z[restart]
-        self.rate[restart] = 0.0
-        self.p00[restart] = self.var_z
-        self.p01[restart] = 0.0
-        self.p11[restart] = self.var_rate0
-        # nothing in range: report the range and drop the track
-        self.d[~seen] = self.range
-        self.rate[~seen] = 0.0
-        self.p00[~seen] = self.p01[~seen] = self.p11[~seen] = 0.0
-        self.active = seen
-        np.clip(self.d, 0.0, self.range, out=self.d)
-        return self.d.copy()
+        q00 = self.var_a * dt2 * dt2 / 4  # Q = σ_a²·[[dt⁴/4, dt³/2], [dt³/2, dt²]]
+        q01 = self.var_a * dt2 * dt / 2
+        q11 = self.var_a * dt2
+        var_z, gate2, rng = self.var_z, self.gate * self.gate, self.range
+        d, rate, p00, p01, p11, active = (
+            self.d,
+            self.rate,
+            self.p00,
+            self.p01,
+            self.p11,
+            self.active,
+        )
+        for i, zi in enumerate(zs):
+            if zi >= rng - 1e-9:  # nothing in range: report the range, drop the track
+                d[i], rate[i], p00[i], p01[i], p11[i], active[i] = rng, 0.0, 0.0, 0.0, 0.0, False
+                continue
+            # predict: x ← F x, P ← F P Fᵀ + Q with F = [[1, dt], [0, 1]]
+            di = d[i] + rate[i] * dt
+            a = p00[i] + 2 * dt * p01[i] + dt2 * p11[i] + q00
+            b = p01[i] + dt * p11[i] + q01
+            c = p11[i] + q11
+            # update with H = [1, 0]
+            s = a + var_z
+            y = zi - di
+            if not active[i] or y * y > gate2 * s:  # a first detection, or a new object
+                d[i], rate[i], p00[i], p01[i], p11[i] = zi, 0.0, var_z, 0.0, self.var_rate0
+                active[i] = True
+                continue
+            k0, k1 = a / s, b / s
+            d[i] = min(max(di + k0 * y, 0.0), rng)
+            rate[i] += k1 * y
+            p00[i], p01[i], p11[i] = (1 - k0) * a, (1 - k0) * b, c - k1 * b
+        return np.array(d)
 
     def filter_record(self, prox: Proximity, dt: float) -> Proximity:
         """A :class:`Proximity` with the filtered distances (``raw`` passed through as read)."""
-        if prox.range != self.range:
-            self.range = prox.range
+        self.range = prox.range
         return Proximity(self.update(prox.distance, dt), prox.raw, prox.range)
