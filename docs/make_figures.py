@@ -364,7 +364,40 @@ def fig_hold_for() -> None:
     save(fig, "hold-for")
 
 
+def fig_two_robot_pass() -> None:
+    """Trajectories of the two-robot pass with the stock and the improved controller."""
+    from puckboard.episode import Episode
+    from puckboard.viz.scene_art import draw_scene, scene_bounds
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.3))
+    for ax, name in zip(axes, ("stock", "improved")):
+        episode = Episode("two-robot-pass", controller=name, seed=0)
+        paths: list[np.ndarray] = []
+        episode.add_observer(lambda ep, paths=paths: paths.append(ep.world.poses[:, :2].copy()))
+        result = episode.run()
+        track = np.array(paths)  # T × N × 2
+        draw_scene(ax, episode.scene, labels=False)
+        for k, spec in enumerate(episode.scene.robots):
+            colour = np.array(spec.colour) / 255
+            ax.plot(track[:, k, 0], track[:, k, 1], color=colour, lw=2, label=spec.name)
+            ax.plot(*track[0, k], "o", color=colour, ms=7, mec="black")
+            ax.plot(*track[-1, k], "s", color=colour, ms=7, mec="black")
+        xmin, xmax, ymin, ymax = scene_bounds(episode.scene)
+        ax.set_xlim(xmin, xmax)
+        ax.set_ylim(ymin, ymax)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        verdict = "passed" if result.success else f"failed: {result.failure}"
+        ax.set_title(f"{name} controller — {verdict} ({result.sim_time_s:.0f} s)", fontsize=10)
+    axes[0].legend(fontsize=8, loc="center")
+    fig.suptitle("The two-robot pass (seed 0): ● start, ■ end of the run", fontsize=10)
+    fig.subplots_adjust(top=0.82, wspace=0.05)
+    save(fig, "two-robot-pass")
+
+
 FIGURES: dict[str, Callable[[], None]] = {
+    "two-robot-pass": fig_two_robot_pass,
     "sensors": fig_sensors,
     "line-follow": fig_line_follow,
     "front-obstacle": fig_front_obstacle,
