@@ -173,11 +173,9 @@ def render_animation(
     t0 = _time.perf_counter()
 
     def frames():  # type: ignore[no-untyped-def]
-        from .stage import figure_rgb
-
         for k, i in enumerate(indices):
             draw_row(stage, rec, int(i))
-            yield figure_rgb(fig)
+            yield stage.frame_rgb()
             if progress is not None:
                 progress(k + 1, len(indices))
 
@@ -207,13 +205,11 @@ def _palette(rec: Recording, stage: Any, indices: np.ndarray) -> Any:
     it, so colours never flicker and unchanged pixels compress to nothing."""
     from PIL import Image
 
-    from .stage import figure_rgb
-
     picks = np.unique(indices[np.linspace(0, len(indices) - 1, min(6, len(indices))).astype(int)])
     tiles = []
     for i in picks:
         draw_row(stage, rec, int(i))
-        tiles.append(figure_rgb(stage.fig))
+        tiles.append(stage.frame_rgb())
     sheet = Image.fromarray(np.concatenate(tiles, axis=0))
     # The colours that carry meaning (layers, robots, rays) get exact palette entries;
     # median cut would merge a small legend swatch into its neighbour.

@@ -57,7 +57,13 @@ class LiveView:
         backend = matplotlib.get_backend().lower()
         self.notebook = "inline" in backend
         self.interactive = not self.notebook and backend not in _NON_INTERACTIVE
-        if figure is None:
+        if figure is None and self.notebook:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+            from matplotlib.figure import Figure
+
+            figure = Figure(figsize=(12.8, 7.2), dpi=80)
+            FigureCanvasAgg(figure)
+        elif figure is None:
             import matplotlib.pyplot as plt
 
             figure = plt.figure(figsize=(12.8, 7.2))
@@ -81,6 +87,7 @@ class LiveView:
                 manager.set_window_title(f"puckboard: {rec.title}")
             figure.canvas.mpl_connect("key_press_event", self._on_key)
             figure.canvas.mpl_connect("close_event", self._on_close_window)
+            figure.canvas.mpl_connect("draw_event", self._on_draw_event)
             import matplotlib.pyplot as plt
 
             plt.show(block=False)
@@ -126,21 +133,26 @@ class LiveView:
         )
         self._last_draw = _time.perf_counter()
         self.frames_drawn += 1
-        if self.interactive:
-            self.fig.canvas.draw_idle()
-            self.fig.canvas.flush_events()
-        elif self.notebook:
+        if self.notebook:
             self._show_inline()
-        else:
-            self.fig.canvas.draw()  # headless: render anyway, so tests exercise the path
+            return
+        self.stage.render()
+        if self.interactive:
+            canvas = self.fig.canvas
+            canvas.blit(self.fig.bbox)
+            canvas.flush_events()
 
     def _show_inline(self) -> None:
+        """Inline notebooks show pictures, not canvases: render off-screen and update
+        one displayed image in place."""
         from IPython.display import display
+        from PIL import Image
 
+        image = Image.fromarray(self.stage.frame_rgb())
         if self._handle is None:
-            self._handle = display(self.fig, display_id=True)
+            self._handle = display(image, display_id=True)
         else:
-            self._handle.update(self.fig)
+            self._handle.update(image)
 
     def _sleep(self, seconds: float) -> None:
         if self.interactive:
@@ -173,12 +185,20 @@ class LiveView:
         else:
             return
         self._set_hint()
-        self.fig.canvas.draw_idle()
+        self._draw_now()
 
     def _set_hint(self) -> None:
         speed = "max" if self.speed is None else f"{self.speed:g}×"
         state = "PAUSED, right/n: step" if self.paused else "space: pause"
         self.stage.set_footer(f"{state}   +/-: speed ({speed})" if self.interactive else "")
+
+    def _draw_now(self) -> None:
+        if len(self.recorder) > 0 and not self._closed_window:
+            self._draw(self.recorder.arrays())
+
+    def _on_draw_event(self, event: Any) -> None:
+        self.stage.on_draw_event(event)
+        self.fig.canvas.blit(self.fig.bbox)
 
     def _on_close_window(self, _event: Any) -> None:
         self._closed_window = True
@@ -196,7 +216,7 @@ class LiveView:
         failing = sys.exc_info()[0] is not None
         if self.block_at_end and not failing:
             self.stage.set_footer("finished: close the window to exit")
-            self.fig.canvas.draw_idle()
+            self._draw_now()
             import matplotlib.pyplot as plt
 
             plt.show(block=True)

@@ -80,6 +80,8 @@ class Stage:
             )  # fmt: skip
             self.overview = fig.add_subplot(grid[:, 0])
             self.closeups = [fig.add_subplot(grid[i, 1]) for i in range(n)]
+            for ax in self.closeups:
+                ax.set_animated(True)  # redrawn every frame: the view follows the robot
         else:
             grid = fig.add_gridspec(1, 1, left=0.08, right=0.97, bottom=bottom, top=0.88)
             self.overview = fig.add_subplot(grid[0, 0])
@@ -102,6 +104,11 @@ class Stage:
         self._clock = fig.text(
             0.985, 0.955, "", fontsize=FONT["title"], ha="right", va="center", family="monospace"
         )
+
+        self._footer.set_animated(True)
+        self._clock.set_animated(True)
+        self._background: Any = None
+        self._own_draw = False
 
         # per axes, per robot artists
         self._artists: list[dict[str, Any]] = []
@@ -177,6 +184,8 @@ class Stage:
                 [], [], s=45, marker="s", zorder=12, linewidths=2.0, edgecolors="#808080"
             )
             arts.update(rays=rays, ground=ground)
+        for artist in arts.values():
+            artist.set_animated(True)  # drawn over a cached background, see render()
         return arts
 
     # -- updating --------------------------------------------------------------------------
@@ -245,6 +254,62 @@ class Stage:
             self._closeup_titles[i].set_bbox(
                 {"facecolor": self._colour_of(layers[i]), "edgecolor": "none", "pad": 3}
             )
+
+    # -- rendering -------------------------------------------------------------------------
+    def render(self) -> None:
+        """Draw the current state onto the figure's canvas, fast.
+
+        Everything that never changes (the overview's floor, axes, ticks, legend, the
+        title) is rendered once and cached as a bitmap; each frame restores it and draws
+        only the moving parts and the close-ups. This makes a frame several times
+        cheaper than a full redraw, which is what keeps the live view smooth and a
+        long GIF quick to render. Call :meth:`invalidate` when the figure is resized.
+        """
+        canvas = self.fig.canvas
+        if self._background is None:
+            self._own_draw = True
+            try:
+                canvas.draw()
+            finally:
+                self._own_draw = False
+            self._background = canvas.copy_from_bbox(self.fig.bbox)
+        canvas.restore_region(self._background)
+        self._draw_moving()
+
+    def _draw_moving(self) -> None:
+        draw = self.fig.draw_artist
+        for k, arts in enumerate(self._artists):
+            ax = arts["ax"]
+            if k > 0 or ax.get_animated():
+                draw(ax)
+            robots = sorted(
+                (a for ra in arts["robots"] for a in ra.values()), key=lambda a: a.get_zorder()
+            )
+            for artist in robots:
+                draw(artist)
+            if k > 0:
+                for spine in ax.spines.values():
+                    draw(spine)
+        draw(self._clock)
+        draw(self._footer)
+
+    def invalidate(self, _event: Any = None) -> None:
+        """Forget the cached background (after a resize, for instance)."""
+        if not self._own_draw:
+            self._background = None
+
+    def on_draw_event(self, _event: Any = None) -> None:
+        """After the GUI redrew the figure (resize, zoom, expose): keep that as the new
+        background and put the moving parts back on top; the caller blits."""
+        if self._own_draw:
+            return
+        self._background = self.fig.canvas.copy_from_bbox(self.fig.bbox)
+        self._draw_moving()
+
+    def frame_rgb(self) -> np.ndarray:
+        """Render and return the figure's pixels as an H×W×3 uint8 array (Agg canvases)."""
+        self.render()
+        return np.asarray(self.fig.canvas.buffer_rgba())[..., :3].copy()
 
     def set_footer(self, text: str) -> None:
         """A line of help or status text at the bottom right (keys, 'finished', ...)."""
