@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["cast_rays", "polygon_edges", "segment_distance"]
+__all__ = ["cast_rays", "polygon_edges", "ray_hits", "segment_distance"]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -42,13 +42,47 @@ def cast_rays(
     (``-1`` for no hit). A ray starting inside a circle reports distance 0.
     """
     n_rays = origins.shape[0]
+    allt = ray_hits(
+        origins[:, 0:1],
+        origins[:, 1:2],
+        directions[:, 0:1],
+        directions[:, 1:2],
+        seg_start,
+        seg_vector,
+        circle_centres,
+        circle_radii,
+        ignore,
+    )
+    if allt is None:
+        return np.full(n_rays, np.inf), np.full(n_rays, -1, dtype=np.intp)
+    hit = allt.argmin(axis=1)
+    dist = allt[np.arange(n_rays), hit]
+    far = dist > max_length
+    dist[far] = np.inf
+    hit[far] = -1
+    return dist, hit
+
+
+def ray_hits(
+    ox: FloatArray,
+    oy: FloatArray,
+    dx: FloatArray,
+    dy: FloatArray,
+    seg_start: FloatArray,
+    seg_vector: FloatArray,
+    circle_centres: FloatArray,
+    circle_radii: FloatArray,
+    ignore: npt.NDArray[np.bool_] | None = None,
+) -> FloatArray | None:
+    """The distance along each ray to every object (R×(S+C), ``inf`` where it misses).
+
+    The kernel behind :func:`cast_rays`, for callers that only need the nearest
+    distance (``.min(axis=1)``) and already hold the rays as R×1 coordinate columns.
+    Returns None when there is nothing to hit.
+    """
     n_seg = seg_start.shape[0]
     n_circ = circle_centres.shape[0]
     candidates: list[FloatArray] = []
-    ox = origins[:, 0:1]
-    oy = origins[:, 1:2]
-    dx = directions[:, 0:1]
-    dy = directions[:, 1:2]
     with np.errstate(divide="ignore", invalid="ignore"):
         if n_seg:
             ex = seg_vector[:, 0]
@@ -74,14 +108,8 @@ def cast_rays(
                 ok &= ~ignore
             candidates.append(np.where(ok, t, np.inf))
     if not candidates:
-        return np.full(n_rays, np.inf), np.full(n_rays, -1, dtype=np.intp)
-    allt = candidates[0] if len(candidates) == 1 else np.concatenate(candidates, axis=1)
-    hit = allt.argmin(axis=1)
-    dist = allt[np.arange(n_rays), hit]
-    far = dist > max_length
-    dist[far] = np.inf
-    hit[far] = -1
-    return dist, hit
+        return None
+    return candidates[0] if len(candidates) == 1 else np.concatenate(candidates, axis=1)
 
 
 def segment_distance(

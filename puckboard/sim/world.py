@@ -30,6 +30,7 @@ import logging
 import math
 import threading
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -51,7 +52,7 @@ from ..records import (
 from .camera import CameraRenderer
 from .contacts import Statics
 from .floor import Floor
-from .geometry import cast_rays, polygon_edges
+from .geometry import polygon_edges, ray_hits
 from .ir import RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 from .kinematics import arc
 from .scene import CircleObstacle, PolygonObstacle, Scene
@@ -72,6 +73,23 @@ WALL_HEIGHT = 0.08
 #: Largest distance (as a fraction of the body radius) a robot may move in one physics
 #: sub-step; longer steps are split so contacts are never skipped.
 MAX_SUBSTEP_FRACTION = 0.25
+
+
+@dataclass(frozen=True)
+class _IRSubset:
+    """Rays and objects selected by one IR broad-phase outcome (see ``_ir_subset``)."""
+
+    robots: npt.NDArray[np.intp]
+    lx: FloatArray
+    ly: FloatArray
+    angle: FloatArray
+    ignore: npt.NDArray[np.bool_]
+    seg_start: FloatArray
+    seg_vector: FloatArray
+    circles: npt.NDArray[np.intp]
+    circle_radii: FloatArray
+    weights: FloatArray
+    range_col: FloatArray
 
 
 def _row(array: FloatArray, i: int) -> FloatArray:
@@ -172,6 +190,7 @@ class World(Stepper):
         self._prox_raw = np.zeros((n, 8))
         self._ground = np.zeros((n, 3))
         self._ground_raw = np.zeros((n, 3))
+        self._ir_cache: dict[tuple[tuple[int, ...], ...], _IRSubset] = {}
         # the first contact check and sensor pass describe the start pose (time 0)
         self._resolve_start_contacts()
         self._sense(None)
@@ -545,6 +564,37 @@ class World(Stepper):
                 robots.append(i)
         return robots, sorted(circles), sorted(segments)
 
+    def _ir_subset(self, robots: list[int], circles: list[int], segments: list[int]) -> _IRSubset:
+        """The static arrays for one broad-phase outcome, prepared once and cached.
+
+        Which robots are near which objects changes only every few dozen steps, so the
+        fancy indexing that selects their rays and objects is done once per combination.
+        """
+        key = (tuple(robots), tuple(circles), tuple(segments))
+        prep = self._ir_cache.get(key)
+        if prep is None:
+            idx = np.array(robots, dtype=np.intp)
+            cidx = np.array(circles, dtype=np.intp)
+            sidx = np.array(segments, dtype=np.intp)
+            m = len(robots) * 8 * self._ir_rays
+            prep = _IRSubset(
+                robots=idx,
+                lx=self._ray_ox[idx],
+                ly=self._ray_oy[idx],
+                angle=self._ray_angle[idx],
+                ignore=self._ray_ignore[idx][:, :, cidx].reshape(m, len(cidx)),
+                seg_start=self._seg_start[sidx].reshape(-1, 2),
+                seg_vector=self._seg_vector[sidx].reshape(-1, 2),
+                circles=cidx,
+                circle_radii=self._circle_radii[cidx],
+                weights=self._ray_weights[idx],
+                range_col=self._range_col[idx],
+            )
+            if len(self._ir_cache) > 1024:
+                self._ir_cache.clear()
+            self._ir_cache[key] = prep
+        return prep
+
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
         n = self.n
@@ -555,37 +605,30 @@ class World(Stepper):
         distance[:] = self._range_col
         response[:] = self._baseline_raw
         if robots:
+            prep = self._ir_subset(robots, circles, segments)
             self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
-            sub = self._poses[robots]
-            x = sub[:, 0:1]
-            y = sub[:, 1:2]
+            sub = self._poses[prep.robots]
             th = sub[:, 2:3]
             c = np.cos(th)
             s = np.sin(th)
-            lx = self._ray_ox[robots]
-            ly = self._ray_oy[robots]
-            ang = (th + self._ray_angle[robots]).ravel()
-            origins = np.empty((ang.shape[0], 2))
-            origins[:, 0] = (x + c * lx - s * ly).ravel()
-            origins[:, 1] = (y + s * lx + c * ly).ravel()
-            dirs = np.empty_like(origins)
-            dirs[:, 0] = np.cos(ang)
-            dirs[:, 1] = np.sin(ang)
-            ignore = self._ray_ignore[robots][:, :, circles].reshape(ang.shape[0], len(circles))
-            dist, _ = cast_rays(
-                origins,
-                dirs,
-                self._cast_length,
-                self._seg_start[segments],
-                self._seg_vector[segments],
-                self._circle_centres[circles],
-                self._circle_radii[circles],
-                ignore,
+            ang = th + prep.angle
+            allt = ray_hits(
+                (sub[:, 0:1] + c * prep.lx - s * prep.ly).reshape(-1, 1),
+                (sub[:, 1:2] + s * prep.lx + c * prep.ly).reshape(-1, 1),
+                np.cos(ang).reshape(-1, 1),
+                np.sin(ang).reshape(-1, 1),
+                prep.seg_start,
+                prep.seg_vector,
+                self._circle_centres[prep.circles],
+                prep.circle_radii,
+                prep.ignore,
             )
-            dist = dist.reshape(len(robots), 8, self._ir_rays)
-            nearest = dist.min(axis=2)
-            distance[robots] = np.minimum(nearest, self._range_col[robots])
-            response[robots] = (raw_from_distance(dist) * self._ray_weights[robots]).sum(axis=2)
+            if allt is not None:
+                dist = allt.min(axis=1).reshape(len(robots), 8, self._ir_rays)
+                dist[dist > self._cast_length] = np.inf
+                nearest = dist.min(axis=2)
+                distance[prep.robots] = np.minimum(nearest, prep.range_col)
+                response[prep.robots] = (raw_from_distance(dist) * prep.weights).sum(axis=2)
         if z is not None and self._noise_prox > 0:
             zp = z[2 * n : 10 * n].reshape(n, 8)
             seen = distance < self._range_col
