@@ -48,6 +48,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--duration", type=float, default=None, help="seconds of robot time (default: the scene's)"
     )
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--others",
+        choices=("controller", "still"),
+        default="controller",
+        help="the scene's other robots run their own controllers (default) or stand still",
+    )
     p.add_argument("--json", action="store_true", help="print only the verdict as JSON on stdout")
     p.set_defaults(func=main)
 
@@ -80,6 +86,7 @@ def main(args: argparse.Namespace) -> int:
             port=port or 0,
             seed=args.seed,
             serial=serial,
+            others=args.others,
         )
     except (SceneError, FileNotFoundError, KeyError) as exc:
         raise CliError(str(exc)) from None

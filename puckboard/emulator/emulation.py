@@ -10,7 +10,9 @@ its verdict as an :class:`~puckboard.episode.EpisodeResult`, the same fields as
 
 The clock starts with the first command a client sends (the moment a real robot would
 start moving), so a slow connect does not count against the controller. When the client
-disconnects the wheels stop. Other robots of the scene stay where they stand.
+disconnects the wheels stop. The scene's other robots (the oncoming robot of the
+two-robot pass, say) are driven by their own scene controllers inside the emulator,
+synchronously with the world, unless ``others="still"`` leaves them standing.
 """
 
 from __future__ import annotations
@@ -65,11 +67,14 @@ class Emulation:
         seed: int = 0,
         serial: str | None = None,
         realtime: float = 1.0,
+        others: str = "controller",
     ) -> None:
         from ..sim.world import World
 
         if protocol not in PROTOCOLS:
             raise ValueError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
+        if others not in ("controller", "still"):
+            raise ValueError(f"others must be 'controller' or 'still', got {others!r}")
         if realtime <= 0:
             raise ValueError(f"realtime factor must be positive, got {realtime}")
         if isinstance(scene, str):
@@ -83,6 +88,7 @@ class Emulation:
         self.world = World(scene, seed=seed)
         self.robot = EmulatedRobot(self.world, 0, selector=15 if protocol == "wifi" else 3)
         self.judge = Judge(scene)
+        self._others = self._build_others() if others == "controller" else []
         self.judge.update(self.world.time, self.world.poses, self.world.collisions)
         self._lock = self.robot.lock
         self._stop = threading.Event()
@@ -108,6 +114,28 @@ class Emulation:
             self.info = EmulationInfo(protocol, server.endpoint, "sercom", {"device": device})
         self.server = server
 
+    def _build_others(self) -> list[tuple[Any, Any]]:
+        """An embedded adapter and the scene's controller for every robot but the first."""
+        if len(self.scene.robots) < 2:
+            return []
+        from ..adapters.embedded import EmbeddedAdapter
+        from ..behaviours import load_controller
+        from ..blackboard import Blackboard
+
+        world = self.world
+        board = Blackboard(clock=lambda: world.time)
+        out = []
+        for i, spec in enumerate(self.scene.robots[1:], start=1):
+            adapter = EmbeddedAdapter(world, i, blackboard=board)
+            out.append((adapter, load_controller(spec.controller)))
+        return out
+
+    def _drive_others(self) -> None:
+        for adapter, controller in self._others:
+            adapter.sense_all()
+            cmd = controller.tick(adapter.ns)
+            adapter.set_wheel_speeds(cmd.left, cmd.right)
+
     # -- running ---------------------------------------------------------------------------
     def start(self) -> None:
         """Start serving (the world waits for the first command)."""
@@ -121,6 +149,9 @@ class Emulation:
         self._stop.set()
         self.robot.stop()
         self.server.stop()
+        with self._lock:
+            for adapter, _ in self._others:
+                adapter.close()
 
     def run(self, duration: float | None = None, *, wait_for_client: float | None = None) -> Any:
         """Serve and step in real time for ``duration`` s of robot time (default: the
@@ -159,6 +190,7 @@ class Emulation:
             if delay > 0 and self._stop.wait(delay):
                 break
             with self._lock:
+                self._drive_others()
                 self.world.step(1)
                 self.judge.update(self.world.time, self.world.poses, self.world.collisions)
             self.wall_s = time.monotonic() - t0
