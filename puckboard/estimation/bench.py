@@ -363,11 +363,12 @@ def summarise(runs: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 # -- the plot ------------------------------------------------------------------------------
 def plot_traces(
-    traces: Sequence[Trace], path: str | Path, *, every: float = 10.0, title: str = ""
+    traces: Sequence[Trace], path: str | Path, *, every: float = 30.0, title: str = ""
 ) -> Path:
-    """Draw estimated against true paths with 2σ (≈86 %) position ellipses every ``every`` s.
+    """Estimated against true paths, with 2σ position ellipses every ``every`` s (top), and
+    the position error over time against the estimate's own 2σ (bottom).
 
-    One panel per trace. matplotlib is imported here (the ``viz`` extra); the figure is
+    One column per trace. matplotlib is imported here (the ``viz`` extra); the figure is
     written to ``path`` (its suffix picks the format).
     """
     import matplotlib
@@ -377,17 +378,21 @@ def plot_traces(
     from matplotlib.patches import Ellipse
 
     n = len(traces)
-    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.6), squeeze=False)
-    for ax, trace in zip(axes[0], traces):
+    fig, axes = plt.subplots(
+        2, n, figsize=(5.0 * n, 7.2), squeeze=False, gridspec_kw={"height_ratios": [3, 1.4]}
+    )
+    for col, trace in enumerate(traces):
+        ax, ax_err = axes[0][col], axes[1][col]
         truth = np.array(trace.truth)
         est = np.array(trace.est)
+        t = np.array(trace.t)
         ax.plot(truth[:, 0], truth[:, 1], color="black", lw=1.2, label="truth (simulator)")
-        ax.plot(est[:, 0], est[:, 1], color="tab:red", lw=1.0, ls="--", label="estimate")
-        next_t = 0.0
-        for k, t in enumerate(trace.t):
-            if t + 1e-9 < next_t:
+        ax.plot(est[:, 0], est[:, 1], color="tab:red", lw=0.9, ls="--", label="estimate")
+        next_t = every
+        for k, tk in enumerate(t):
+            if tk + 1e-9 < next_t:
                 continue
-            next_t = t + every
+            next_t = tk + every
             vals, vecs = np.linalg.eigh(trace.cov[k])
             vals = np.clip(vals, 0.0, None)
             angle = math.degrees(math.atan2(vecs[1, 1], vecs[0, 1]))
@@ -402,7 +407,8 @@ def plot_traces(
                     lw=0.8,
                 )
             )
-            ax.plot([est[k, 0], truth[k, 0]], [est[k, 1], truth[k, 1]], color="tab:gray", lw=0.6)
+            ax.plot(est[k, 0], est[k, 1], ".", color="tab:red", ms=3)
+            ax.plot(truth[k, 0], truth[k, 1], ".", color="black", ms=3)
         m = trace.metrics()
         ax.set_title(
             f"{trace.robot}: {trace.variant}\nfinal error {m['final_position_error_m'] * 100:.1f} cm, "
@@ -413,13 +419,21 @@ def plot_traces(
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
         ax.grid(True, lw=0.3)
+        error = np.hypot(est[:, 0] - truth[:, 0], est[:, 1] - truth[:, 1])
+        two_sd = 2 * np.sqrt([max(np.trace(c), 0.0) for c in trace.cov])
+        ax_err.fill_between(t, 0, two_sd, color="tab:blue", alpha=0.15, label="estimate's 2σ")
+        ax_err.plot(t, error, color="tab:red", lw=1.0, label="position error")
+        ax_err.set_xlabel("time (s)")
+        ax_err.set_ylabel("m")
+        ax_err.grid(True, lw=0.3)
     axes[0][0].plot([], [], color="tab:blue", lw=0.8, label=f"2σ ellipse every {every:g} s")
     axes[0][0].legend(loc="upper left", fontsize=7)
+    axes[1][0].legend(loc="upper left", fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     out = Path(path)
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=100)
     plt.close(fig)
     return out
 
