@@ -73,6 +73,8 @@ log = logging.getLogger(__name__)
 DEFAULT_PORT = 23000
 #: Name of the sense-all script function in the e-puck model's child script.
 SENSE_ALL_FUNCTION = "puckboardSenseAll"
+#: Name of the both-wheels script function (present when the sense-all reply has api >= 1).
+SET_WHEELS_FUNCTION = "puckboardSetWheels"
 SCRIPTTYPE_CHILD = 1
 HANDLE_WORLD = -1
 _LOST_RETRY_TIMEOUT = 0.5  # s: the one last try (wheel stop) after the connection was lost
@@ -451,6 +453,9 @@ class EPuckVRep(RobotAdapter):
                 reply = self.link.call("sim.callScriptFunction", [SENSE_ALL_FUNCTION, script])
                 if not isinstance(reply, dict) or "prox" not in reply:
                     script = None
+                else:
+                    api = reply.get("api", 0)
+                    self._wheels_helper = isinstance(api, int) and api >= 1
             except ConnectionLostError:
                 raise
             except AdapterError as exc:
@@ -600,6 +605,13 @@ class EPuckVRep(RobotAdapter):
 
     def _write_wheels(self, left: float, right: float) -> None:
         last_try = self.closed or self._closing
+        if self._wheels_helper and self._script is not None:
+            self.link.call(
+                "sim.callScriptFunction",
+                [SET_WHEELS_FUNCTION, self._script, left, right],
+                last_try=last_try,
+            )
+            return
         self.link.call(
             "sim.setJointTargetVelocity", [self.handles["left"], left], last_try=last_try
         )
@@ -622,6 +634,7 @@ class EPuckVRep(RobotAdapter):
         return CameraImage(frame[::-1])  # bottom row first → upright
 
     _closing = False
+    _wheels_helper = False
 
     def close(self) -> None:
         self._closing = True

@@ -24,8 +24,9 @@ unchanged. Where the served simulator differs from CoppeliaSim, it is said here:
 * ``sim.stopSimulation`` restores the scene's initial state, as CoppeliaSim does.
 * The helper ``puckboardSenseAll`` (``sim.callScriptFunction('puckboardSenseAll',
   sim.getScript(sim.scripttype_childscript, ePuck))``) returns every sensor of one robot
-  in one round trip — the thesis's ``senseAllTogether``. docs/coppeliasim.md gives the
-  Lua for CoppeliaSim.
+  in one round trip — the thesis's ``senseAllTogether`` — and ``puckboardSetWheels(left,
+  right)`` sets both wheels in one (its ``setVelocitiesForRemote``). docs/coppeliasim.md
+  gives the Lua for CoppeliaSim.
 
 Stepping (``sim.setStepping``/``sim.step``) needs the client table and is finished by
 the server; see :mod:`.clients`.
@@ -83,6 +84,10 @@ CONSTANTS: dict[str, int] = {
 
 #: The sense-all helper served as a script function of every e-puck's child script.
 SENSE_ALL = "puckboardSenseAll"
+#: Both wheels in one call (the thesis's ``setVelocitiesForRemote``).
+SET_WHEELS = "puckboardSetWheels"
+#: Version of the helpers' interface, sent in every sense-all reply as ``api``.
+HELPER_API = 1
 #: Resolution of the served light (ground) sensor.
 LIGHT_SENSOR_RES = (3, 1)
 
@@ -534,11 +539,26 @@ class SimApi:
             if obj is None or obj.kind != MODEL:
                 raise ApiError(f"{func}: script handle {script} does not exist")
             robot = obj.robot
-        if name != SENSE_ALL:
-            raise ApiError(
-                f"{func}: the e-puck's script has no function {name!r}; served: {SENSE_ALL}"
-            )
-        return [self.sense_all(robot)]
+        if name == SENSE_ALL:
+            return [self.sense_all(robot)]
+        if name == SET_WHEELS:
+            if len(args) != 2:
+                raise ApiError(f"{func}: {SET_WHEELS} takes (left, right) in rad/s")
+            try:
+                left, right = _number(args[0]), _number(args[1])
+            except TypeError:
+                raise ApiError(
+                    f"{func}: {SET_WHEELS} takes two numbers (rad/s), got "
+                    f"{_type_name(args[0])} and {_type_name(args[1])}"
+                ) from None
+            self.targets[robot] = (left, right)
+            self.world.set_wheel_speeds(robot, left, right)
+            client.robots.add(robot)
+            return []
+        raise ApiError(
+            f"{func}: the e-puck's script has no function {name!r}; served: "
+            f"{SENSE_ALL}, {SET_WHEELS}"
+        )
 
     def sense_all(self, robot: int) -> dict[str, Any]:
         """Every sensor of one robot in one map (V-REP order for the IR sensors)."""
@@ -546,6 +566,7 @@ class SimApi:
         order = list(VREP_ORDER)
         enc = w.encoders[robot]
         return {
+            "api": HELPER_API,
             "t": float(w.time),
             "prox": w.prox_distance[robot, order].tolist(),
             "proxRaw": w.prox_raw[robot, order].tolist(),

@@ -109,6 +109,15 @@ def test_one_call_per_sensor_gives_the_same_readings(server, pair):
     p, q = got[Sensor.POSE], want[Sensor.POSE]
     assert (p.x, p.y, p.theta) == pytest.approx((q.x, q.y, q.theta))
     assert got[Sensor.WHEEL_SPEEDS] == want[Sensor.WHEEL_SPEEDS]
+    # wheels: two setJointTargetVelocity calls, or one puckboardSetWheels call
+    calls_before = server.requests
+    naive.set_wheel_speeds(1.5, -1.0)
+    assert server.requests - calls_before == 2
+    assert server.api.targets[1].tolist() == [1.5, -1.0]
+    calls_before = server.requests
+    fast.set_wheel_speeds(-2.0, 2.5)
+    assert server.requests - calls_before == 1
+    assert server.api.targets[1].tolist() == [-2.0, 2.5]
     # single-sensor refresh: one sensor, its own round trips, written to the blackboard
     prox = naive.refresh("proximity")
     np.testing.assert_allclose(prox.distance, want[Sensor.PROXIMITY].distance)
