@@ -167,24 +167,28 @@ def _median_ms(values: list[float]) -> float:
     return round(statistics.median(values) * 1e3, 4)
 
 
-def run_suite(steps: int | None = None) -> dict[str, Any]:
-    """Run the eight tests and the full-cycle pair; ``steps`` control cycles per test."""
-    from ..sim.scenefile import load_scene
-    from .server import RemoteApiServer
+def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, Any]:
+    """Run the eight tests and the full-cycle pair; ``steps`` control cycles per test.
 
+    ``server="thread"`` serves from a thread of this process (client and server share
+    the interpreter); ``"process"`` starts ``puckboard serve`` as a separate process.
+    """
+    if server not in ("thread", "process"):
+        raise ValueError(f"server must be 'thread' or 'process', got {server!r}")
     cycles = steps or 300
-    server = RemoteApiServer(load_scene("line-follow"), host="127.0.0.1", port=0).start()
+    port, stop = _start_server(server)
     results: dict[str, Any] = {
         "setup": (
-            f"EPuckVRep → in-process puckboard serve (line-follow), loopback, {cycles} cycles "
-            "per test, medians; every loop sets both wheels and takes one synchronous step"
+            f"EPuckVRep → puckboard serve line-follow ({'in-process thread' if server == 'thread' else 'separate process'}), "
+            f"loopback, {cycles} cycles per test, medians; every loop sets both wheels and "
+            "takes one synchronous step"
         ),
         "cycles": cycles,
     }
     try:
         tests: dict[str, Any] = {}
         for test in _tests():
-            row = _run_test(test, server.port, cycles)
+            row = _run_test(test, port, cycles)
             thesis = THESIS.get(test.key)
             if thesis is not None:
                 row["thesis_loop_ms"] = thesis["loop"]
@@ -192,7 +196,7 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
             tests[f"{test.key} {TITLES[test.key]}"] = row
         results["tests"] = tests
     finally:
-        server.close()
+        stop()
     full = tests[f"full {TITLES['full']}"]["loop_ms"]
     naive = tests[f"naive {TITLES['naive']}"]["loop_ms"]
     results["full_cycle_ms"] = full
@@ -200,6 +204,44 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     results["naive_over_full"] = round(naive / full, 2)
     results["goal_full_cycle_ms"] = 1.5
     return results
+
+
+def _start_server(mode: str) -> tuple[int, Callable[[], None]]:
+    if mode == "thread":
+        from ..sim.scenefile import load_scene
+        from .server import RemoteApiServer
+
+        srv = RemoteApiServer(load_scene("line-follow"), host="127.0.0.1", port=0).start()
+        return srv.port, srv.close
+    import socket
+    import subprocess
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = int(s.getsockname()[1])
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "puckboard", "serve", "line-follow", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    assert proc.stdout is not None
+    banner = proc.stdout.readline()  # printed once the port is bound
+    if f":{port}" not in banner:
+        proc.kill()
+        raise RuntimeError(f"puckboard serve did not start: {banner!r}")
+
+    def stop() -> None:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:  # pragma: no cover
+            proc.kill()
+            proc.wait(10)
+        if proc.stdout is not None:
+            proc.stdout.close()
+
+    return port, stop
 
 
 def format_table(results: dict[str, Any]) -> str:
@@ -233,8 +275,12 @@ def main(argv: list[str] | None = None) -> int:  # pragma: no cover - a benchmar
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cycles", type=int, default=300)
+    parser.add_argument(
+        "--server", choices=("thread", "process"), default="thread",
+        help="serve from a thread of this process (default) or a separate process",
+    )  # fmt: skip
     args = parser.parse_args(argv)
-    results = run_suite(args.cycles)
+    results = run_suite(args.cycles, server=args.server)
     sys.stdout.write(results["setup"] + "\n\n" + format_table(results) + "\n")
     return 0
 
