@@ -42,8 +42,9 @@ GIF_SIZE = (960, 540)
 MP4_SIZE = (1280, 720)
 
 
-class VideoSupportError(PuckboardError):
-    """MP4 output was asked for but imageio's ffmpeg plugin is not installed."""
+class VideoSupportError(PuckboardError, ImportError):
+    """MP4 output was asked for but imageio's ffmpeg plugin is not installed (an
+    ImportError too, so callers that catch missing packages catch it)."""
 
 
 def check_animation_path(path: str | os.PathLike[str]) -> Path:

@@ -178,7 +178,7 @@ class Stage:
         ax.add_line(heading)
         arts = {"trail": trail, "body": body, "ring": ring, "heading": heading}
         if detailed:
-            rays = LineCollection([], linewidths=2.0, zorder=9, capstyle="round")
+            rays = LineCollection([], linewidths=2.0, zorder=10.5, capstyle="round")
             ax.add_collection(rays)
             ground = ax.scatter(
                 [], [], s=45, marker="s", zorder=12, linewidths=2.0, edgecolors="#808080"
