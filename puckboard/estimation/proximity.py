@@ -23,16 +23,17 @@ Two things a textbook filter lacks and a proximity sensor needs:
 
 **Why plain Python and not filterpy (or numpy).** filterpy's ``KalmanFilter`` spends
 most of a predict+update in a general matrix inverse, ``deepcopy`` and bookkeeping
-copies, all for a 1×1 innovation: 64 µs for ``KalmanFilter(1, 1)`` in the reference
-measurements, and about 600 µs for eight 2-state filters on the machine of the
-``estimation`` benchmark -- as much as a whole simulation step of two robots. With a
-scalar measurement the Kalman equations are a dozen multiplications per sensor. Done
-on Python floats they cost about 17 µs for all eight sensors; the same equations
-vectorised over the eight sensors with numpy cost about 67 µs, because each numpy call
-has a fixed overhead of a microsecond or two and eight elements never amortise it
-(figures: ``python -m puckboard.estimation.bench``, ``costs``). So: plain floats, one
-loop over the sensors, the equations written out as above. The pose filter is
-different: one 3-state filter per robot, where filterpy's clarity is worth its 0.1 ms.
+copies, all for a 1×1 innovation (64 µs for ``KalmanFilter(1, 1)`` in the reference
+measurements). Eight 2-state filterpy filters measured 760 µs per cycle in the
+``estimation`` benchmark -- more than a whole simulation step of two robots. With a
+scalar measurement the Kalman equations are a dozen multiplications per sensor: on
+Python floats, all eight sensors took 27 µs; the same equations vectorised over the
+eight sensors with numpy took 66 µs, because every numpy call has a fixed overhead of
+a microsecond or two and eight elements never amortise it (``costs`` in
+``python -m puckboard.estimation.bench``; absolute figures move with the machine's
+load, the ratios do not). So: plain floats, one loop over the sensors, the equations
+written out as above. The pose filter is different: one 3-state filter per robot,
+where filterpy's clarity is worth its 0.1 ms.
 """
 
 from __future__ import annotations

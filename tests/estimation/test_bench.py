@@ -1,0 +1,31 @@
+"""The estimation benchmark: a short run of its machinery, and its plot."""
+
+from __future__ import annotations
+
+import pytest
+
+from puckboard.estimation.bench import VARIANTS, plot_traces, run_case, summarise
+
+
+def test_short_run_compares_estimates_with_ground_truth():
+    info, traces = run_case("line-follow", 0.03, 1, steps=60)
+    assert info["cycles"] == 60
+    (robot,) = info["robots"]
+    assert robot["source_failures"] == 0
+    assert set(VARIANTS) <= set(robot)
+    # no contact in the first 3 s: the encoder estimate is the truth to rounding
+    assert robot["collisions"] == 0
+    assert robot["encoders"]["final_position_error_m"] < 1e-9
+    assert robot["encoders"]["distance_m"] > 0.05
+    # the step counter cannot see the wheel noise: it is off, but inside its own ellipse
+    assert robot["step counter"]["final_position_error_m"] > 1e-6
+    assert len(traces) == len(VARIANTS)
+    rows = summarise([info])
+    assert {r["variant"] for r in rows} == set(VARIANTS)
+
+
+def test_plot_is_written(tmp_path):
+    pytest.importorskip("matplotlib")
+    _, traces = run_case("line-follow", 0.0, 2, steps=40)
+    out = plot_traces(traces[:1], tmp_path / "estimate.png", every=0.5)
+    assert out.exists() and out.stat().st_size > 1000
