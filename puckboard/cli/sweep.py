@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import sys
 from pathlib import Path
 
@@ -136,6 +137,9 @@ def main(args: argparse.Namespace) -> int:
     )
     from ..sweep.summary import format_groups, format_ranking
 
+    if not getattr(args, "verbose", 0):
+        # dask.distributed logs every worker start and stop at INFO; keep the output readable
+        logging.getLogger("distributed").setLevel(logging.WARNING)
     scene = _scene(args.scenario)
     controllers = list(args.controller)
     if args.controllers_dir is not None:

@@ -200,6 +200,7 @@ class DaskExecutor(SweepExecutor):
                     processes=True,
                     dashboard_address=None,
                     host="127.0.0.1",
+                    silence_logs=logging.ERROR,
                 )
                 self.client = Client(self._cluster)
             else:

@@ -190,7 +190,9 @@ def run_sweep(
             aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
             aliases = {c: a for c, a in aliases.items() if a != c}
             batches = make_batches(todo, executor.workers, batch_size)
-            tasks = [(scene, plan.scenario, batch, aliases) for batch in batches]
+            # per-episode warnings only when asked for more output (puckboard -v)
+            level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
+            tasks = [(scene, plan.scenario, batch, aliases, level) for batch in batches]
             for rows in executor.run(run_batch, tasks):
                 if store is not None:
                     store.append(rows)

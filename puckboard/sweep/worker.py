@@ -57,9 +57,21 @@ def run_batch(
     scenario: str,
     specs: Sequence[EpisodeSpec],
     aliases: Mapping[str, str] | None = None,
+    log_level: int = logging.ERROR,
 ) -> list[dict[str, Any]]:
-    """Run ``specs`` one after the other in this process and return their rows."""
-    return [run_spec(scene, scenario, spec, aliases) for spec in specs]
+    """Run ``specs`` one after the other in this process and return their rows.
+
+    puckboard's own log messages below ``log_level`` are dropped while the batch runs:
+    a warning a single run shows once (a clamped wheel command, say) would otherwise be
+    printed by every episode of the sweep.
+    """
+    logger = logging.getLogger("puckboard")
+    previous = logger.level
+    logger.setLevel(max(previous, log_level))
+    try:
+        return [run_spec(scene, scenario, spec, aliases) for spec in specs]
+    finally:
+        logger.setLevel(previous)
 
 
 def ignore_interrupts() -> None:
