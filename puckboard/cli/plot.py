@@ -28,6 +28,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--speed", type=float, default=4.0, help="animation playback speed (default: 4x)"
     )
     p.add_argument("--fps", type=float, default=10.0, help="animation frames per second")
+    p.add_argument(
+        "--from",
+        dest="start",
+        type=float,
+        default=None,
+        metavar="S",
+        help="animate from S seconds of run time",
+    )
+    p.add_argument(
+        "--to",
+        dest="end",
+        type=float,
+        default=None,
+        metavar="S",
+        help="animate up to S seconds of run time",
+    )
+    p.add_argument(
+        "--size", default=None, metavar="WxH", help="animation size in pixels, e.g. 800x450"
+    )
     p.set_defaults(func=main)
 
 
@@ -47,6 +66,15 @@ def main(args: argparse.Namespace) -> int:
             raise CliError(str(exc)) from exc
     if args.speed <= 0 or args.fps <= 0:
         raise CliError("--speed and --fps must be positive")
+    size = None
+    if args.size:
+        try:
+            w, h = (int(v) for v in args.size.lower().split("x"))
+        except ValueError:
+            raise CliError(f"--size must look like 800x450, got {args.size!r}") from None
+        if w < 160 or h < 90:
+            raise CliError("--size must be at least 160x90 pixels")
+        size = (w, h)
     out = Path(args.out) if args.out else Path(".")
     try:
         paths = save_plots(rec, out, args.format)
@@ -55,7 +83,13 @@ def main(args: argparse.Namespace) -> int:
     for path in paths:
         print(f"wrote {path}")
     if args.animate:
-        info = render_animation(rec, args.animate, fps=args.fps, speed=args.speed)
+        try:
+            info = render_animation(
+                rec, args.animate, fps=args.fps, speed=args.speed, size=size,
+                start=args.start, end=args.end,
+            )  # fmt: skip
+        except ValueError as exc:
+            raise CliError(str(exc)) from exc
         w, h = info["size"]
         print(
             f"wrote {info['path']} ({info['frames']} frames, {w}x{h}, {info['bytes'] / 1e6:.1f} MB)"

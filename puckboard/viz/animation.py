@@ -74,15 +74,29 @@ def check_animation_path(path: str | os.PathLike[str]) -> Path:
     return p
 
 
-def frame_indices(rec: Recording, fps: float, speed: float) -> np.ndarray:
-    """Recording rows shown by each frame: one every ``speed / fps`` seconds of run time."""
+def frame_indices(
+    rec: Recording,
+    fps: float,
+    speed: float,
+    start: float | None = None,
+    end: float | None = None,
+) -> np.ndarray:
+    """Recording rows shown by each frame: one every ``speed / fps`` seconds of run time,
+    from ``start`` to ``end`` (s of run time; default: all of it)."""
     if fps <= 0 or speed <= 0:
         raise ValueError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
     if len(rec) == 0:
         return np.zeros(0, dtype=int)
     t = rec.time
-    n = int(math.floor((t[-1] - t[0]) * fps / speed + 1e-9)) + 1
-    wanted = t[0] + np.arange(n) * (speed / fps)
+    t0 = t[0] if start is None else max(t[0], start)
+    t1 = t[-1] if end is None else min(t[-1], end)
+    if t1 < t0:
+        raise ValueError(
+            f"nothing to animate between {start} s and {end} s: the run covers "
+            f"{t[0]:.2f} to {t[-1]:.2f} s"
+        )
+    n = int(math.floor((t1 - t0) * fps / speed + 1e-9)) + 1
+    wanted = t0 + np.arange(n) * (speed / fps)
     idx = np.searchsorted(t, wanted - 1e-9)
     return np.clip(idx, 0, len(t) - 1)
 
@@ -149,10 +163,14 @@ def render_animation(
     fps: float = 10.0,
     speed: float = 4.0,
     size: tuple[int, int] | None = None,
+    start: float | None = None,
+    end: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
     """Render ``rec`` to ``path`` (.gif or .mp4); returns what was written.
 
+    ``start``/``end`` (s of run time) animate only part of the run; the trails still
+    show the path from the beginning.
     ``size`` is (width, height) in pixels (default 960×540 for GIF, 1280×720 for MP4).
     ``progress(done, total)`` is called after each frame. The result holds ``path``,
     ``frames``, ``size``, ``fps``, ``speed``, ``bytes`` and ``seconds_per_frame``.
@@ -169,7 +187,7 @@ def render_animation(
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     stage = stage_for_recording(fig, rec)
-    indices = frame_indices(rec, fps, speed)
+    indices = frame_indices(rec, fps, speed, start, end)
     path.parent.mkdir(parents=True, exist_ok=True)
     t0 = _time.perf_counter()
 

@@ -228,15 +228,20 @@ def plot_wheels(rec: Recording) -> Any:
     colours = _colours(rec)
     for ax, name in zip(axes, names):
         s = rec.robot(name)
-        ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#0072B2", label="left")
-        ax.plot(rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#D55E00", label="right")
+        # not the layer colours: these lines are wheels, not layers
+        ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#222222", label="left")
+        ax.plot(
+            rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#CC79A7", ls="--", label="right"
+        )
         ax.axhline(0.0, color="#404040", lw=1.0)
         ax.set_ylabel("rad/s")
         ax.set_title(
             f"{name}: wheel commands", fontsize=FONT["label"], color=colours[name], loc="left",
             fontweight="bold",
         )  # fmt: skip
-        ax.legend(fontsize=FONT["legend"], loc="lower right", ncol=2, framealpha=0.85)
+        ax.legend(
+            fontsize=FONT["legend"], loc="upper left", bbox_to_anchor=(1.005, 1.0), frameon=False
+        )
         _style_axes(ax)
     axes[-1].set_xlabel("time (s)")
     fig.suptitle(f"Wheels: {rec.title}", fontsize=FONT["title"])
