@@ -86,8 +86,9 @@ def test_bad_outputs_fail_before_the_run(tmp_path):
 
 
 def test_live_view_keys_pause_and_step_without_a_window():
-    from puckboard.recording import Recorder
     from viz_standin import StandInEpisode
+
+    from puckboard.recording import Recorder
 
     ep = StandInEpisode()
     recorder = Recorder.for_episode(ep)
