@@ -103,6 +103,7 @@ class StepPending:
 STEP_PENDING = StepPending()
 
 _REQUIRED = object()
+_VREP_INDEX = np.array(VREP_ORDER)
 
 
 # -- argument checks: each returns the converted value or raises TypeError(expected) ------
@@ -563,7 +564,7 @@ class SimApi:
     def sense_all(self, robot: int) -> dict[str, Any]:
         """Every sensor of one robot in one map (V-REP order for the IR sensors)."""
         w = self.world
-        order = list(VREP_ORDER)
+        order = _VREP_INDEX
         enc = w.encoders[robot]
         return {
             "api": HELPER_API,
