@@ -18,7 +18,7 @@ centimetres away from where it believes home is -- and the estimate's σ says so
 (``CommandedSteps`` below is a second knowledge source, ten lines, that plays the step
 counter; the odometry source is simply pointed at its key.)
 
-Run it: ``python examples/go_home.py [--after 60] [--seed 1] [--step-counter]``
+Run it: ``python examples/go_home.py [--duration 120] [--after 60] [--seed 0] [--step-counter]``
 """
 
 from __future__ import annotations
@@ -64,7 +64,10 @@ def controller(after: float) -> Controller:
     )
 
 
-def main(after: float = 60.0, seed: int = 1, step_counter: bool = False) -> dict[str, Any]:
+def main(
+    duration: float = 120.0, seed: int = 0, *, after: float = 60.0, step_counter: bool = False
+) -> dict[str, Any]:
+    """Follow the line for ``after`` s, go home until ``duration``; return what was measured."""
     episode = Episode("line-follow", controller=lambda: controller(after), seed=seed)
     robot = episode.connection.adapters[episode.world.robot_names[0]]
     start = episode.world.poses[0].copy()
@@ -73,7 +76,7 @@ def main(after: float = 60.0, seed: int = 1, step_counter: bool = False) -> dict
         OdometrySource(encoders_key="steps/encoders").attach(episode.loop)
     else:
         OdometrySource().attach(episode.loop)
-    episode.run(duration=after + 60.0, stop_early=False)
+    episode.run(duration=duration, stop_early=False)
     est = robot.ns.value("estimate/pose")
     cov = robot.ns.value("estimate/pose_cov")
     end = episode.world.poses[0]
@@ -88,9 +91,11 @@ def main(after: float = 60.0, seed: int = 1, step_counter: bool = False) -> dict
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=120.0)
     parser.add_argument("--after", type=float, default=60.0)
-    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--step-counter", action="store_true", help="estimate as a real e-puck")
     args = parser.parse_args()
-    for key, value in main(args.after, args.seed, args.step_counter).items():
+    result = main(args.duration, args.seed, after=args.after, step_counter=args.step_counter)
+    for key, value in result.items():
         print(f"{key:36s} {value}")
