@@ -364,6 +364,80 @@ def fig_hold_for() -> None:
     save(fig, "hold-for")
 
 
+def fig_blackboard() -> None:
+    """Who writes and who reads which keys of one robot's blackboard."""
+    fig, ax = plt.subplots(figsize=(9, 4.4))
+    board_x, board_w = 3.3, 3.0
+    keys = [
+        ("proximity", "adapter"),
+        ("ground", "adapter"),
+        ("encoders", "adapter"),
+        ("percept/line_position", "source"),
+        ("estimate/distance_m", "source"),
+        ("command/wheels", "controller"),
+        ("command/layer", "controller"),
+    ]
+    ax.add_patch(
+        FancyBboxPatch((board_x, 0.2), board_w, 4.8, boxstyle="round,pad=0.05", fc="#fff8dc",
+                       ec="black", lw=1.2)
+    )  # fmt: skip
+    ax.text(board_x + board_w / 2, 4.55, "blackboard of robot left/", ha="center",
+            fontsize=10, weight="bold")  # fmt: skip
+    colours = {"adapter": "#dfe8f5", "source": "#e2f0d9", "controller": "#f9d7d2"}
+    key_y = {}
+    for i, (key, writer) in enumerate(keys):
+        y = 3.95 - i * 0.55
+        key_y[key] = y
+        _box(ax, board_x + 0.25, y - 0.2, board_w - 0.5, 0.4, key, colours[writer])
+    _box(
+        ax,
+        0.0,
+        2.9,
+        2.3,
+        0.9,
+        "robot adapter\n(simulator, CoppeliaSim,\nreal e-puck)",
+        colours["adapter"],
+    )
+    _box(
+        ax,
+        0.0,
+        1.1,
+        2.3,
+        0.9,
+        "knowledge sources\n(interpretation,\nintegration)",
+        colours["source"],
+    )
+    _box(
+        ax,
+        7.4,
+        1.6,
+        2.3,
+        1.2,
+        "controller\n(layers + arbiter)\nreads a snapshot",
+        colours["controller"],
+    )
+    for key in ("proximity", "ground", "encoders"):
+        _arrow(ax, (2.3, 3.35), (board_x + 0.25, key_y[key]), "#1f4e9c")
+    _arrow(ax, (board_x + 0.25, key_y["ground"]), (2.3, 1.75), "#2e7d32")
+    _arrow(ax, (board_x + 0.25, key_y["encoders"]), (2.3, 1.55), "#2e7d32")
+    for key in ("percept/line_position", "estimate/distance_m"):
+        _arrow(ax, (2.3, 1.35), (board_x + 0.25, key_y[key]), "#2e7d32")
+    for key in ("proximity", "ground", "percept/line_position"):
+        _arrow(ax, (board_x + board_w - 0.25, key_y[key]), (7.4, 2.5), "#555555")
+    for key in ("command/wheels", "command/layer"):
+        _arrow(ax, (7.4, 1.9), (board_x + board_w - 0.25, key_y[key]), "#b23a2a")
+    ax.text(7.45, 0.55, "wheel command → adapter\n(once per control cycle)", fontsize=8,
+            style="italic")  # fmt: skip
+    ax.set_xlim(-0.1, 9.8)
+    ax.set_ylim(0.0, 5.2)
+    ax.axis("off")
+    ax.set_title(
+        "Modules meet only on the blackboard: each writes its keys and reads the keys it "
+        "is interested in", fontsize=10,
+    )  # fmt: skip
+    save(fig, "blackboard")
+
+
 def fig_two_robot_pass() -> None:
     """Trajectories of the two-robot pass with the stock and the improved controller."""
     from puckboard.episode import Episode
@@ -403,6 +477,7 @@ FIGURES: dict[str, Callable[[], None]] = {
     "front-obstacle": fig_front_obstacle,
     "side-wall-keep": fig_side_wall_keep,
     "subsumption": fig_subsumption,
+    "blackboard": fig_blackboard,
     "hold-for": fig_hold_for,
 }
 
