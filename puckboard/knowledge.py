@@ -154,7 +154,7 @@ class KnowledgeSource:
     def trigger_key(self) -> str:
         return self.trigger if self.trigger is not None else self.reads[0]
 
-    def bind(self, ns: Namespace | Blackboard, robot: str | None = None) -> KnowledgeSource:
+    def bind(self: S, ns: Namespace | Blackboard, robot: str | None = None) -> S:
         """Bind to a robot's namespace (or to ``board.namespace(robot)``); resets state."""
         if isinstance(ns, Blackboard):
             if robot is None:
@@ -219,7 +219,7 @@ class KnowledgeSource:
             return []
 
     # -- in the control loop ---------------------------------------------------------------
-    def attach(self, loop: _LoopLike, robot: str | None = None) -> KnowledgeSource:
+    def attach(self: S, loop: Any, robot: str | None = None) -> S:
         """Run this source in ``loop`` (a ``ControlLoop``, or anything with ``.loop``).
 
         It is called after sensing and before the controllers tick. ``robot`` names the
@@ -238,7 +238,7 @@ class KnowledgeSource:
         self.step()
 
     @classmethod
-    def for_each_robot(cls: type[S], loop: _LoopLike, **kwargs: Any) -> dict[str, S]:
+    def for_each_robot(cls: type[S], loop: Any, **kwargs: Any) -> dict[str, S]:
         """One instance per robot of ``loop`` (``kwargs`` go to the constructor), attached.
 
         Returns the instances by robot name, e.g. to inspect ``failures`` later.
@@ -252,7 +252,7 @@ class KnowledgeSource:
         return out
 
     # -- on its own thread -----------------------------------------------------------------
-    def start(self, *, poll: float = 0.1) -> KnowledgeSource:
+    def start(self: S, *, poll: float = 0.1) -> S:
         """Run on a daemon thread that wakes on every new record of the trigger key.
 
         ``poll`` (wall seconds) is how often the thread checks whether it should stop.

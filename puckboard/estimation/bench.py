@@ -140,7 +140,8 @@ def run_case(
     for i, name in enumerate(names):
         adapter = episode.connection.adapters[name]
         profile: RobotProfile = adapter.profile
-        start = tuple(float(v) for v in world.poses[i])
+        x0, y0, theta0 = (float(v) for v in world.poses[i])
+        start = (x0, y0, theta0)
         sources[name] = OdometrySource(initial=start).attach(loop, name)
         wrong = dataclasses.replace(profile, axle_length=profile.axle_length + 0.001)
         shadows[name] = {
