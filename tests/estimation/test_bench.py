@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from puckboard.estimation.bench import VARIANTS, plot_traces, run_case, summarise
+from puckboard.estimation.bench import (
+    VARIANTS,
+    measure_proximity,
+    plot_traces,
+    run_case,
+    summarise,
+)
 
 
 def test_short_run_compares_estimates_with_ground_truth():
@@ -29,3 +35,9 @@ def test_plot_is_written(tmp_path):
     _, traces = run_case("line-follow", 0.0, 2, steps=40)
     out = plot_traces(traces[:1], tmp_path / "estimate.png", every=0.5)
     assert out.exists() and out.stat().st_size > 1000
+
+
+def test_proximity_filter_reduces_the_simulated_sensor_noise_without_bias():
+    (row,) = measure_proximity(gaps=(0.02,), steps=200)
+    assert row["filtered_sd_m"] < 0.75 * row["raw_sd_m"]
+    assert abs(row["filtered_bias_m"]) < 0.5 * row["raw_sd_m"]
