@@ -230,9 +230,7 @@ def plot_wheels(rec: Recording) -> Any:
         s = rec.robot(name)
         # not the layer colours: these lines are wheels, not layers
         ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#222222", label="left")
-        ax.plot(
-            rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#CC79A7", ls="--", label="right"
-        )
+        ax.plot(rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#CC79A7", ls="--", label="right")
         ax.axhline(0.0, color="#404040", lw=1.0)
         ax.set_ylabel("rad/s")
         ax.set_title(

@@ -88,16 +88,18 @@ def draw_scene(ax: Any, scene: Any, *, labels: bool = True) -> None:
         colour = rgb01(ob.colour)
         if hasattr(ob, "radius"):
             patch = Circle((ob.x, ob.y), ob.radius)
-            cx, cy = ob.x, ob.y
+            cx, below = ob.x, ob.y - ob.radius
         else:
-            patch = Polygon(np.asarray(ob.vertices), closed=True)
-            cx, cy = np.asarray(ob.vertices).mean(axis=0)
+            vertices = np.asarray(ob.vertices)
+            patch = Polygon(vertices, closed=True)
+            cx, below = float(vertices[:, 0].mean()), float(vertices[:, 1].min())
         patch.set(facecolor=colour, edgecolor="#202020", linewidth=1.5, zorder=3)
         ax.add_patch(patch)
-        if labels and ob.name:
+        if labels and ob.name:  # under the obstacle: a name never fits inside one
             ax.annotate(
-                ob.name, (cx, cy), ha="center", va="center", fontsize=9, color="white", zorder=4
-            )
+                ob.name, (cx, below), xytext=(0, -3), textcoords="offset points",
+                ha="center", va="top", fontsize=10, color="#303030", zorder=4,
+            )  # fmt: skip
     arena = getattr(scene, "arena", None)
     if arena is not None:
         ax.add_patch(

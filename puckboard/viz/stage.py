@@ -177,6 +177,11 @@ class Stage:
         )
         ax.add_line(heading)
         arts = {"trail": trail, "body": body, "ring": ring, "heading": heading}
+        if not self.zoom:  # no close-up titles: label each robot with its active layer
+            arts["label"] = ax.text(
+                0.0, 0.0, "", fontsize=FONT["annotation"], color="white", fontweight="bold",
+                ha="center", va="bottom", zorder=13, clip_on=True,
+            )  # fmt: skip
         if detailed:
             rays = LineCollection([], linewidths=2.0, zorder=10.5, capstyle="round")
             ax.add_collection(rays)
@@ -216,6 +221,8 @@ class Stage:
                     ra["trail"].set_data(tr[:, 0], tr[:, 1])
                 ra["body"].set_visible(known)
                 ra["ring"].set_visible(known)
+                if "label" in ra:
+                    ra["label"].set_visible(known)
                 ra["heading"].set_visible(known and math.isfinite(th))
                 if not known:
                     if "rays" in ra:
@@ -228,6 +235,13 @@ class Stage:
                 if math.isfinite(th):
                     r = self.profiles[i].body_radius
                     ra["heading"].set_data([x, x + r * math.cos(th)], [y, y + r * math.sin(th)])
+                if "label" in ra:
+                    label = ra["label"]
+                    label.set_position((x, y + 1.5 * self.profiles[i].body_radius))
+                    label.set_text(f"{self.names[i]}: {layers[i] or '?'}")
+                    label.set_bbox(
+                        {"facecolor": self._colour_of(layers[i]), "edgecolor": "none", "pad": 2}
+                    )
                 if "rays" in ra:
                     ok = np.isfinite(proximity[i]).all()
                     ra["rays"].set_segments(rays_xy[i] if ok else [])
