@@ -198,17 +198,21 @@ def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, 
             if thesis is not None:
                 row["thesis_loop_ms"] = thesis["loop"]
                 row["speedup"] = round(thesis["loop"] / row["loop_ms"], 1)
-            tests[f"{test.key} {TITLES[test.key]}"] = row
+            tests[_row_name(test.key)] = row
         results["tests"] = tests
     finally:
         stop()
-    full = tests[f"full {TITLES['full']}"]["loop_ms"]
-    naive = tests[f"naive {TITLES['naive']}"]["loop_ms"]
+    full = tests[_row_name("full")]["loop_ms"]
+    naive = tests[_row_name("naive")]["loop_ms"]
     results["full_cycle_ms"] = full
     results["naive_cycle_ms"] = naive
     results["naive_over_full"] = round(naive / full, 2)
     results["goal_full_cycle_ms"] = 1.5
     return results
+
+
+def _row_name(key: str) -> str:
+    return TITLES[key] if key in ("full", "naive") else f"{key} {TITLES[key]}"
 
 
 def _start_server(mode: str) -> tuple[int, Callable[[], None]]:
