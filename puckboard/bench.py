@@ -242,20 +242,26 @@ def sim_suite(steps: int | None = None) -> dict[str, Any]:
 
     # whole cycles through ControlLoop, fresh stack each repeat
     rates = []
+    cpu_rates = []
     for _ in range(REPEATS):
         world, loop = _build_stack(scene)
         for _ in range(20):
             loop.cycle()
         t0 = time.perf_counter()
+        c0 = time.process_time()
         for _ in range(n_steps):
             loop.cycle()
         rates.append(n_steps / (time.perf_counter() - t0))
+        cpu_rates.append(n_steps / max(time.process_time() - c0, 1e-9))
         loop.close()
     rate = statistics.median(rates)
     out["steps_per_s"] = rate
     out["steps_per_s_min_max"] = [min(rates), max(rates)]
     out["realtime_factor"] = rate * dt
     out["us_per_step"] = 1e6 / rate
+    # per second of this process's CPU time: less sensitive to other work on the machine
+    out["steps_per_cpu_s"] = statistics.median(cpu_rates)
+    out["load_average_1min"] = _load_average()
 
     # the same cycle by hand, timing each phase
     sense, arbitrate, physics, models = [], [], [], []
@@ -302,6 +308,13 @@ def sim_suite(steps: int | None = None) -> dict[str, Any]:
     out["camera_160x120_us_per_frame"] = _median_us(lambda: world.camera(0, big), frames)
     loop.close()
     return out
+
+
+def _load_average() -> float | None:
+    try:
+        return round(os.getloadavg()[0], 2)
+    except (AttributeError, OSError):  # not available on Windows
+        return None
 
 
 # -- output ------------------------------------------------------------------------------
