@@ -11,7 +11,7 @@ import pytest
 from puckboard.sweep.executors import InlineExecutor
 
 #: Simulated seconds per test episode: long enough for the judge to see the robots move.
-DURATION = 5.0
+DURATION = 3.0
 
 
 @pytest.fixture(scope="session")

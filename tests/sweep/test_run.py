@@ -26,7 +26,7 @@ def outcome_table(rows):
     return {r["key"]: {k: v for k, v in r.items() if k not in TIMING} for r in rows}
 
 
-def small_plan(scene, seeds="0:3"):
+def small_plan(scene, seeds="0:2"):
     return SweepPlan.from_specs(
         scene.name,
         controllers=["stock", "improved"],
@@ -80,23 +80,23 @@ def test_resuming_runs_only_the_missing_episodes(tmp_path, short_scene, suffix):
     out = tmp_path / f"runs{suffix}"
     first = CountingExecutor()
     with open_store(out) as store:
-        r1 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=first, store=store)
-    assert len(first.ran) == r1.ran == 8
+        r1 = run_sweep(small_plan(short_scene, "0:1"), short_scene, executor=first, store=store)
+    assert len(first.ran) == r1.ran == 4
 
     second = CountingExecutor()
     with open_store(out) as store:
-        r2 = run_sweep(small_plan(short_scene, "0:3"), short_scene, executor=second, store=store)
+        r2 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=second, store=store)
     assert len(second.ran) == r2.ran == 4
-    assert {s.seed for s in second.ran} == {2}
-    assert r2.skipped == 8
-    assert len(r2.outcomes) == 12  # the summary covers old and new episodes
-    assert sum(g["episodes"] for g in r2.to_dict()["groups"]) == 12
+    assert {s.seed for s in second.ran} == {1}
+    assert r2.skipped == 4
+    assert len(r2.outcomes) == 8  # the summary covers old and new episodes
+    assert sum(g["episodes"] for g in r2.to_dict()["groups"]) == 8
 
     third = CountingExecutor()
     with open_store(out) as store:
-        r3 = run_sweep(small_plan(short_scene, "0:3"), short_scene, executor=third, store=store)
-        assert len(store.rows()) == 12
-    assert third.ran == [] and r3.ran == 0 and r3.skipped == 12
+        r3 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=third, store=store)
+        assert len(store.rows()) == 8
+    assert third.ran == [] and r3.ran == 0 and r3.skipped == 8
 
 
 def test_ctrl_c_keeps_finished_rows_and_the_rerun_completes(tmp_path, short_scene):
