@@ -144,6 +144,7 @@ def main(args: argparse.Namespace) -> int:
         )
     except (PuckboardError, ValueError, TypeError, ImportError) as exc:
         raise CliError(_first_line(exc)) from None
+    outputs = None
     wants_visuals = args.view or args.record or args.plots or args.monitor
     if wants_visuals:
         try:
@@ -174,6 +175,8 @@ def main(args: argparse.Namespace) -> int:
         sys.stdout.flush()
     else:
         print(format_summary(result))
+    for path in getattr(outputs, "written", None) or ():
+        print(f"wrote {path}", file=sys.stderr)
     return 0
 
 
