@@ -76,3 +76,24 @@ def test_the_full_stack_with_a_shipped_scene_is_reproducible():
         return conn.world.poses.copy()
 
     assert np.array_equal(run(), run())
+
+
+def test_a_camera_thread_rendering_during_the_run_changes_nothing():
+    from puckboard.adapters.embedded import open_embedded
+    from puckboard.behaviours import load_controller
+    from puckboard.control.loop import ControlLoop
+
+    def run(camera_thread: bool) -> np.ndarray:
+        conn = open_embedded(pass_scene(noisy()), seed=9)
+        frames = []
+        if camera_thread:
+            adapter = conn.adapters["a"]
+            adapter.add_camera_observer(lambda _a, image: frames.append(image))
+            adapter.start_camera_thread(period=0.001)
+        loop = ControlLoop([(a, load_controller("improved")) for a in conn.adapters.values()])
+        loop.run(cycles=200)
+        if camera_thread:
+            assert frames, "the camera thread rendered nothing"
+        return conn.world.poses.copy()
+
+    assert np.array_equal(run(False), run(True))
