@@ -155,7 +155,7 @@ def main(args: argparse.Namespace) -> int:
                 f"visual tools not available ({exc}); install them with: pip install 'puckboard[viz]'"
             ) from None
         try:
-            attach(
+            outputs = attach(
                 episode, view=args.view, record=args.record, plots=args.plots, monitor=args.monitor
             )
         except (ValueError, ImportError) as exc:
