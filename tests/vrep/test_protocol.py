@@ -249,3 +249,27 @@ def test_new_uuid_is_a_new_client(server):
             server.port, {"func": "sim.getSimulationTime", "args": [], "uuid": str(uuid.uuid4())}
         )
     assert len(server.clients) >= 3
+
+
+def test_a_forgotten_client_has_its_robot_stopped():
+    """A client silent beyond its idle timeout is forgotten and the wheels it set go to 0."""
+    import time
+
+    from coppeliasim_zmqremoteapi_client import RemoteAPIClient
+
+    srv = start_server(max_idle=0.2)
+    client = RemoteAPIClient("127.0.0.1", srv.port)
+    try:
+        client.socket.setsockopt(zmq.LINGER, 0)
+        client.socket.setsockopt(zmq.RCVTIMEO, 5000)
+        joint = client.call("sim.getObject", ["/ePuck[1]/rightJoint"])
+        client.call("sim.setJointTargetVelocity", [joint, 3.0])
+        assert srv.api.targets[1, 1] == 3.0
+        deadline = time.monotonic() + 5.0
+        while len(srv.clients) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(srv.clients) == 0
+        assert srv.api.targets[1].tolist() == [0.0, 0.0]
+    finally:
+        client.socket.close(0)
+        stop_server(srv)
