@@ -16,6 +16,7 @@ Rows are identified by their ``key`` column (see :func:`~puckboard.sweep.plan.ep
 from __future__ import annotations
 
 import csv
+import io
 import json
 import logging
 import os
@@ -76,6 +77,8 @@ def _csv_cell(value: Any) -> Any:
         return ""
     if isinstance(value, (list, dict)):
         return json.dumps(value)
+    if isinstance(value, str) and ("\n" in value or "\r" in value):
+        return " ".join(value.splitlines())  # one physical line per row; see _end_last_line
     return value
 
 
@@ -94,12 +97,41 @@ class CsvStore(ResultStore):
                     "choose another --out file"
                 )
             self._columns = header
+            self._end_last_line()
+
+    def _end_last_line(self) -> None:
+        # A run killed mid-write leaves a partial last line. No field holds a line break
+        # (rows are single-line by construction), so cut the file back to its last whole
+        # line; the lost episode simply runs again.
+        with self.path.open("rb+") as f:
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - 65536))
+            tail = f.read()
+            if tail.endswith(b"\n"):
+                return
+            cut = tail.rfind(b"\n")
+            if cut < 0:
+                raise ValueError(f"{self.path}: the last row is longer than 64 KiB or broken")
+            f.truncate(size - len(tail) + cut + 1)
+            log.warning(
+                "%s: dropped an incomplete last row (a run was killed while writing)", self.path
+            )
 
     def rows(self) -> list[dict[str, Any]]:
         if not self._columns:
             return []
         with self.path.open(newline="", encoding="utf-8") as f:
-            return [dict(r) for r in csv.DictReader(f)]
+            rows = [dict(r) for r in csv.DictReader(f)]
+        complete = [r for r in rows if None not in r.values() and None not in r]
+        if len(complete) < len(rows):
+            log.warning(
+                "%s: ignoring %d incomplete row(s) (a run was killed while writing); "
+                "those episodes run again",
+                self.path,
+                len(rows) - len(complete),
+            )
+        return complete
 
     def append(self, rows: Iterable[Mapping[str, Any]]) -> None:
         rows = list(rows)
@@ -111,12 +143,15 @@ class CsvStore(ResultStore):
         new_file = not self._columns
         self._columns = columns
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        text = io.StringIO(newline="")
+        writer = csv.DictWriter(text, fieldnames=columns, restval="")
+        if new_file:
+            writer.writeheader()
+        for row in rows:
+            writer.writerow({k: _csv_cell(v) for k, v in row.items()})
+        # one write per batch: a killed process leaves whole rows, not half of one
         with self.path.open("a", newline="", encoding="utf-8") as f:
-            writer = csv.DictWriter(f, fieldnames=columns, restval="")
-            if new_file:
-                writer.writeheader()
-            for row in rows:
-                writer.writerow({k: _csv_cell(v) for k, v in row.items()})
+            f.write(text.getvalue())
             f.flush()
 
     def _rewrite(self, columns: list[str]) -> None:

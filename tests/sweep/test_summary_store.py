@@ -146,3 +146,19 @@ def test_summary_json_has_groups_with_counts_intervals_and_failures():
         "1",
         "improved",
     ]
+
+
+def test_csv_store_ignores_a_row_cut_off_by_a_killed_run(tmp_path):
+    path = tmp_path / "runs.csv"
+    rows = rows_for("stock", {}, [(True, None), (False, "stuck")])
+    with open_store(path) as store:
+        store.append(rows)
+    text = path.read_text(encoding="utf-8")
+    path.write_text(text[: text.rindex(rows[1]["key"].replace('"', '""')) + 40], encoding="utf-8")
+    store = open_store(path)
+    assert [r["key"] for r in store.rows()] == [rows[0]["key"]]
+    assert path.read_text(encoding="utf-8").endswith("\n")
+    later = rows_for("improved", {}, [(True, None)])
+    later[0]["error"] = "Traceback\nline two"
+    store.append(later)
+    assert [r["key"] for r in open_store(path).rows()] == [rows[0]["key"], later[0]["key"]]
