@@ -55,7 +55,12 @@ def plot_success(
             for g in items
         )
         categories: list[Any] = []
-        for (controller, others_text), items in lines.items():
+        all_x = [g.params[parameter] for items in lines.values() for g in items] if numeric else []
+        span = (max(all_x) - min(all_x)) if all_x else 0.0
+        # nudge the lines apart sideways so their error bars do not hide each other
+        step = (0.012 * span if numeric else 0.06) if len(lines) > 1 else 0.0
+        for index, ((controller, others_text), items) in enumerate(lines.items()):
+            nudge = (index - (len(lines) - 1) / 2) * step
             if numeric:
                 items = sorted(items, key=lambda g: g.params[parameter])
                 xs: list[Any] = [g.params[parameter] for g in items]
@@ -64,6 +69,7 @@ def plot_success(
                     if str(g.params[parameter]) not in categories:
                         categories.append(str(g.params[parameter]))
                 xs = [categories.index(str(g.params[parameter])) for g in items]
+            xs = [x + nudge for x in xs]
             ys = [g.success_rate for g in items]
             below = [g.success_rate - g.ci95_low for g in items]
             above = [g.ci95_high - g.success_rate for g in items]
