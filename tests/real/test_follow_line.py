@@ -38,10 +38,10 @@ def test_improved_follows_the_line_through_a_corner_over_wifi() -> None:
     truth = outcome["r"].to_dict()  # the emulator's judge saw the ground-truth poses
     robot = truth["robots"][0]
     assert truth["steps"] > 0.8 * duration / scene.dt
-    assert robot["on_line_fraction"] > 0.9
+    assert robot["on_line_fraction"] > 0.9, truth
     assert robot["collisions"] == 0
     assert not any(e["kind"] in ("lost_line", "turned_back", "stuck") for e in truth["events"])
     theta = float(emulation.world.poses[0, 2])
-    assert theta > math.radians(60)  # it turned left with the line (counter-clockwise)
+    assert theta > math.radians(60), (theta, truth)  # it turned left with the line (CCW)
     # the client's own judge, fed with dead reckoning, agrees that the robot made progress
     assert client_result.robots[0].progress_laps > 0.05

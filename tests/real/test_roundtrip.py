@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -50,7 +51,7 @@ sensor_blocks = st.builds(
     inclination=f32,
     gyro=st.tuples(int16, int16, int16),
     magnetometer=st.tuples(f32, f32, f32),
-    temperature=st.integers(-128, 127),
+    temperature=st.integers(-40, 100),
     proximity=st.tuples(*([st.integers(-4096, 4096)] * 8)),
     ambient=st.tuples(*([st.integers(0, 4096)] * 8)),
     tof_mm=uint16,
@@ -218,3 +219,16 @@ def test_step_counter_unwraps_any_walk(moves: list[int]) -> None:
         true[1] -= m
         got = u.update(wrap_int16(true[0]), wrap_int16(true[1]))
         assert got == (true[0] - 5, true[1] + 7)
+
+
+@given(sensor_blocks, st.integers(-128, 127))
+def test_sensor_block_check_rejects_impossible_temperatures(
+    block: SensorBlock, temperature: int
+) -> None:
+    data = bytearray(block.encode(wifi=True))
+    data[36] = temperature & 0xFF
+    if -40 <= temperature <= 100:
+        assert SensorBlock.decode(bytes(data)).temperature == temperature
+    else:
+        with pytest.raises(ValueError, match="temperature"):
+            SensorBlock.decode(bytes(data))

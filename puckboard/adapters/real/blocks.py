@@ -37,6 +37,7 @@ GCtronic's "e-puck2 PC side development" Wi-Fi protocol section.
 
 from __future__ import annotations
 
+import math
 import struct
 from dataclasses import dataclass
 
@@ -184,6 +185,11 @@ class SensorBlock:
             problems.append(f"ground {self.ground} (0..4096)")
         if self.button not in (0, 1):
             problems.append(f"button {self.button} (0 or 1)")
+        if not -40 <= self.temperature <= 100:
+            problems.append(f"temperature {self.temperature} °C (-40..100)")
+        floats = (self.acceleration, self.orientation, self.inclination, *self.magnetometer)
+        if not all(math.isfinite(f) for f in floats):
+            problems.append(f"non-finite IMU values {floats}")
         if problems:
             raise ImplausibleDataError("implausible sensor block: " + "; ".join(problems))
 

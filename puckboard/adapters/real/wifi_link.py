@@ -66,4 +66,9 @@ class WifiLink(LinkBase):
                 if self._framer.rejected:
                     self._framer.rejected = 0
                 raise _Garbage(f"{skipped} bytes that start no packet")
+        # The robot sends nothing unasked: bytes beyond the reply mean the packets we
+        # just accepted were cut out of a shifted stream. Throw them away and ask again.
+        extra = self._framer.pending() + self.transport.discard_pending()
+        if extra:
+            raise _Garbage(f"{extra} bytes after the reply")
         return Reply(sensors=block, image=frame)
