@@ -21,10 +21,11 @@ projected on the floor at the e-puck's resolutions.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import numpy.typing as npt
 
-from .geometry import segment_distance
 from .scene import Colour, Scene
 
 __all__ = ["Floor", "luminance"]
@@ -45,17 +46,6 @@ def luminance(colour: Colour) -> float:
     return (0.299 * r + 0.587 * g + 0.114 * b) / 255.0
 
 
-def _segment_distance_each(
-    point: FloatArray, seg_start: FloatArray, seg_vector: FloatArray
-) -> FloatArray:
-    """Squared distance from one point to each of S segments."""
-    length2 = np.maximum((seg_vector * seg_vector).sum(axis=1), 1e-300)
-    w = point - seg_start
-    s = np.clip((w * seg_vector).sum(axis=1) / length2, 0.0, 1.0)
-    q = w - s[:, None] * seg_vector
-    return (q * q).sum(axis=1)
-
-
 class _Near:
     """Track segments prepared for the ground-sensor distance query.
 
@@ -73,6 +63,15 @@ class _Near:
         self.vector_conj = self.vector.conj()
         len2 = (self.vector * self.vector_conj).real
         self.inv_len2 = 1.0 / np.where(len2 > 0.0, len2, 1.0)
+
+    @classmethod
+    def join(cls, parts: list[_Near]) -> _Near:
+        """All segments of ``parts`` in one set (duplicates do no harm to a minimum)."""
+        joined = object.__new__(cls)
+        joined.count = sum(p.count for p in parts)
+        for name in ("start", "vector", "vector_conj", "inv_len2"):
+            setattr(joined, name, np.concatenate([getattr(p, name) for p in parts], axis=1))
+        return joined
 
 
 class Floor:
@@ -98,10 +97,13 @@ class Floor:
             self.half_width = track.width / 2.0
             self.line_colour = track.colour
             self.line_brightness = luminance(track.colour)
-        self._build_raster()
-        self._cell_segments: dict[tuple[int, int], npt.NDArray[np.intp]] = {}
-        self._near_cache: dict[tuple[tuple[int, int], ...], _Near] = {}
+        self._raster: npt.NDArray[np.bool_] | None = None  # built when a camera first needs it
+        self._origin = np.zeros(2)
         self._all = _Near(self.seg_start, self.seg_vector)
+        self._empty = _Near(np.zeros((0, 2)), np.zeros((0, 2)))
+        self._grid_reach = -1.0
+        self._grid: dict[tuple[int, int], npt.NDArray[np.intp]] = {}
+        self._cell_near: dict[tuple[int, int], _Near] = {}
 
     # -- ground sensors --------------------------------------------------------------------
     def coverage(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
@@ -138,42 +140,51 @@ class Floor:
         return c
 
     def segments_near(self, centres: list[tuple[float, float]], reach: float) -> _Near:
-        """The track segments that can lie within ``reach`` (m) of any of ``centres``.
+        """Track segments that include every segment within ``reach`` (m) of ``centres``.
 
         A track can have hundreds of segments, and measuring the distance to all of them
         for every ground sensor every step would cost more than the rest of the step.
-        The floor is divided into cells of :data:`GRID_CELL`; each cell's candidate
-        segments are found once (the first time a robot is in it) and the union for the
-        robots' current cells is cached, so a step usually costs one dictionary lookup.
-        ``reach`` must stay the same between calls (the world passes the centroid of each
-        robot's ground sensors and their largest distance from it).
+        So the floor is divided into cells of :data:`GRID_CELL` and each segment is
+        listed in every cell its bounding box (grown by ``reach``, the line's half-width
+        and the footprint) overlaps; a step then only looks up each robot's cell. The
+        lists are a superset of what can matter, so readings are exactly those of a
+        search over all segments. ``reach`` is the largest distance of a ground sensor
+        from the point passed in ``centres`` (the world passes the centroid of each
+        robot's ground sensors).
         """
+        if reach != self._grid_reach:
+            self._build_grid(reach)
         inv = 1.0 / GRID_CELL
-        key = tuple((int(np.floor(x * inv)), int(np.floor(y * inv))) for x, y in centres)
-        found = self._near_cache.get(key)
-        if found is not None:
-            return found
-        idx = np.unique(np.concatenate([self._segments_in_cell(c, reach) for c in key]))
-        found = _Near(self.seg_start[idx], self.seg_vector[idx])
-        if len(self._near_cache) > 4096:
-            self._near_cache.clear()
-        self._near_cache[key] = found
-        return found
+        cells = self._cell_near
+        found: list[_Near] = []
+        for x, y in centres:
+            cell = (math.floor(x * inv), math.floor(y * inv))
+            near = cells.get(cell)
+            if near is None:
+                idx = self._grid.get(cell)
+                near = (
+                    self._empty if idx is None else _Near(self.seg_start[idx], self.seg_vector[idx])
+                )
+                cells[cell] = near
+            found.append(near)
+        if len(found) == 1:
+            return found[0]
+        return _Near.join(found)
 
-    def _segments_in_cell(self, cell: tuple[int, int], reach: float) -> npt.NDArray[np.intp]:
-        idx = self._cell_segments.get(cell)
-        if idx is None:
-            centre = (np.array(cell, dtype=float) + 0.5) * GRID_CELL
-            # anything within reach of any point of the cell, plus the line's half-width and
-            # the footprint, can touch a sensor of a robot whose centre is in the cell
-            limit = GRID_CELL * np.sqrt(0.5) + reach + self.half_width + self.footprint
-            if self.seg_start.shape[0]:
-                d = np.sqrt(_segment_distance_each(centre, self.seg_start, self.seg_vector))
-                idx = np.nonzero(d <= limit)[0]
-            else:
-                idx = np.zeros(0, dtype=np.intp)
-            self._cell_segments[cell] = idx
-        return idx
+    def _build_grid(self, reach: float) -> None:
+        grow = reach + self.half_width + self.footprint
+        grid: dict[tuple[int, int], list[int]] = {}
+        inv = 1.0 / GRID_CELL
+        ends = self.seg_start + self.seg_vector
+        lo = np.floor((np.minimum(self.seg_start, ends) - grow) * inv).astype(int).tolist()
+        hi = np.floor((np.maximum(self.seg_start, ends) + grow) * inv).astype(int).tolist()
+        for k, ((i0, j0), (i1, j1)) in enumerate(zip(lo, hi)):
+            for i in range(i0, i1 + 1):
+                for j in range(j0, j1 + 1):
+                    grid.setdefault((i, j), []).append(k)
+        self._grid = {cell: np.array(idx, dtype=np.intp) for cell, idx in grid.items()}
+        self._cell_near: dict[tuple[int, int], _Near] = {}
+        self._grid_reach = reach
 
     # -- camera ----------------------------------------------------------------------------
     def _build_raster(self) -> None:
@@ -188,27 +199,38 @@ class Floor:
         hi = pts.max(axis=0) + pad
         shape = np.ceil((hi - lo) / RASTER_CELL).astype(int) + 1  # (nx, ny)
         raster = np.zeros((int(shape[0]), int(shape[1])), dtype=bool)
-        for a, e in zip(self.seg_start, self.seg_vector):
-            b = a + e
-            i0, j0 = np.floor((np.minimum(a, b) - pad - lo) / RASTER_CELL).astype(int)
-            i1, j1 = np.ceil((np.maximum(a, b) + pad - lo) / RASTER_CELL).astype(int)
-            i0, j0 = max(i0, 0), max(j0, 0)
-            i1, j1 = min(i1, raster.shape[0] - 1), min(j1, raster.shape[1] - 1)
-            xs = lo[0] + (np.arange(i0, i1 + 1) + 0.5) * RASTER_CELL
-            ys = lo[1] + (np.arange(j0, j1 + 1) + 0.5) * RASTER_CELL
-            gx, gy = np.meshgrid(xs, ys, indexing="ij")
-            cells = np.column_stack([gx.ravel(), gy.ravel()])
-            near = segment_distance(cells, a[None, :], e[None, :]) <= self.half_width
-            raster[i0 : i1 + 1, j0 : j1 + 1] |= near.reshape(gx.shape)
+        # sample the centre line every cell, then mark every cell whose centre lies
+        # within the half-width of a sample: one vectorised pass instead of one per segment
+        lengths = np.hypot(self.seg_vector[:, 0], self.seg_vector[:, 1])
+        counts = np.maximum(np.ceil(lengths / RASTER_CELL).astype(int), 1) + 1
+        seg = np.repeat(np.arange(len(counts)), counts)
+        t = np.concatenate([np.linspace(0.0, 1.0, c) for c in counts])
+        pts = self.seg_start[seg] + t[:, None] * self.seg_vector[seg]
+        k = int(np.ceil(self.half_width / RASTER_CELL)) + 1
+        offsets = np.arange(-k, k + 1)
+        di, dj = (a.ravel() for a in np.meshgrid(offsets, offsets, indexing="ij"))
+        base = np.floor((pts - lo) / RASTER_CELL).astype(np.intp)
+        ci = base[:, 0:1] + di  # P×K
+        cj = base[:, 1:2] + dj
+        dx = lo[0] + (ci + 0.5) * RASTER_CELL - pts[:, 0:1]
+        dy = lo[1] + (cj + 0.5) * RASTER_CELL - pts[:, 1:2]
+        hit = dx * dx + dy * dy <= self.half_width * self.half_width
+        ci = np.clip(ci[hit], 0, raster.shape[0] - 1)
+        cj = np.clip(cj[hit], 0, raster.shape[1] - 1)
+        raster[ci, cj] = True
         self._raster = raster
         self._origin = lo
 
     def on_line(self, x: FloatArray, y: FloatArray) -> npt.NDArray[np.bool_]:
         """Whether floor points (any shape, m) lie on the line, from the 2 mm raster."""
+        if self._raster is None:
+            self._build_raster()
+        raster = self._raster
+        assert raster is not None
         i = ((x - self._origin[0]) * (1.0 / RASTER_CELL)).astype(np.intp)
         j = ((y - self._origin[1]) * (1.0 / RASTER_CELL)).astype(np.intp)
-        nx, ny = self._raster.shape
+        nx, ny = raster.shape
         inside = (i >= 0) & (i < nx) & (j >= 0) & (j < ny)
         np.clip(i, 0, nx - 1, out=i)
         np.clip(j, 0, ny - 1, out=j)
-        return self._raster[i, j] & inside
+        return raster[i, j] & inside
