@@ -40,6 +40,9 @@ ANIMATION_SUFFIXES = (".gif", ".mp4")
 
 GIF_SIZE = (960, 540)
 MP4_SIZE = (1280, 720)
+GIF_COLOURS = 64
+"""Palette size of GIFs: the pictures are flat colours, and 64 instead of 256 makes a
+file about a quarter smaller with no visible difference."""
 
 
 class VideoSupportError(PuckboardError, ImportError):
@@ -233,9 +236,9 @@ def _palette(rec: Recording, stage: Any, indices: np.ndarray) -> Any:
     # The colours that carry meaning (layers, robots, rays) get exact palette entries;
     # median cut would merge a small legend swatch into its neighbour.
     exact = [_rgb(c) for c in stage.key_colours()]
-    exact = list(dict.fromkeys([(255, 255, 255), (0, 0, 0), *exact]))[:64]
-    rest = sheet.quantize(colors=256 - len(exact), method=Image.Quantize.MEDIANCUT)
-    rest_pal = rest.getpalette()[: 3 * (256 - len(exact))]
+    exact = list(dict.fromkeys([(255, 255, 255), (0, 0, 0), *exact]))[: GIF_COLOURS // 2]
+    rest = sheet.quantize(colors=GIF_COLOURS - len(exact), method=Image.Quantize.MEDIANCUT)
+    rest_pal = rest.getpalette()[: 3 * (GIF_COLOURS - len(exact))]
     pal = Image.new("P", (1, 1))
     pal.putpalette([v for c in exact for v in c] + rest_pal)
     return pal

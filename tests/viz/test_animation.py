@@ -71,3 +71,31 @@ def test_missing_mp4_support_says_how_to_install(monkeypatch, tmp_path):
 def test_bad_suffix_is_refused(tmp_path):
     with pytest.raises(ValueError, match=r"\.gif or \.mp4"):
         check_animation_path(tmp_path / "x.avi")
+
+
+def test_part_of_a_run_and_bad_windows(rec):
+    idx = frame_indices(rec, fps=10, speed=2, start=1.0, end=2.0)
+    np.testing.assert_allclose(rec.time[idx], 1.0 + np.arange(6) * 0.2, atol=1e-9)
+    with pytest.raises(ValueError, match="nothing to animate"):
+        frame_indices(rec, fps=10, speed=2, start=10.0)
+
+
+def test_plot_cli_writes_plots_and_a_sized_animation(rec, tmp_path, capsys):
+    from puckboard.cli import main
+
+    rec.save(tmp_path / "run.npz")
+    gif = tmp_path / "clip.gif"
+    argv = ["plot", str(tmp_path / "run.npz"), "--out", str(tmp_path / "plots")]
+    assert main([*argv, "--animate", str(gif), "--size", "320x180", "--to", "1"]) == 0
+    assert sorted(p.name for p in (tmp_path / "plots").iterdir()) == [
+        "arbitration.png",
+        "sensors.png",
+        "trajectories.png",
+        "wheels.png",
+    ]
+    with Image.open(gif) as im:
+        assert im.size == (320, 180)
+        assert im.n_frames == 3  # 0, 0.4, 0.8 s
+    assert "3 frames" in capsys.readouterr().out
+    assert main([*argv, "--animate", str(tmp_path / "x.avi")]) == 2
+    assert main(["plot", str(tmp_path / "missing.npz")]) == 2
