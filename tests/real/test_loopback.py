@@ -226,3 +226,15 @@ def test_ir_calibration_request(carrier: tuple[str, str | None, str | None]) -> 
         assert eventually(lambda: em.robot.calibrations == 1)
         robot.sense_all()  # the flag was sent once: later exchanges do not recalibrate
         assert em.robot.calibrations == 1
+
+
+def test_image_rotation_turns_sideways_cameras() -> None:
+    import numpy as np
+
+    with emulated("wifi", None) as em:
+        with connect(em, None) as conn:
+            upright = conn.adapters["epuck"].camera_image().pixels
+        with connect(em, None, image_rotation=1) as conn:
+            turned = conn.adapters["epuck"].camera_image().pixels
+    assert turned.shape == (160, 120, 3)
+    assert np.array_equal(turned, np.rot90(upright, 1))  # the robot stood still in between

@@ -66,6 +66,8 @@ class EPuckReal(RobotAdapter):
 
     Use :func:`~puckboard.adapters.real.open_wifi` / :func:`open_sercom` rather than
     building one by hand; they also make the blackboard and the connection.
+    ``image_rotation`` turns camera images by that many quarter turns counter-clockwise,
+    for robots whose camera is mounted sideways.
     """
 
     available_sensors = frozenset(
@@ -91,8 +93,10 @@ class EPuckReal(RobotAdapter):
         blackboard: Blackboard | Namespace | None = None,
         command_timeout: float | None = 1.0,
         start_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        image_rotation: int = 0,
     ) -> None:
         self.link = link
+        self.image_rotation = int(image_rotation) % 4
         self.backend_name = link.backend_name
         super().__init__(
             name, profile=profile, blackboard=blackboard, command_timeout=command_timeout
@@ -130,7 +134,10 @@ class EPuckReal(RobotAdapter):
             lambda: self.link.exchange(self._actuators, sensors=False, image=True)
         )
         assert reply.image is not None
-        return CameraImage(reply.image)
+        image = reply.image
+        if self.image_rotation:
+            image = np.ascontiguousarray(np.rot90(image, self.image_rotation))
+        return CameraImage(image)
 
     def _close(self) -> None:
         self.link.close()

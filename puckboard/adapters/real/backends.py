@@ -39,6 +39,7 @@ def open_wifi(
     command_timeout: float | None = 1.0,
     blackboard: Blackboard | None = None,
     name: str | None = None,
+    image_rotation: int = 0,
     device: str | None = None,
     **options: Any,
 ) -> Connection:
@@ -63,7 +64,7 @@ def open_wifi(
     port = DEFAULT_PORT if port is None else int(port)
     transport = TcpTransport(host, port, connect_timeout=connect_timeout)
     link = WifiLink(transport, timeout=timeout, retries=retries)
-    return _connect(scene, link, EPUCK2, blackboard, name, command_timeout)
+    return _connect(scene, link, EPUCK2, blackboard, name, command_timeout, image_rotation)
 
 
 def open_sercom(
@@ -78,6 +79,7 @@ def open_sercom(
     command_timeout: float | None = 1.0,
     blackboard: Blackboard | None = None,
     name: str | None = None,
+    image_rotation: int = 0,
     host: str | None = None,
     port: int | None = None,
     **options: Any,
@@ -88,7 +90,8 @@ def open_sercom(
     ``/dev/cu.usbmodem…`` (e-puck2 USB), ``COM5`` (Windows), a pseudo-terminal, or a
     pyserial URL such as ``socket://127.0.0.1:10001``. ``model`` is ``"e-puck2"``
     (all-sensors/all-actuators commands) or ``"e-puck1"`` (individual commands); by
-    default it follows the scene robot's profile.
+    default it follows the scene robot's profile. ``image_rotation`` (quarter turns
+    counter-clockwise) fixes camera images that come out sideways.
     """
     _reject_unknown("sercom", options)
     if host or port:
@@ -111,7 +114,7 @@ def open_sercom(
     except Exception:
         transport.close()
         raise
-    return _connect(scene, link, profile, blackboard, name, command_timeout)
+    return _connect(scene, link, profile, blackboard, name, command_timeout, image_rotation)
 
 
 def _connect(
@@ -121,6 +124,7 @@ def _connect(
     blackboard: Blackboard | None,
     name: str | None,
     command_timeout: float | None,
+    image_rotation: int = 0,
 ) -> Connection:
     scene = _as_scene(scene)
     robots = tuple(getattr(scene, "robots", ()) or ())
@@ -141,6 +145,7 @@ def _connect(
             blackboard=board,
             command_timeout=command_timeout,
             start_pose=start,
+            image_rotation=image_rotation,
         )
         adapter.sense_all()  # fail now, with a clear message, rather than in the first cycle
     except Exception:
