@@ -114,3 +114,17 @@ def test_proximity_noise_perturbs_raw_values_but_not_an_empty_reading():
         raws.append(w.prox_raw[0].copy())
         assert (w.prox_distance[0] == EPUCK2.prox_range).all()
     assert np.std(np.array(raws)[:, PS7]) > 1.0
+
+
+def test_arena_walls_are_seen_along_the_closest_ray_of_the_aperture():
+    from puckboard.sim.scene import Arena
+
+    arena = Arena(-0.5, -0.5, 0.5, 0.5)
+    pose = EPUCK2.prox_poses[PS7]
+    perpendicular = 0.03
+    x = 0.5 - perpendicular - pose.x  # ps7 sits 3 cm ahead of the centre
+    w = World(empty_scene(robot("a", x, 0.0, 0.0), arena=arena))
+    closest_ray = pose.heading - EPUCK2.prox_aperture / 2  # the ray nearest the wall normal
+    assert w.prox_distance[0, PS7] == pytest.approx(perpendicular / math.cos(closest_ray))
+    assert w.prox_distance[0, PS0] == pytest.approx(perpendicular / math.cos(closest_ray))
+    assert w.prox_distance[0, 4] == EPUCK2.prox_range  # rear_left faces away
