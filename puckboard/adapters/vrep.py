@@ -393,7 +393,6 @@ class EPuckVRep(RobotAdapter):
         self._enc_speed: np.ndarray | None = None
         self._enc_time = 0.0
         self._enc_total = np.zeros(2)
-        self._ground_res: tuple[int, int] | None = None
 
     @property
     def remote_stepper(self) -> RemoteStepper:

@@ -48,6 +48,8 @@ class ClientState:
     #: ZeroMQ envelope of a held ``_*executed*_`` (answered when the step is done).
     parked: Any = None
     parked_since: float = 0.0
+    #: The step was done before the client's ``_*executed*_`` arrived: answer that at once.
+    released: bool = False
     #: Robots whose wheels this client commanded (stopped when it is forgotten).
     robots: set[int] = field(default_factory=set)
 

@@ -213,7 +213,9 @@ class RemoteApiServer:
         client.parked = None  # a new request makes any held envelope stale
         func = req.func
         if func != EXECUTED:
-            client.waiting = False  # a REQ client only sends anew once it gave up waiting
+            # a REQ client only sends anew once it gave up waiting (or was answered)
+            client.waiting = False
+            client.released = False
         if func == EXECUTED:
             self._executed(client, envelope, now)
         elif func == END:
@@ -253,7 +255,11 @@ class RemoteApiServer:
             return
         if result is STEP_PENDING:
             self._pump(now)
-            self._send(envelope, wait_reply() if client.waiting else _RET_NONE)
+            if client.waiting:
+                self._send(envelope, wait_reply())
+            else:  # this very call completed the gate: the step is done already
+                client.released = False
+                self._send(envelope, _RET_NONE)
             return
         self._send(envelope, return_reply(result) if result else _RET_NONE)
         if func == "sim.stopSimulation":
@@ -264,7 +270,10 @@ class RemoteApiServer:
             self._pump(now)
 
     def _executed(self, client: ClientState, envelope: list[bytes], now: float) -> None:
-        if not client.waiting:
+        if client.released:  # the step finished between our _*wait*_ and this answer
+            client.released = False
+            self._send(envelope, _RET_NONE)
+        elif not client.waiting:
             self._send(envelope, error_reply("_*executed*_ received, but no call is waiting"))
         elif not self.api.running or client.desired_step <= self.api.step_count:
             client.waiting = False
@@ -279,6 +288,8 @@ class RemoteApiServer:
         if client.parked is not None:
             self._send(client.parked, _RET_NONE)
             client.parked = None
+        else:  # its _*executed*_ is still on the way
+            client.released = True
 
     def _pump(self, now: float) -> None:
         """Advance while every gating client has asked for the next step."""

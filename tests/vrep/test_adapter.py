@@ -9,6 +9,7 @@ import threading
 
 import numpy as np
 import pytest
+import zmq
 from vrep_helpers import free_port, start_server, stop_server
 
 from puckboard.adapters.embedded import open_embedded
@@ -293,3 +294,67 @@ def test_full_two_robot_pass_has_the_embedded_outcome(server):
     assert (r["success"], r["failure"]) == (e["success"], e["failure"])
     assert [x["passed_other"] for x in r["robots"]] == [x["passed_other"] for x in e["robots"]]
     assert [x["collisions"] for x in r["robots"]] == [x["collisions"] for x in e["robots"]]
+
+
+STUDENT = """
+import sys
+from puckboard.adapters.vrep import EPuckVRep
+robot = EPuckVRep(sys.argv[1], object_path=sys.argv[1], port=int(sys.argv[2]), timeout=10.0)
+robot.start_simulation()
+for _ in range(20):
+    robot.sense_all()
+    robot.set_wheel_speeds(3.0, 3.0)
+    robot.step()
+print(round(robot.refresh("pose").x, 6), round(robot.stepper.time, 6))
+robot.close()
+"""
+
+
+def test_two_processes_each_drive_their_robot_in_one_stepped_simulation():
+    """As a class would: two programs, one robot each, stepped together by the server.
+
+    A third client holds the simulation (stepping, never stepping) until both programs
+    are connected and stepping, then lets go: from then on every step needs both.
+    """
+    import time
+
+    from coppeliasim_zmqremoteapi_client import RemoteAPIClient
+
+    server = start_server(realtime=False)
+    holder = RemoteAPIClient("127.0.0.1", server.port)
+    holder.socket.setsockopt(zmq.RCVTIMEO, 5000)
+    holder.socket.setsockopt(zmq.LINGER, 0)
+    procs = []
+    try:
+        holder.call("sim.setStepping", [True])
+        holder.call("sim.startSimulation", [])
+        procs = [
+            subprocess.Popen(
+                [sys.executable, "-c", STUDENT, name, str(server.port)],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            for name in ("ePuck", "ePuck#0")
+        ]
+        deadline = time.monotonic() + 60
+        while sum(c.waiting for c in server.clients) < 2 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert server.api.world.step_count == 0
+        holder.call("sim.setStepping", [False])  # let go
+        outputs = []
+        for proc in procs:
+            out, err = proc.communicate(timeout=60)
+            assert proc.returncode == 0, err
+            outputs.append(out.split())
+        dt = server.api.world.dt
+        # each saw exactly its 20 steps, which were the same 20 steps for both
+        assert [float(t) for _, t in outputs] == [pytest.approx(20 * dt)] * 2
+        assert server.api.world.step_count == 20
+    finally:
+        for proc in procs:
+            if proc.poll() is None:
+                proc.kill()
+                proc.communicate()
+        holder.socket.close(0)
+        stop_server(server)
