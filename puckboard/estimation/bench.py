@@ -1,7 +1,8 @@
 """How good is the odometry estimate? Measured against the simulator's ground truth.
 
 ``run_suite(steps)`` is the ``estimation`` suite of ``puckboard bench``: it runs the
-two-robot pass (its whole 120 s) and three laps of ``line-follow`` on the
+two-robot pass (its whole 120 s) with the scene's controllers and with the stock
+controllers (with which the two robots collide), and three laps of ``line-follow`` on the
 embedded simulator, with and without wheel-speed noise, for a few seeds, and reports
 per robot the position and heading error of the estimate at the end and at worst, and
 how often the true pose lay inside the estimate's 95 % ellipse. Three estimates run
@@ -61,6 +62,13 @@ WHEEL_NOISE: tuple[float, ...] = (0.0, 0.03)  # 0.03: the shipped scenes' settin
 LAPS = 3.0
 CHI2_95_2DOF = 5.991  # position error inside the 95 % ellipse when d² is below this
 VARIANTS = ("encoders", "step counter", "axle +1 mm")
+#: (scene, laps or None for the whole scene, controller or None for the scene's).
+#: The stock controller makes the two robots collide: the case odometry cannot see.
+CASES: tuple[tuple[str, float | None, str | None], ...] = (
+    ("two-robot-pass", None, None),
+    ("two-robot-pass", None, "stock"),
+    ("line-follow", LAPS, None),
+)
 
 
 @dataclass
@@ -113,17 +121,21 @@ def run_case(
     *,
     steps: int | None = None,
     laps: float | None = None,
+    controller: Any = None,
 ) -> tuple[dict[str, Any], list[Trace]]:
     """One simulation with the three estimates of the module docstring running side by side.
 
     ``laps`` stops the run once every robot has turned through that many full turns
     (a lap of a closed loop track); otherwise the run lasts the scene's whole duration
     (for the two-robot pass: meeting, passing, both obstacles and back on the line).
-    ``steps`` caps the control cycles. Returns the per-robot metrics and the traces.
+    ``steps`` caps the control cycles; ``controller`` replaces every robot's controller
+    (default: the scene's). Returns the per-robot metrics and the traces.
     """
     from ..episode import Episode
 
-    episode = Episode(scene_name, seed=seed, overrides={"noise.wheel_speed": wheel_noise})
+    episode = Episode(
+        scene_name, seed=seed, controller=controller, overrides={"noise.wheel_speed": wheel_noise}
+    )
     world = episode.world
     if world is None:  # pragma: no cover - the embedded backend always has one
         raise RuntimeError("the estimation benchmark needs the embedded simulator")
@@ -214,7 +226,7 @@ def run_case(
             row[variant] = {k: _round(v) for k, v in traces[(name, variant)].metrics().items()}
         robots.append(row)
     info = {
-        "scene": scene_name,
+        "scene": scene_name if controller is None else f"{scene_name} ({controller})",
         "wheel_noise": wheel_noise,
         "seed": seed,
         "sim_time_s": round(loop.time, 3),
@@ -368,10 +380,12 @@ def run_suite(steps: int | None = None, seeds: Sequence[int] = SEEDS) -> dict[st
     pass to its verdict and line-follow for three laps.
     """
     runs = []
-    for scene_name, laps in (("two-robot-pass", None), ("line-follow", LAPS)):
+    for scene_name, laps, controller in CASES:
         for noise in WHEEL_NOISE:
             for seed in seeds:
-                info, _ = run_case(scene_name, noise, seed, steps=steps, laps=laps)
+                info, _ = run_case(
+                    scene_name, noise, seed, steps=steps, laps=laps, controller=controller
+                )
                 runs.append(info)
     return {
         "seeds": list(seeds),
@@ -503,6 +517,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, nargs="+", default=list(SEEDS))
     parser.add_argument("--json", type=Path, help="write the full results to this file")
     parser.add_argument("--plot", type=Path, help="draw line-follow (seed = first seed) here")
+    parser.add_argument(
+        "--plot-contact", type=Path, help="draw the stock two-robot pass (a collision) here"
+    )
     args = parser.parse_args(argv)
     result = run_suite(args.steps, seeds=args.seeds)
     if args.json:
@@ -519,6 +536,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             title=f"line-follow, 3 laps, wheel noise 3 %, seed {args.seeds[0]}",
         )
         sys.stdout.write(f"plot written to {args.plot}\n")
+    if args.plot_contact:
+        seed = args.seeds[-1]
+        _, traces = run_case("two-robot-pass", 0.03, seed, steps=args.steps, controller="stock")
+        plot_traces(
+            [t for t in traces if t.variant == "encoders"],
+            args.plot_contact,
+            every=20.0,
+            title=f"two-robot pass, stock controllers (they collide), wheel noise 3 %, seed {seed}",
+        )
+        sys.stdout.write(f"plot written to {args.plot_contact}\n")
     return 0
 
 
