@@ -86,7 +86,7 @@ class RemoteApiServer:
         self._socket = self._context.socket(zmq.ROUTER)
         self._socket.setsockopt(zmq.LINGER, 0)
         self._socket.setsockopt(zmq.MAXMSGSIZE, MAX_FRAME_BYTES + 1024)
-        endpoint_host = "*" if host in ("0.0.0.0", "*") else host
+        endpoint_host = {"0.0.0.0": "*", "localhost": "127.0.0.1"}.get(host, host)
         try:
             if port == 0:
                 self.port = self._socket.bind_to_random_port(f"tcp://{endpoint_host}")
@@ -157,7 +157,11 @@ class RemoteApiServer:
                         except zmq.Again:
                             break
                         self._handle_safely(frames)
-                self._housekeeping(time.monotonic())
+                try:
+                    self._housekeeping(time.monotonic())
+                except Exception:  # a failing step must not end the server either
+                    self.errors += 1
+                    log.exception("simulation step failed; the server keeps serving")
         except zmq.ContextTerminated:  # pragma: no cover - close() from another thread
             pass
         finally:
