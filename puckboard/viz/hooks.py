@@ -114,12 +114,25 @@ def attach(
         episode.add_observer(outputs.recorder)
         episode.add_close_observer(outputs.finish)
     if view:
-        from .live import LiveView
+        from .live import LiveView, can_show
 
         assert outputs.recorder is not None
-        outputs.view = LiveView(outputs.recorder, speed=speed).attach(episode)
+        if can_show():
+            outputs.view = LiveView(outputs.recorder, speed=speed).attach(episode)
+        else:
+            log.warning(
+                "--view needs a display, and matplotlib found none (backend %s); running "
+                "without the view. Record the run instead: --record run.gif",
+                _backend(),
+            )
     if monitor:
         from .monitor import SensorMonitor
 
         outputs.monitor = SensorMonitor.for_episode(episode).attach(episode)
     return outputs
+
+
+def _backend() -> str:
+    import matplotlib
+
+    return str(matplotlib.get_backend())

@@ -28,6 +28,20 @@ __all__ = ["LiveView"]
 log = logging.getLogger(__name__)
 
 _NON_INTERACTIVE = {"agg", "pdf", "ps", "svg", "pgf", "cairo", "template"}
+_NOTEBOOK_WIDGETS = ("ipympl", "widget", "nbagg")
+
+
+def can_show() -> bool:
+    """Whether matplotlib can show a live figure here (a window or a notebook)."""
+    import matplotlib
+
+    return matplotlib.get_backend().lower() not in _NON_INTERACTIVE
+
+
+def matplotlib_backend() -> str:
+    import matplotlib
+
+    return matplotlib.get_backend().lower()
 
 
 class LiveView:
@@ -214,7 +228,8 @@ class LiveView:
         if not self.interactive:
             return
         failing = sys.exc_info()[0] is not None
-        if self.block_at_end and not failing:
+        in_widget = any(w in matplotlib_backend() for w in _NOTEBOOK_WIDGETS)
+        if self.block_at_end and not failing and not in_widget:
             self.stage.set_footer("finished: close the window to exit")
             self._draw_now()
             import matplotlib.pyplot as plt

@@ -17,7 +17,9 @@ def _close_figures():
 
 def _run(tmp_path, tag, *, view, seconds=3.0):
     ep = Episode("two-robot-pass", controller="improved", seed=0)
-    outputs = attach(ep, view=view, record=tmp_path / f"{tag}.npz", speed=None)
+    outputs = attach(ep, record=tmp_path / f"{tag}.npz")
+    if view:  # headless stand-in for the window: the same view, drawing off-screen
+        outputs.view = LiveView(outputs.recorder, speed=None, figure=plt.figure()).attach(ep)
     ep.run(seconds, stop_early=False)
     return ep, outputs, load_recording(tmp_path / f"{tag}.npz")
 
@@ -71,6 +73,14 @@ def test_outputs_are_flushed_when_the_run_is_interrupted(tmp_path):
     with pytest.raises(KeyboardInterrupt):
         ep.run(5.0)
     assert len(load_recording(tmp_path / "run.npz")) == 10
+
+
+def test_view_without_a_display_warns_and_runs_on(tmp_path, caplog):
+    ep = Episode("two-robot-pass", controller="improved", seed=0)
+    outputs = attach(ep, view=True)
+    assert outputs.view is None
+    assert "--record run.gif" in caplog.text
+    ep.run(0.5)
 
 
 def test_bad_outputs_fail_before_the_run(tmp_path):
