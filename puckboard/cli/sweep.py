@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import sys
 from pathlib import Path
 
@@ -128,6 +127,7 @@ def main(args: argparse.Namespace) -> int:
         DaskExecutor,
         LocalExecutor,
         PlanError,
+        SweepExecutor,
         SweepPlan,
         check_plan,
         controllers_in_dir,
@@ -137,9 +137,6 @@ def main(args: argparse.Namespace) -> int:
     )
     from ..sweep.summary import format_groups, format_ranking
 
-    if not getattr(args, "verbose", 0):
-        # dask.distributed logs every worker start and stop at INFO; keep the output readable
-        logging.getLogger("distributed").setLevel(logging.WARNING)
     scene = _scene(args.scenario)
     controllers = list(args.controller)
     if args.controllers_dir is not None:
@@ -179,7 +176,11 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from exc
 
     try:
-        executor = DaskExecutor(args.scheduler) if args.scheduler else LocalExecutor(args.workers)
+        executor: SweepExecutor
+        if args.scheduler:
+            executor = DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
+        else:
+            executor = LocalExecutor(args.workers)
     except (ImportError, ConnectionError, ValueError) as exc:
         raise CliError(str(exc)) from exc
 

@@ -8,8 +8,10 @@ controller and wheel-speed noise (so seeds differ) for ``N`` simulation steps pe
 * ``local_1`` / ``local_2`` — :class:`LocalExecutor` with 1 and 2 worker processes;
 * ``dask_2`` — :class:`DaskExecutor` on a 2-worker ``LocalCluster`` (one thread each).
 
-Each executor is started and warmed up first (worker processes spawned, modules
-imported), then the same plan runs ``REPEATS`` times; the figure is the median rate.
+Every executor is started and warmed up first (worker processes spawned, modules
+imported); then the same plan runs ``REPEATS`` times on each, the executors taking turns
+so that a change in load on a shared machine affects them alike; the figure is the
+median rate.
 Start-up times are reported separately because a long sweep pays them once.
 
 Goals: ``scaling_efficiency`` = rate(local_2) / (2 × rate(local_1)) ≥ 0.8 and
@@ -20,7 +22,6 @@ otherwise idle cores; the load average is included so readers can judge.
 from __future__ import annotations
 
 import dataclasses
-import logging
 import os
 import statistics
 import time
@@ -46,17 +47,11 @@ def _plan(scenario: str, duration: float, episodes: int) -> SweepPlan:
     )
 
 
-def _measure(
-    executor: SweepExecutor, scene: Any, plan: SweepPlan, warmup: SweepPlan
-) -> list[float]:
-    run_sweep(warmup, scene, executor=executor, batch_size=1)
-    rates = []
-    for _ in range(REPEATS):
-        result = run_sweep(plan, scene, executor=executor)
-        if result.errors:
-            raise RuntimeError(f"benchmark episodes failed: {result.errors[0]}")
-        rates.append(result.ran / result.wall_s)
-    return rates
+def _rate(executor: SweepExecutor, scene: Any, plan: SweepPlan) -> float:
+    result = run_sweep(plan, scene, executor=executor)
+    if result.errors:
+        raise RuntimeError(f"benchmark episodes failed: {result.errors[0]}")
+    return result.ran / result.wall_s
 
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
@@ -79,28 +74,32 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     if hasattr(os, "getloadavg"):
         out["load_average_before"] = round(os.getloadavg()[0], 2)
 
-    rates: dict[str, list[float]] = {}
+    executors: dict[str, SweepExecutor] = {"inline": InlineExecutor()}
     startup: dict[str, float] = {}
-    rates["inline"] = _measure(InlineExecutor(), scene, plan, warmup)
-    for workers in (1, 2):
-        with LocalExecutor(workers) as executor:
-            t0 = time.perf_counter()
-            run_sweep(warmup, scene, executor=executor, batch_size=1)
-            startup[f"local_{workers}"] = time.perf_counter() - t0
-            rates[f"local_{workers}"] = _measure(executor, scene, plan, warmup)
-    dask_log = logging.getLogger("distributed")
-    level = dask_log.level
-    dask_log.setLevel(max(level, logging.WARNING))  # worker start/stop chatter
     try:
-        t0 = time.perf_counter()
-        with DaskExecutor(local_workers=2) as executor:
-            run_sweep(warmup, scene, executor=executor, batch_size=1)
-            startup["dask_2"] = time.perf_counter() - t0
-            rates["dask_2"] = _measure(executor, scene, plan, warmup)
-    except ImportError as exc:
-        out["dask_2"] = f"skipped: {exc}"
+        for name, make in (
+            ("local_1", lambda: LocalExecutor(1)),
+            ("local_2", lambda: LocalExecutor(2)),
+            ("dask_2", lambda: DaskExecutor(local_workers=2)),
+        ):
+            t0 = time.perf_counter()
+            try:
+                executors[name] = make()
+            except ImportError as exc:
+                out[name] = f"skipped: {exc}"
+                continue
+            # spawn the workers and import everything before timing anything
+            run_sweep(warmup, scene, executor=executors[name], batch_size=1)
+            startup[name] = time.perf_counter() - t0
+        # Interleave the executors repeat by repeat, so a change in the machine's load
+        # hits all of them alike instead of spoiling one.
+        rates: dict[str, list[float]] = {name: [] for name in executors}
+        for _ in range(REPEATS):
+            for name, executor in executors.items():
+                rates[name].append(_rate(executor, scene, plan))
     finally:
-        dask_log.setLevel(level)
+        for executor in executors.values():
+            executor.close()
 
     median = {name: statistics.median(values) for name, values in rates.items()}
     out["episodes_per_s"] = median

@@ -183,6 +183,7 @@ class DaskExecutor(SweepExecutor):
         *,
         local_workers: int | None = None,
         timeout: float = 30.0,
+        quiet: bool = True,
     ) -> None:
         try:
             from dask.distributed import Client, LocalCluster
@@ -192,6 +193,13 @@ class DaskExecutor(SweepExecutor):
             ) from exc
         self.scheduler = scheduler
         self._cluster: Any = None
+        self.client: Any = None
+        # dask.distributed logs every scheduler, worker and connection start and stop at
+        # INFO on its own handler; ``quiet`` keeps that to warnings while we use it.
+        self._dask_log = logging.getLogger("distributed")
+        self._dask_log_level = self._dask_log.level
+        if quiet and self._dask_log.getEffectiveLevel() < logging.WARNING:
+            self._dask_log.setLevel(logging.WARNING)
         try:
             if scheduler is None:
                 self._cluster = LocalCluster(
@@ -204,7 +212,7 @@ class DaskExecutor(SweepExecutor):
                 )
                 self.client = Client(self._cluster)
             else:
-                self.client = Client(scheduler, timeout=timeout)
+                self.client = Client(scheduler, timeout=min(timeout, 10.0))
             self.client.wait_for_workers(1, timeout=timeout)
         except (OSError, TimeoutError) as exc:
             self._shutdown()
@@ -267,3 +275,4 @@ class DaskExecutor(SweepExecutor):
         if self._cluster is not None:
             self._cluster.close()
             self._cluster = None
+        self._dask_log.setLevel(self._dask_log_level)
