@@ -61,6 +61,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def main(args: argparse.Namespace) -> int:
+    import logging
+
     from ..errors import SceneError
     from ..remote.server import RemoteApiServer
     from ..sim.scenefile import load_scene
@@ -110,7 +112,12 @@ def main(args: argparse.Namespace) -> int:
         f"EPuckVRep(object_path='ePuck', host='{shown_host}', port={server.port})",
         file=out,
     )
-    print("Ctrl-C stops the server", file=out, flush=True)
+    print(
+        "Ctrl-C stops the server; clients coming and going are logged below", file=out, flush=True
+    )
+    remote_log = logging.getLogger("puckboard.remote")
+    if remote_log.getEffectiveLevel() > logging.INFO:
+        remote_log.setLevel(logging.INFO)  # a lecturer wants to see who connects
     try:
         server.serve_forever()
     except KeyboardInterrupt:

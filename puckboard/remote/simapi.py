@@ -487,6 +487,12 @@ class SimApi:
     def set_stepping(self, client: ClientState, enabled: bool) -> list[Any]:
         previous = client.stepping
         client.stepping = previous + 1 if enabled else max(0, previous - 1)
+        if (previous > 0) != (client.stepping > 0):
+            log.info(
+                "client %s %s",
+                client.short,
+                "steps the simulation" if client.stepping else "no longer steps the simulation",
+            )
         return [previous]
 
     def step(self, client: ClientState, _wait: Any) -> Any:
