@@ -180,7 +180,7 @@ def test_a_waiting_client_gets_heartbeats_not_silence():
     try:
         for c in clients:
             c.socket.setsockopt(zmq.LINGER, 0)
-            c.socket.setsockopt(zmq.RCVTIMEO, 200)  # 4 heartbeats
+            c.socket.setsockopt(zmq.RCVTIMEO, 500)  # 10 heartbeats
         a, b = clients
         a.call("sim.setStepping", [True])
         b.call("sim.setStepping", [True])
@@ -195,7 +195,7 @@ def test_a_waiting_client_gets_heartbeats_not_silence():
 
         thread = threading.Thread(target=step_a, daemon=True)
         thread.start()
-        thread.join(0.8)  # four times the client's receive timeout
+        thread.join(1.5)  # three times the client's receive timeout
         assert thread.is_alive() and not errors
         b.call("sim.step", [])
         thread.join(5.0)
