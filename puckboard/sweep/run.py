@@ -203,7 +203,7 @@ def run_sweep(
     except KeyboardInterrupt:
         result.interrupted = True
         executor.cancel()
-        log.warning("sweep interrupted: %d episodes finished in this run", result.ran)
+        log.info("sweep interrupted: %d episodes finished in this run", result.ran)
     finally:
         progress.close()
         if store is not None:
