@@ -423,13 +423,14 @@ class EPuckVRep(RobotAdapter):
                     missing += [_show(n) for n, h in zip(name, handles) if h is None]
                 else:
                     found[part] = self._lookup(name)
-                    if found[part] is None:
+                    if found[part] is None and part not in _OPTIONAL_PARTS:
                         missing.append(_show(name))
                 if part == "base" and found[part] is None:
                     break  # no such robot in this style: try the other one
             tried += [_show(names["base"])] if found.get("base") is None else missing
             if not missing:
                 log.debug("robot %r: found %s objects (%s)", self.name, object_path, names["base"])
+                self._drop_absent_sensors(found, names)
                 return found
             if found.get("base") is not None:
                 raise AdapterError(
@@ -441,6 +442,17 @@ class EPuckVRep(RobotAdapter):
             f"{', '.join(tried)}. Copies of a model are named ePuck#0, ePuck#1 ... "
             "(alias paths /ePuck[1], /ePuck[2] ...); is the scene loaded?"
         )
+
+    def _drop_absent_sensors(self, found: dict[str, Any], names: dict[str, Any]) -> None:
+        """A model without a light sensor or camera still drives; those sensors go away."""
+        for part, sensor in _OPTIONAL_PARTS.items():
+            if found.get(part) is None:
+                log.warning(
+                    "robot %r: the model has no %s (%s); its %s sensor is not available",
+                    self.name, part, _show(names[part]), sensor.value,
+                )  # fmt: skip
+                self.available_sensors = self.available_sensors - {sensor}
+                self._enabled.discard(sensor)
 
     def _find_helper(self, sense_mode: str) -> int | None:
         if sense_mode == "calls":
@@ -644,6 +656,10 @@ class EPuckVRep(RobotAdapter):
             self.remote_stepper.release()
         if self._own_link:
             self.link.close()
+
+
+#: Parts a model may lack (the robot still drives) and the sensor each one provides.
+_OPTIONAL_PARTS = {"light": Sensor.GROUND, "camera": Sensor.CAMERA}
 
 
 def _ground(value: np.ndarray) -> Ground:

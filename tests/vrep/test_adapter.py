@@ -358,3 +358,19 @@ def test_two_processes_each_drive_their_robot_in_one_stepped_simulation():
                 proc.communicate()
         holder.socket.close(0)
         stop_server(server)
+
+
+def test_a_model_without_camera_drives_without_that_sensor(server, caplog):
+    from puckboard.errors import NotSupportedError
+
+    server.api.objects._by_name.pop("ePuck_camera")  # a model variant without a camera
+    robot = EPuckVRep("plain", object_path="ePuck", port=server.port)
+    try:
+        assert Sensor.CAMERA not in robot.available_sensors
+        assert Sensor.GROUND in robot.available_sensors
+        assert "ePuck_camera" in caplog.text
+        with pytest.raises(NotSupportedError):
+            robot.camera_image()
+        assert Sensor.POSE in robot.sense_all()
+    finally:
+        robot.close()
