@@ -94,6 +94,7 @@ class LiveView:
         self._sim0 = 0.0
         self._last_draw = -1e9
         self.frames_drawn = 0
+        self._draw_cost = 0.0  # s, smoothed cost of one redraw
         self._handle: Any = None
         if self.interactive:
             manager = getattr(figure.canvas, "manager", None)
@@ -122,7 +123,12 @@ class LiveView:
         now = _time.perf_counter()
         if self._wall0 is None:
             self._wall0, self._sim0 = now, t
-        due = now - self._last_draw >= 1.0 / self.fps
+        # At most fps redraws a second; when the run is behind its playback speed (or
+        # runs flat out), at most half the time goes to drawing: states are skipped
+        # rather than the run slowed down.
+        behind = self.speed is None or (now - self._wall0) > (t - self._sim0) / self.speed
+        interval = max(1.0 / self.fps, 2.0 * self._draw_cost) if behind else 1.0 / self.fps
+        due = now - self._last_draw >= interval
         if due or self.paused:
             self._draw(arrays)
         if self.paused:
@@ -133,6 +139,7 @@ class LiveView:
                 self._sleep(ahead)
 
     def _draw(self, arrays: dict[str, np.ndarray]) -> None:
+        started = _time.perf_counter()
         n = len(arrays["time"])
         names = self.recorder.layer_names
         layers = [names[k] if k >= 0 else None for k in arrays["layer"][n - 1]]
@@ -145,16 +152,18 @@ class LiveView:
             layers,
             trails,
         )
-        self._last_draw = _time.perf_counter()
         self.frames_drawn += 1
+        self._last_draw = started
         if self.notebook:
             self._show_inline()
-            return
-        self.stage.render()
-        if self.interactive:
-            canvas = self.fig.canvas
-            canvas.blit(self.fig.bbox)
-            canvas.flush_events()
+        else:
+            self.stage.render()
+            if self.interactive:
+                canvas = self.fig.canvas
+                canvas.blit(self.fig.bbox)
+                canvas.flush_events()
+        cost = _time.perf_counter() - started
+        self._draw_cost = cost if self.frames_drawn == 1 else 0.8 * self._draw_cost + 0.2 * cost
 
     def _show_inline(self) -> None:
         """Inline notebooks show pictures, not canvases: render off-screen and update
