@@ -63,14 +63,33 @@ def test_local_processes_give_the_same_rows(inline_rows, short_scene):
 
 
 @pytest.mark.slow
-def test_dask_local_cluster_gives_the_same_rows(inline_rows, short_scene):
-    pytest.importorskip("dask.distributed")
-    with DaskExecutor(local_workers=2) as executor:
-        assert executor.workers == 2
-        result = run_sweep(small_plan(short_scene), short_scene, executor=executor, batch_size=3)
-    assert executor.client is None  # client and cluster shut down
-    assert result.ran == len(inline_rows)
-    assert outcome_table(result.rows) == outcome_table(inline_rows)
+def test_dask_cluster_gives_the_same_rows(short_scene, tmp_path):
+    """Through a scheduler address, as --scheduler does: controller files are uploaded."""
+    distributed = pytest.importorskip("dask.distributed")
+    controller_file = tmp_path / "student_one.py"
+    controller_file.write_text(
+        "from puckboard.behaviours import stock\n"
+        "def make_controller(**params):\n    return stock(**params)\n"
+    )
+    plan = SweepPlan.from_specs(
+        short_scene.name,
+        controllers=["improved", f"{controller_file.as_posix()}:make_controller"],
+        seeds="0:2",
+        sets=["noise.wheel_speed=0,0.2"],
+        fixed={"duration": DURATION},
+    )
+    expected = run_sweep(plan, short_scene, executor=InlineExecutor())
+    assert not expected.errors
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        with DaskExecutor(cluster.scheduler_address) as executor:
+            assert executor.workers == 2
+            result = run_sweep(plan, short_scene, executor=executor, batch_size=3)
+        assert executor.client is None  # our client is closed; the cluster is the test's
+    assert result.ran == len(plan)
+    assert not result.errors, result.errors[:1]
+    assert outcome_table(result.rows) == outcome_table(expected.rows)
 
 
 @pytest.mark.parametrize("suffix", [".csv", ".parquet"])
