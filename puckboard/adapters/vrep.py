@@ -17,7 +17,7 @@ What the adapter adds to the bare client:
   ``ePuck_leftJoint#0`` and so on) or by a CoppeliaSim 4.3+ alias path (``/ePuck[1]``:
   ``/ePuck[1]/leftJoint``); if one style fails the other is tried, and a missing robot
   is an error that lists every name looked for.
-* **Sense-all.** If the model's script has the ``puckboardSenseAll`` helper (``puckboard
+* **Sense-all.** If the model's script has the ``puckboardSenseAll`` function (``puckboard
   serve`` has it; docs/coppeliasim.md gives the Lua for CoppeliaSim), every sensor comes
   in one round trip. Otherwise each sensor is read with its own calls (8 for the IR ring).
 * **SI records** in the real e-puck's sensor order; the V-REP model's order
@@ -335,8 +335,8 @@ class EPuckVRep(RobotAdapter):
     ``"/ePuck[1]"``). Pass ``link`` and ``stepper`` to share one connection between
     robots (:func:`open_coppeliasim` does); otherwise the adapter opens its own to
     ``host:port`` and closes it with itself. ``sense_mode`` is ``"auto"`` (the sense-all
-    helper when the model has it), ``"helper"`` (required) or ``"calls"`` (one call per
-    sensor object, as without the helper). ``heading_offset`` (rad) is added to the
+    script function when the model has it), ``"script"`` (required) or ``"calls"`` (one
+    call per sensor object, as without it). ``heading_offset`` (rad) is added to the
     model's yaw, for scenes whose model does not face its x axis.
     """
 
@@ -368,8 +368,8 @@ class EPuckVRep(RobotAdapter):
         sense_mode: str = "auto",
         heading_offset: float = 0.0,
     ) -> None:
-        if sense_mode not in ("auto", "helper", "calls"):
-            raise ValueError(f"sense_mode must be 'auto', 'helper' or 'calls', got {sense_mode!r}")
+        if sense_mode not in ("auto", "script", "calls"):
+            raise ValueError(f"sense_mode must be 'auto', 'script' or 'calls', got {sense_mode!r}")
         self._own_link = link is None
         self.link = link if link is not None else RemoteLink(host, port, timeout)
         self._own_stepper = stepper is None
@@ -384,7 +384,7 @@ class EPuckVRep(RobotAdapter):
             self.object_path = object_path
             self.heading_offset = float(heading_offset)
             self.handles = self._find_objects(object_path)
-            self._script = self._find_helper(sense_mode)
+            self._script = self._find_sense_script(sense_mode)
         except BaseException:
             if self._own_link:
                 self.link.close()
@@ -454,7 +454,7 @@ class EPuckVRep(RobotAdapter):
                 self.available_sensors = self.available_sensors - {sensor}
                 self._enabled.discard(sensor)
 
-    def _find_helper(self, sense_mode: str) -> int | None:
+    def _find_sense_script(self, sense_mode: str) -> int | None:
         if sense_mode == "calls":
             return None
         script = None
@@ -466,38 +466,38 @@ class EPuckVRep(RobotAdapter):
                     script = None
                 else:
                     api = reply.get("api", 0)
-                    self._wheels_helper = isinstance(api, int) and api >= 1
+                    self._wheels_function = isinstance(api, int) and api >= 1
             except ConnectionLostError:
                 raise
             except AdapterError as exc:
-                log.debug("no sense-all helper: %s", exc)
+                log.debug("no sense-all script function: %s", exc)
                 script = None
         if script is None:
-            if sense_mode == "helper":
+            if sense_mode == "script":
                 raise AdapterError(
                     f"e-puck {self.object_path!r} has no {SENSE_ALL_FUNCTION} script function; "
                     "add it to the model's script (docs/coppeliasim.md) or use sense_mode='calls'"
                 )
             log.info(
                 "robot %r: the model's script has no %s; reading each sensor with its own "
-                "calls (slower; docs/coppeliasim.md shows how to add the helper)",
+                "calls (slower; docs/coppeliasim.md shows how to add it)",
                 self.name, SENSE_ALL_FUNCTION,
             )  # fmt: skip
         return int(script) if script is not None else None
 
     @property
     def sense_mode(self) -> str:
-        """``"helper"`` (one round trip for all sensors) or ``"calls"`` (one per object)."""
-        return "helper" if self._script is not None else "calls"
+        """``"script"`` (one round trip for all sensors) or ``"calls"`` (one per object)."""
+        return "script" if self._script is not None else "calls"
 
     # -- the adapter hooks -------------------------------------------------------------------
     def _read_sensors(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
         if self._script is not None:
             data = self.link.call("sim.callScriptFunction", [SENSE_ALL_FUNCTION, self._script])
-            return self._records_from_helper(data, sensors)
+            return self._records_from_script(data, sensors)
         return self._records_from_calls(sensors)
 
-    def _records_from_helper(self, data: Any, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
+    def _records_from_script(self, data: Any, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
         if not isinstance(data, dict):
             raise AdapterError(f"{SENSE_ALL_FUNCTION} returned {type(data).__name__}, not a map")
         t = data.get("t")
@@ -616,7 +616,7 @@ class EPuckVRep(RobotAdapter):
 
     def _write_wheels(self, left: float, right: float) -> None:
         last_try = self.closed or self._closing
-        if self._wheels_helper and self._script is not None:
+        if self._wheels_function and self._script is not None:
             self.link.call(
                 "sim.callScriptFunction",
                 [SET_WHEELS_FUNCTION, self._script, left, right],
@@ -645,7 +645,7 @@ class EPuckVRep(RobotAdapter):
         return CameraImage(frame[::-1])  # bottom row first → upright
 
     _closing = False
-    _wheels_helper = False
+    _wheels_function = False
 
     def close(self) -> None:
         self._closing = True

@@ -75,7 +75,7 @@ WARMUP = 20
 @dataclass
 class _Test:
     key: str
-    sense_mode: str  # "helper" or "calls"
+    sense_mode: str  # "script" or "calls"
     body: Callable[[Any, dict[str, list[float]]], None]
     sensing_thread: bool = False
     camera_thread: bool = False
@@ -120,14 +120,14 @@ def _body(*reads: str, camera: bool = False) -> Callable[[Any, dict[str, list[fl
 def _tests() -> list[_Test]:
     return [
         _Test("01", "calls", _body("ground")),
-        _Test("02", "helper", _body("all")),
+        _Test("02", "script", _body("all")),
         _Test("03", "calls", _body("pose", "ground")),
-        _Test("04", "helper", _body("all")),
-        _Test("05", "helper", _body(), sensing_thread=True),
-        _Test("06", "helper", _body("all", camera=True)),
-        _Test("07", "helper", _body("all"), camera_thread=True),
-        _Test("08", "helper", _body(), sensing_thread=True, camera_thread=True),
-        _Test("full", "helper", _body("all")),
+        _Test("04", "script", _body("all")),
+        _Test("05", "script", _body(), sensing_thread=True),
+        _Test("06", "script", _body("all", camera=True)),
+        _Test("07", "script", _body("all"), camera_thread=True),
+        _Test("08", "script", _body(), sensing_thread=True, camera_thread=True),
+        _Test("full", "script", _body("all")),
         _Test("naive", "calls", _body("all")),
     ]
 

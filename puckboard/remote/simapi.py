@@ -17,12 +17,12 @@ unchanged. Where the served simulator differs from CoppeliaSim, it is said here:
 * ``ePuck_lightSensor`` is a 3×1 vision sensor whose pixels are the floor brightness
   under the left, centre and right ground sensors (grey, 0..255): that is how the
   V-REP model's line follower reads three pixels of its light sensor. For the exact
-  values, the sense-all helper returns them as floats.
+  values, the sense-all script function returns them as floats.
 * Vision sensor images come bottom row first, RGB, 3 bytes a pixel (1 with option bit 0
   set: greyscale), as CoppeliaSim sends them.
 * Every served object's orientation is a rotation about the vertical axis only.
 * ``sim.stopSimulation`` restores the scene's initial state, as CoppeliaSim does.
-* The helper ``puckboardSenseAll`` (``sim.callScriptFunction('puckboardSenseAll',
+* The script function ``puckboardSenseAll`` (``sim.callScriptFunction('puckboardSenseAll',
   sim.getScript(sim.scripttype_childscript, ePuck))``) returns every sensor of one robot
   in one round trip — the thesis's ``senseAllTogether`` — and ``puckboardSetWheels(left,
   right)`` sets both wheels in one (its ``setVelocitiesForRemote``). docs/coppeliasim.md
@@ -82,12 +82,12 @@ CONSTANTS: dict[str, int] = {
     "simulation_advancing_running": SIMULATION_ADVANCING_RUNNING,
 }
 
-#: The sense-all helper served as a script function of every e-puck's child script.
+#: The sense-all function served as a script function of every e-puck's child script.
 SENSE_ALL = "puckboardSenseAll"
 #: Both wheels in one call (the thesis's ``setVelocitiesForRemote``).
 SET_WHEELS = "puckboardSetWheels"
-#: Version of the helpers' interface, sent in every sense-all reply as ``api``.
-HELPER_API = 1
+#: Version of the script functions' interface, sent in every sense-all reply as ``api``.
+SCRIPT_API = 1
 #: Resolution of the served light (ground) sensor.
 LIGHT_SENSOR_RES = (3, 1)
 
@@ -573,7 +573,7 @@ class SimApi:
         order = _VREP_INDEX
         enc = w.encoders[robot]
         return {
-            "api": HELPER_API,
+            "api": SCRIPT_API,
             "t": float(w.time),
             "prox": w.prox_distance[robot, order].tolist(),
             "proxRaw": w.prox_raw[robot, order].tolist(),

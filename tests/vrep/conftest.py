@@ -16,7 +16,7 @@ pytest.importorskip("zmq")
 pytest.importorskip("cbor2")
 pytest.importorskip("coppeliasim_zmqremoteapi_client")
 
-from vrep_helpers import start_server, stop_server
+from vrep_support import start_server, stop_server
 
 from puckboard.remote.server import RemoteApiServer
 

@@ -10,7 +10,7 @@ import threading
 import numpy as np
 import pytest
 import zmq
-from vrep_helpers import free_port, start_server, stop_server
+from vrep_support import free_port, start_server, stop_server
 
 from puckboard.adapters.embedded import open_embedded
 from puckboard.adapters.vrep import EPuckVRep, RemoteLink, open_coppeliasim
@@ -67,7 +67,7 @@ def test_every_reading_matches_the_embedded_world(pair):
         drive(remote, COMMANDS[:n_steps])
         drive(local, COMMANDS[:n_steps])
         for name, adapter in remote.adapters.items():
-            assert adapter.sense_mode == "helper"
+            assert adapter.sense_mode == "script"
             got = adapter.sense_all()
             want = local.adapters[name].sense_all()
             assert set(got) == {

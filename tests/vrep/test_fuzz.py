@@ -11,7 +11,7 @@ import pytest
 import zmq
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from vrep_helpers import start_server, stop_server
+from vrep_support import start_server, stop_server
 
 from puckboard.adapters.vrep import EPuckVRep
 from puckboard.records import Sensor

@@ -10,7 +10,7 @@ import cbor2
 import numpy as np
 import pytest
 import zmq
-from vrep_helpers import start_server, stop_server
+from vrep_support import start_server, stop_server
 
 from puckboard.profile import EPUCK2
 from puckboard.records import VREP_ORDER

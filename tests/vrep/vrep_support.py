@@ -1,4 +1,4 @@
-"""Helpers shared by the remote API tests: servers on free loopback ports."""
+"""Support shared by the remote API tests: servers on free loopback ports."""
 
 from __future__ import annotations
 
