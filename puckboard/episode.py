@@ -319,7 +319,7 @@ class Episode:
             success=bool(self.judge.success),
             failure=self.judge.failure,
             robots=self.judge.metrics(),
-            events=list(self.judge.events),
+            events=sorted(self.judge.events, key=lambda e: e.time_s),
         )
         return self.result
 

@@ -134,30 +134,42 @@ class RobotMetrics:
 
 
 class _TrackProjector:
-    """Nearest point on a polyline, as arc length, for several points at once."""
+    """Nearest point on a polyline, as arc length, for several points at once.
+
+    One P×S array per quantity (P points, S segments); per-segment data are kept as
+    contiguous 1-D arrays so each numpy call streams through memory once.
+    """
 
     def __init__(self, segments: FloatArray, closed: bool) -> None:
-        self.a = segments[:, 0]
-        self.d = segments[:, 1] - segments[:, 0]
-        self.seg_len = np.linalg.norm(self.d, axis=1)
-        self.len2 = np.maximum(self.seg_len**2, 1e-18)
+        d = segments[:, 1] - segments[:, 0]
+        self.ax = np.ascontiguousarray(segments[:, 0, 0])
+        self.ay = np.ascontiguousarray(segments[:, 0, 1])
+        self.dx = np.ascontiguousarray(d[:, 0])
+        self.dy = np.ascontiguousarray(d[:, 1])
+        self.seg_len = np.hypot(self.dx, self.dy)
+        self.inv_len2 = 1.0 / np.maximum(self.seg_len**2, 1e-18)
+        self.heading = np.arctan2(self.dy, self.dx)
         self.cum = np.concatenate([[0.0], np.cumsum(self.seg_len)])[:-1]
         self.length = float(self.seg_len.sum())
         self.closed = closed
 
     def project(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(arc position, distance to the line, track heading there) for P×2 points."""
-        wx = points[:, 0:1] - self.a[:, 0]
-        wy = points[:, 1:2] - self.a[:, 1]
-        t = np.clip((wx * self.d[:, 0] + wy * self.d[:, 1]) / self.len2, 0.0, 1.0)
-        ex = wx - t * self.d[:, 0]
-        ey = wy - t * self.d[:, 1]
-        dist2 = ex * ex + ey * ey
-        best = np.argmin(dist2, axis=1)
+        wx = points[:, 0:1] - self.ax
+        wy = points[:, 1:2] - self.ay
+        t = wx * self.dx
+        t += wy * self.dy
+        t *= self.inv_len2
+        np.clip(t, 0.0, 1.0, out=t)
+        wx -= t * self.dx
+        wy -= t * self.dy
+        wx *= wx
+        wy *= wy
+        wx += wy  # squared distance
+        best = np.argmin(wx, axis=1)
         rows = np.arange(len(points))
         arc = self.cum[best] + t[rows, best] * self.seg_len[best]
-        heading = np.arctan2(self.d[best, 1], self.d[best, 0])
-        return arc, np.sqrt(dist2[rows, best]), heading
+        return arc, np.sqrt(wx[rows, best]), self.heading[best]
 
 
 @dataclass
@@ -215,6 +227,8 @@ class Judge:
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))
         track = scene.track
         self.projector = _TrackProjector(track.segments(), track.closed) if track else None
+        self._points = np.zeros((2 * self.n, 2))
+        self._sensor_offsets = np.array([r.sensor_offset for r in self.robots])
         self.length = self.projector.length if self.projector else 0.0
         self.on_line_tolerance = (track.width / 2 if track else 0.0) + self.rules.on_line_margin
         # obstacles standing on the line, with their arc positions
@@ -298,11 +312,11 @@ class Judge:
                 r.cycles += 1
             return
         L = self.length
-        centres = p[:, :2]
-        sensors = centres + np.stack([np.cos(p[:, 2]), np.sin(p[:, 2])], axis=1) * np.array(
-            [[r.sensor_offset] for r in self.robots]
-        )
-        both = np.concatenate([centres, sensors])
+        n = self.n
+        both = self._points
+        both[:n] = p[:, :2]
+        both[n:, 0] = p[:, 0] + np.cos(p[:, 2]) * self._sensor_offsets
+        both[n:, 1] = p[:, 1] + np.sin(p[:, 2]) * self._sensor_offsets
         arc, dist, _ = self.projector.project(both)
         for i, r in enumerate(self.robots):
             r.cycles += 1

@@ -299,9 +299,9 @@ def _rounded_rectangle(width: float, height: float, r: float, spacing: float) ->
     pieces: list[np.ndarray] = []
 
     def straight(a: tuple[float, float], b: tuple[float, float]) -> None:
-        n = max(1, math.ceil(math.dist(a, b) / spacing))
-        t = np.arange(n)[:, None] / n
-        pieces.append(np.asarray(a) + t * (np.asarray(b) - np.asarray(a)))
+        # one segment is exact for a straight; only the arcs need sampling
+        if math.dist(a, b) > 1e-12:
+            pieces.append(np.asarray([a], dtype=float))
 
     def arc(cx: float, cy: float, start: float) -> None:
         n = max(2, math.ceil(r * math.pi / 2.0 / spacing))
@@ -335,7 +335,7 @@ def _track(reader: _Reader) -> Track:
         closed = reader.boolean("closed", True)
         reader.finish()
         return Track(pts, width=width, closed=closed, colour=colour)
-    spacing = reader.number("spacing", 0.005, unit="m", low=0.0005, high=0.1)
+    spacing = reader.number("spacing", 0.01, unit="m", low=0.0005, high=0.1)
     cx, cy = reader.pair("centre") if reader.has("centre") else (0.0, 0.0)
     heading = reader.angle("heading", 0.0)
     if shape == "stadium":

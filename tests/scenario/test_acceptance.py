@@ -41,9 +41,10 @@ def test_improved_robots_meet_and_pass_each_other_on_every_seed(improved_runs):
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "measured: improved succeeds on 1 of seeds 0..19 (seed 2); on the others the robots "
-        "pass each other but leave the line at 25-30 degrees and the outer one never finds "
-        "it again (lost_line). See docs/controllers.md, 'Measured outcomes'."
+        "measured: improved succeeds on 0 of seeds 0..19. The robots always pass each other "
+        "without touching, but then leave the line at 25-30 degrees and the one on the "
+        "outside of the loop never finds it again (lost_line). See docs/controllers.md, "
+        "'Measured outcomes'."
     ),
 )
 def test_improved_passes_two_robot_pass_on_every_seed(improved_runs):
