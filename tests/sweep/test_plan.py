@@ -110,3 +110,17 @@ def test_episode_identity_ignores_spelling_of_equal_numbers():
     assert a != episode_key("arena", "stock", 2, {"dt": 0.05, "duration": 2})
     assert a != episode_key("arena", "improved", 1, {"dt": 0.05, "duration": 2})
     assert a != episode_key("line-follow", "stock", 1, {"dt": 0.05, "duration": 2})
+
+
+def test_batches_cover_the_plan_in_order_and_stay_small():
+    from puckboard.sweep.run import MAX_BATCH, make_batches
+
+    specs = list(SweepPlan.from_specs("arena", seeds="0:100").episodes())
+    for workers in (1, 2, 8):
+        batches = make_batches(specs, workers)
+        assert [s for b in batches for s in b] == specs
+        assert max(len(b) for b in batches) <= MAX_BATCH
+        assert len(batches) >= min(len(specs), 4 * workers)
+    assert [len(b) for b in make_batches(specs[:5], 2, batch_size=2)] == [2, 2, 1]
+    with pytest.raises(ValueError, match="at least 1"):
+        make_batches(specs, 2, batch_size=0)
