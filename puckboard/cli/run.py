@@ -142,7 +142,7 @@ def main(args: argparse.Namespace) -> int:
             overrides=overrides,
             **backend_options,
         )
-    except (PuckboardError, ValueError, TypeError, ImportError) as exc:
+    except (PuckboardError, ValueError, TypeError, ImportError, OSError) as exc:
         raise CliError(_first_line(exc)) from None
     outputs = None
     wants_visuals = args.view or args.record or args.plots or args.monitor
