@@ -25,7 +25,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--animate", metavar="FILE", default=None, help="also write an animation (.gif or .mp4)"
     )
     p.add_argument(
-        "--speed", type=float, default=4.0, help="animation playback speed (default: 4x)"
+        "--speed",
+        type=float,
+        default=None,
+        help="playback speed: times real time (default: 4 for --animate, 1 for --view)",
     )
     p.add_argument("--fps", type=float, default=10.0, help="animation frames per second")
     p.add_argument(
@@ -43,6 +46,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=None,
         metavar="S",
         help="animate up to S seconds of run time",
+    )
+    p.add_argument(
+        "--view",
+        action="store_true",
+        help="replay the run in a window (space: pause, n: step, +/-: speed)",
     )
     p.add_argument(
         "--size", default=None, metavar="WxH", help="animation size in pixels, e.g. 800x450"
@@ -64,7 +72,7 @@ def main(args: argparse.Namespace) -> int:
             check_animation_path(args.animate)
         except (ValueError, VideoSupportError) as exc:
             raise CliError(str(exc)) from exc
-    if args.speed <= 0 or args.fps <= 0:
+    if (args.speed is not None and args.speed <= 0) or args.fps <= 0:
         raise CliError("--speed and --fps must be positive")
     size = None
     if args.size:
@@ -75,6 +83,14 @@ def main(args: argparse.Namespace) -> int:
         if w < 160 or h < 90:
             raise CliError("--size must be at least 160x90 pixels")
         size = (w, h)
+    if args.view:
+        from ..viz.live import can_show, replay
+
+        if not can_show():
+            raise CliError("--view needs a display; use --animate run.gif instead")
+        replay(rec, speed=args.speed or 1.0)
+        if not (args.out or args.animate):
+            return 0
     out = Path(args.out) if args.out else Path(".")
     try:
         paths = save_plots(rec, out, args.format)
@@ -85,7 +101,7 @@ def main(args: argparse.Namespace) -> int:
     if args.animate:
         try:
             info = render_animation(
-                rec, args.animate, fps=args.fps, speed=args.speed, size=size,
+                rec, args.animate, fps=args.fps, speed=args.speed or 4.0, size=size,
                 start=args.start, end=args.end,
             )  # fmt: skip
         except ValueError as exc:

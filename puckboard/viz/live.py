@@ -244,3 +244,42 @@ class LiveView:
             import matplotlib.pyplot as plt
 
             plt.show(block=True)
+
+
+class _Replay:
+    """A finished recording played back row by row, looking like a recorder to the view."""
+
+    def __init__(self, rec: Any) -> None:
+        self.rec = rec
+        self.n = 0
+        self.layer_names = rec.layer_names
+
+    def __len__(self) -> int:
+        return self.n
+
+    def recording(self) -> Any:
+        return self.rec
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        r, n = self.rec, self.n
+        return {
+            "time": r.time[:n],
+            "pose": r.pose[:n],
+            "wheels": r.wheels[:n],
+            "layer": r.layer[:n],
+            "proximity": r.proximity[:n],
+            "ground": r.ground[:n],
+        }
+
+
+def replay(rec: Any, *, speed: float | None = 1.0, figure: Any = None) -> LiveView:
+    """Play a recording back in the live view (same keys: pause, step, speed)."""
+    source = _Replay(rec)
+    view = LiveView(source, speed=speed, figure=figure)  # type: ignore[arg-type]
+    for i in range(len(rec)):
+        source.n = i + 1
+        view()
+        if view._closed_window:
+            break
+    view.close()
+    return view

@@ -121,3 +121,14 @@ def test_live_view_keys_pause_and_step_without_a_window():
     assert view.frames_drawn >= 2
     title = view.stage._closeup_titles[0].get_text()
     assert title == "red: FrontObstacleLeftTurn"
+
+
+def test_replay_plays_a_recording_through_the_live_view():
+    from helpers import stand_in_recording
+
+    from puckboard.viz.live import replay
+
+    rec = stand_in_recording(1.0)
+    view = replay(rec, speed=None, figure=plt.figure())
+    assert view.frames_drawn >= 2
+    assert view.stage._clock.get_text() == f"t = {rec.time[-1]:.1f} s"
