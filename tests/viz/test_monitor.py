@@ -49,3 +49,14 @@ def test_values_are_formatted_with_names_and_units():
     assert format_value(WheelCommand(1, -1)) == "L +1.00  R -1.00 rad/s"
     assert "θ  +90.0°" in format_value(Pose(0, 0, 1.5707963, ground_truth=True))
     assert format_value(Ground([0.1, 0.5, 0.9], [0, 0, 0])) == "L 0.10  C 0.50  R 0.90"
+
+
+def test_monitor_cli_prints_a_plain_table_when_piped(capsys):
+    from puckboard.cli import main
+
+    assert main(["monitor", "two-robot-pass", "--duration", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "\x1b[" not in out
+    for word in ("left", "right", "proximity", "ground", "command/layer", "rate (Hz)"):
+        assert word in out
+    assert main(["monitor", "no-such-scene"]) == 2
