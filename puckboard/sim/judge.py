@@ -469,7 +469,9 @@ class Judge:
         self.success = False
         self.failure = kind
         self.failure_robot = robot
-        self.events.append(Event(self.time, robot, kind))
+        event = Event(self.time, robot, kind)
+        if event not in self.events[-2 * self.n :]:  # a collision is already an event
+            self.events.append(event)
 
     def _succeed(self) -> None:
         self.decided = True
