@@ -129,6 +129,7 @@ def main(args: argparse.Namespace) -> int:
         PlanError,
         SweepExecutor,
         SweepPlan,
+        WorkerLostError,
         check_plan,
         controllers_in_dir,
         make_progress,
@@ -194,6 +195,10 @@ def main(args: argparse.Namespace) -> int:
             batch_size=args.batch_size,
             progress=progress,
         )
+    except WorkerLostError as exc:
+        kept = f"; finished rows are in {args.out}: run again to resume" if store else ""
+        print(f"puckboard sweep: error: {exc}{kept}", file=sys.stderr)
+        return 1
     finally:
         executor.close()
         if store is not None:

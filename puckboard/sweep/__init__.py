@@ -13,7 +13,13 @@ Nothing heavy is imported here: Dask, pyarrow, rich and matplotlib load only whe
 from __future__ import annotations
 
 from .discover import FACTORY_NAME, controllers_in_dir
-from .executors import DaskExecutor, InlineExecutor, LocalExecutor, SweepExecutor
+from .executors import (
+    DaskExecutor,
+    InlineExecutor,
+    LocalExecutor,
+    SweepExecutor,
+    WorkerLostError,
+)
 from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
 from .progress import make_progress
 from .run import SweepResult, check_plan, run_sweep
@@ -34,6 +40,7 @@ __all__ = [
     "SweepExecutor",
     "SweepPlan",
     "SweepResult",
+    "WorkerLostError",
     "check_plan",
     "controllers_in_dir",
     "episode_key",

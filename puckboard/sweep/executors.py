@@ -28,12 +28,28 @@ from typing import Any
 
 from .worker import ignore_interrupts
 
-__all__ = ["DaskExecutor", "InlineExecutor", "LocalExecutor", "SweepExecutor", "available_cpus"]
+__all__ = [
+    "DaskExecutor",
+    "InlineExecutor",
+    "LocalExecutor",
+    "SweepExecutor",
+    "WorkerLostError",
+    "available_cpus",
+]
 
 log = logging.getLogger(__name__)
 
 # ProcessPoolExecutor refuses more than 61 workers on Windows (WaitForMultipleObjects).
 _WINDOWS_MAX_WORKERS = 61
+
+
+class WorkerLostError(RuntimeError):
+    """A worker process died (crashed, killed, out of memory) while running a batch.
+
+    An exception *inside* an episode never gets here — it becomes an ``error`` row; this
+    is the process itself going away, which stops the sweep. Rows already finished are
+    kept, so running the same sweep again resumes it.
+    """
 
 
 def available_cpus() -> int:
@@ -125,7 +141,11 @@ class LocalExecutor(SweepExecutor):
         finished = False
         try:
             for future in cf.as_completed(futures):
-                yield future.result()
+                try:
+                    result = future.result()
+                except cf.process.BrokenProcessPool as exc:
+                    raise WorkerLostError(f"a local worker process died: {exc}") from exc
+                yield result
             finished = True
         finally:
             if not finished:
@@ -244,13 +264,18 @@ class DaskExecutor(SweepExecutor):
 
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
         from dask.distributed import as_completed
+        from distributed.scheduler import KilledWorker
 
         futures = [self.client.submit(fn, *task, pure=False) for task in tasks]
         self._futures = futures
         finished = False
         try:
             for future in as_completed(futures):
-                yield future.result()
+                try:
+                    result = future.result()
+                except KilledWorker as exc:
+                    raise WorkerLostError(f"Dask workers died running a batch: {exc}") from exc
+                yield result
                 future.release()
             finished = True
         finally:

@@ -219,3 +219,13 @@ def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys):
 
     assert main(["sweep", "line-follow", *args]) == 2
     assert message in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_a_dying_worker_process_is_reported_not_hung():
+    import os
+
+    from puckboard.sweep import WorkerLostError
+
+    with LocalExecutor(workers=1) as executor, pytest.raises(WorkerLostError, match="died"):
+        list(executor.run(os._exit, [(3,)]))
