@@ -53,8 +53,8 @@ catches turns the encoders miss; where there is no gyro, nothing changes.
 robot. It is used for what it is good at: noticing that the body did not do what the
 wheels claim. When the measured horizontal acceleration disagrees with the one implied
 by the encoders (a bump, a push, slipping wheels), the filter flags *slip* for a short
-hold time and inflates the wheel noise, so the covariance says honestly that the
-estimate just got worse. Odometry cannot tell *how* the body moved during a collision;
+hold time and adds the wheel travel itself to the wheel noise ("this travel may not
+have happened"), so the covariance says honestly that the estimate just got worse. Odometry cannot tell *how* the body moved during a collision;
 no amount of filtering recovers that without an absolute measurement.
 """
 
@@ -99,29 +99,32 @@ class OdometryNoise:
     simulator's ``noise.wheel_speed`` when the encoders do not see that noise.
     ``gyro_sigma``: σ of the gyro's yaw rate (rad/s) per reading. ``slip_accel``: the
     disagreement (m/s²) between measured and encoder-implied horizontal acceleration
-    beyond which the wheels are taken to slip; ``slip_inflation`` multiplies the wheel
-    variances while slipping; ``slip_hold`` (s) is how long a slip flag lasts.
+    beyond which the wheels are taken to slip; while they slip, each wheel's travel
+    gets an extra σ of ``slip_fraction`` times that travel ("any of it may not have
+    happened" at 1.0); ``slip_hold`` (s) is how long a slip flag lasts.
     """
 
     travel_variance: float = 1e-5
     relative_sigma: float = 0.0
     gyro_sigma: float = 0.01
     slip_accel: float = 0.25
-    slip_inflation: float = 100.0
+    slip_fraction: float = 1.0
     slip_hold: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("travel_variance", "relative_sigma", "gyro_sigma", "slip_hold"):
+        for name in (
+            "travel_variance",
+            "relative_sigma",
+            "gyro_sigma",
+            "slip_fraction",
+            "slip_hold",
+        ):
             value = getattr(self, name)
             if not math.isfinite(value) or value < 0:
                 raise ValueError(f"OdometryNoise.{name} must be a finite number >= 0, got {value}")
         if not self.slip_accel > 0:
             raise ValueError(
                 f"OdometryNoise.slip_accel must be positive m/s², got {self.slip_accel}"
-            )
-        if not self.slip_inflation >= 1:
-            raise ValueError(
-                f"OdometryNoise.slip_inflation must be >= 1, got {self.slip_inflation}"
             )
 
     def wheel_variance(self, travel: float) -> float:
@@ -209,9 +212,11 @@ class OdometryFilter:
         ds = (ds_r + ds_l) / 2.0
         dtheta = (ds_r - ds_l) / b
 
-        inflate = self.noise.slip_inflation if self.slipping else 1.0
-        var_l = inflate * self.noise.wheel_variance(ds_l)
-        var_r = inflate * self.noise.wheel_variance(ds_r)
+        var_l = self.noise.wheel_variance(ds_l)
+        var_r = self.noise.wheel_variance(ds_r)
+        if self.slipping:  # some of the wheels' travel may not have happened at all
+            var_l += (self.noise.slip_fraction * ds_l) ** 2
+            var_r += (self.noise.slip_fraction * ds_r) ** 2
 
         theta = float(self.ekf.x[2, 0])
         mu = theta + dtheta / 2.0

@@ -115,15 +115,18 @@ def test_gyro_pulls_the_turn_towards_it_and_shrinks_heading_variance():
     assert fused.cov[2, 2] < plain.cov[2, 2]
 
 
-def test_slip_flag_inflates_process_noise_and_expires():
-    noise = OdometryNoise(slip_accel=1.0, slip_inflation=50.0, slip_hold=0.5)
+def test_slip_flag_adds_the_wheel_travel_to_the_noise_and_expires():
+    noise = OdometryNoise(slip_accel=1.0, slip_fraction=0.5, slip_hold=0.5)
     calm = OdometryFilter(EPUCK2, noise)
     bumped = OdometryFilter(EPUCK2, noise)
     assert not bumped.check_slip((0.1, 0.0), (0.0, 0.0), now=1.0)
     assert bumped.check_slip((-3.0, 0.0), (0.0, 0.0), now=1.0)  # a bump the wheels missed
     calm.predict(0.2, 0.2)
     bumped.predict(0.2, 0.2)
-    assert bumped.cov[2, 2] == pytest.approx(50 * calm.cov[2, 2])
+    travel = R * 0.2
+    extra = 2 * (0.5 * travel) ** 2 / B**2  # both wheels' extra variance, seen as a turn
+    assert bumped.cov[2, 2] == pytest.approx(calm.cov[2, 2] + extra)
+    assert bumped.cov[2, 2] > 10 * calm.cov[2, 2]
     assert bumped.check_slip((0.0, 0.0), (0.0, 0.0), now=1.4)
     assert not bumped.check_slip((0.0, 0.0), (0.0, 0.0), now=1.6)
 
