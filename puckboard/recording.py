@@ -28,8 +28,9 @@ order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,
 ``robots``, ``layer_names`` (the table ``layer`` indexes), ``robot_layers`` (each
 robot's layers in priority order, for timelines), ``colours`` (RGB per robot),
 ``scenario``, ``controller``, ``seed``, ``backend``, ``dt``, ``created`` (UTC, ISO
-8601), ``puckboard`` (version) and ``scene`` (the scene's static geometry as JSON,
-or ``null``).
+8601), ``puckboard`` (version), ``scene`` (the scene's static geometry as JSON,
+or ``null``) and, when the run was judged, ``events`` (``time_s``, ``robot``,
+``kind``: collisions, passes, lost line, ...).
 
 The recorder writes into preallocated arrays that double when full, so recording a
 long run costs a few array stores per cycle and no per-cycle objects of its own.
@@ -44,7 +45,7 @@ import logging
 import math
 import os
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -269,6 +270,7 @@ class Recorder:
         meta: Mapping[str, Any] | None = None,
         robot_layers: Mapping[str, Sequence[str]] | None = None,
         capacity: int = 1024,
+        events: Callable[[], list[dict[str, Any]]] | None = None,
     ) -> None:
         if not robot_names:
             raise ValueError("a Recorder needs at least one robot name")
@@ -284,6 +286,7 @@ class Recorder:
             for name in layers:
                 self._layer_index(name)
         self.meta: dict[str, Any] = dict(meta or {})
+        self.events = events
         self._n = 0
         cap = max(16, int(capacity))
         self._time = np.empty(cap)
@@ -321,6 +324,13 @@ class Recorder:
             "dt": dt,
             "colours": colours,
         }
+        judge = getattr(episode, "judge", None)
+        events = None
+        if judge is not None and hasattr(judge, "events"):
+
+            def events() -> list[dict[str, Any]]:
+                return [e.to_dict() for e in judge.events]
+
         return cls(
             names,
             path=path,
@@ -328,6 +338,7 @@ class Recorder:
             meta=meta,
             robot_layers=robot_layers,
             capacity=capacity,
+            events=events,
         )
 
     def attach(self, episode: Any) -> Recorder:
@@ -432,6 +443,11 @@ class Recorder:
             scene=None if self.scene is None else scene_to_json(self.scene),
         )
         meta.setdefault("colours", {})
+        if self.events is not None:
+            try:
+                meta["events"] = list(self.events())
+            except Exception:
+                log.exception("could not read the run's events for the recording")
         return Recording(
             time=self._time[:n].copy(),
             pose=self._pose[:n].copy(),

@@ -131,7 +131,7 @@ def plot_arbitration(rec: Recording) -> Any:
     names = list(rec.robot_names)
     layers = _all_layers(rec)
     lcol = layer_colours([*layers, "(none)"])
-    fig = _figure(12, 1.9 + 0.85 * len(names))
+    fig = _figure(12, 2.4 + 0.85 * len(names))
     ax = fig.add_subplot()
     shares: dict[str, float] = dict.fromkeys(layers, 0.0)
     total = 0.0
@@ -149,13 +149,15 @@ def plot_arbitration(rec: Recording) -> Any:
             ax.broken_barh(bars, (y - 0.38, 0.76), facecolors=colour, edgecolor="none")
         switches = max(0, len(spans) - 1)
         ax.annotate(
-            f"{switches} switches", (1.0, y), xycoords=("axes fraction", "data"),
+            f"{switches} switch{'' if switches == 1 else 'es'}", (1.0, y), xycoords=("axes fraction", "data"),
             xytext=(8, 0), textcoords="offset points", va="center", fontsize=FONT["tick"],
         )  # fmt: skip
+    handles_events = _draw_events(ax, rec, names)
     ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=FONT["label"])
     ax.set_ylim(-0.6, len(names) - 0.4)
     if len(rec):
-        ax.set_xlim(float(rec.time[0]), float(rec.time[-1]))
+        spans_end = max((b for n in names for _, _, b in layer_spans(rec, n)), default=0.0)
+        ax.set_xlim(float(rec.time[0]), spans_end)
     ax.set_xlabel("time (s)")
     ax.set_title(f"Which layer had control: {rec.title}", fontsize=FONT["title"])
     handles = [
@@ -165,14 +167,55 @@ def plot_arbitration(rec: Recording) -> Any:
         )
         for layer in layers
     ]
-    ax.legend(
-        handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.32 - 0.05 / len(names)),
-        ncol=min(4, max(1, len(handles))), fontsize=FONT["legend"], frameon=False,
+    handles += handles_events
+    fig.legend(
+        handles=handles, loc="outside lower center", ncol=min(4, max(1, len(handles))),
+        fontsize=FONT["legend"], frameon=False,
     )  # fmt: skip
     _style_axes(ax)
     ax.grid(True, axis="x", alpha=0.3)
     ax.grid(False, axis="y")
     return fig
+
+
+_EVENT_MARKERS = {
+    "collision": ("X", "black", "collision"),
+    "passed_other": ("^", "white", "passed the other robot"),
+    "passed_obstacle": ("D", "white", "passed an obstacle"),
+    "left_line": ("v", "#bbbbbb", "left the line"),
+    "back_on_line": ("o", "#bbbbbb", "back on the line"),
+}
+
+
+def _draw_events(ax: Any, rec: Recording, names: list[str]) -> list[Any]:
+    """Mark the judge's events on the robots' bands; returns legend handles."""
+    from matplotlib.lines import Line2D
+
+    events = rec.meta.get("events") or []
+    shown: dict[str, Any] = {}
+    for ev in events:
+        kind, robot, t = ev.get("kind", ""), ev.get("robot", ""), float(ev.get("time_s", 0))
+        if robot not in names:
+            if kind == "success":
+                ax.axvline(t, color="#2ca02c", lw=3, ls="--")
+                shown.setdefault(
+                    kind, Line2D([], [], color="#2ca02c", lw=3, ls="--", label="success")
+                )
+            continue
+        y = len(names) - 1 - names.index(robot)
+        marker, colour, label = _EVENT_MARKERS.get(kind, ("*", "#d62728", kind.replace("_", " ")))
+        size = 16 if marker == "*" else 11
+        ax.plot(
+            t, y, marker=marker, ms=size, color=colour, mec="black", mew=1.5, zorder=5,
+            clip_on=False,
+        )  # fmt: skip
+        shown.setdefault(
+            kind,
+            Line2D(
+                [], [], marker=marker, ms=size, color=colour, mec="black", ls="none", label=label
+            ),
+        )
+    return list(shown.values())
 
 
 def plot_sensors(rec: Recording) -> Any:

@@ -132,3 +132,12 @@ def test_replay_plays_a_recording_through_the_live_view():
     view = replay(rec, speed=None, figure=plt.figure())
     assert view.frames_drawn >= 2
     assert view.stage._clock.get_text() == f"t = {rec.time[-1]:.1f} s"
+
+
+def test_the_judges_events_are_recorded(tmp_path):
+    ep = Episode("two-robot-pass", controller="stock", seed=0)
+    attach(ep, record=tmp_path / "run.npz")
+    ep.run(8.0)
+    rec = load_recording(tmp_path / "run.npz")
+    assert rec.meta["events"] == [e.to_dict() for e in ep.judge.events]
+    assert rec.meta["events"], "the stock controller's run has events to record"

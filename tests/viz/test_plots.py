@@ -26,7 +26,7 @@ def test_png_plots_exist_open_and_have_their_size(rec, tmp_path):
             assert im.format == "PNG"
             sizes[p.stem] = im.size
     assert sizes["trajectories"] == (1000, 650)
-    assert sizes["arbitration"] == (1200, round(100 * (1.9 + 0.85 * 2)))
+    assert sizes["arbitration"] == (1200, round(100 * (2.4 + 0.85 * 2)))
     assert sizes["sensors"][1] == round(100 * (1.0 + 3.6 * 2))
 
 
