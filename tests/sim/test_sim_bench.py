@@ -51,6 +51,7 @@ def test_sim_suite_reports_rate_split_and_camera():
     assert res["steps_per_s"] > 0
     assert res["realtime_factor"] == pytest.approx(res["steps_per_s"] * res["dt_s"])
     assert len(res["cost_us_per_step"]) == 4
+    assert len(res["cpu_us_per_step"]) == 3
     assert res["camera_us_per_frame"] > 0
     text = bench.format_results({"machine": bench.machine(), "suites": {"sim": res}})
     assert "steps_per_s" in text and "camera_us_per_frame" in text
