@@ -30,7 +30,8 @@ robot's layers in priority order, for timelines), ``colours`` (RGB per robot),
 ``scenario``, ``controller``, ``seed``, ``backend``, ``dt``, ``created`` (UTC, ISO
 8601), ``puckboard`` (version), ``scene`` (the scene's static geometry as JSON,
 or ``null``) and, when the run was judged, ``events`` (``time_s``, ``robot``,
-``kind``: collisions, passes, lost line, ...).
+``kind``: collisions, passes, lost line, ...) and ``prox_range`` (m, the distance
+that means "nothing seen").
 
 The recorder writes into preallocated arrays that double when full, so recording a
 long run costs a few array stores per cycle and no per-cycle objects of its own.
@@ -287,6 +288,7 @@ class Recorder:
                 self._layer_index(name)
         self.meta: dict[str, Any] = dict(meta or {})
         self.events = events
+        self._prox_range: float | None = None
         self._n = 0
         cap = max(16, int(capacity))
         self._time = np.empty(cap)
@@ -372,6 +374,8 @@ class Recorder:
             rec = snap.record("proximity")
             if rec is not None:
                 self._prox[i, r] = rec.value.distance
+                if self._prox_range is None:
+                    self._prox_range = self.meta["prox_range"] = float(rec.value.range)
                 stamp = rec.stamp if math.isnan(stamp) else stamp
             else:
                 self._prox[i, r] = math.nan

@@ -232,8 +232,7 @@ def plot_sensors(rec: Recording) -> Any:
     for r, name in enumerate(names):
         s = rec.robot(name)
         ax_p, ax_g = axes[2 * r], axes[2 * r + 1]
-        rng = float(np.nanmax(s.proximity)) if np.isfinite(s.proximity).any() else 0.05
-        rng = max(rng, 1e-6)
+        rng = float(rec.meta.get("prox_range") or 0.05)
         closeness = 100.0 * (1.0 - np.clip(s.proximity.T / rng, 0.0, 1.0))
         image = ax_p.imshow(
             closeness, aspect="auto", cmap="YlOrRd", vmin=0, vmax=100, origin="lower",
