@@ -117,6 +117,8 @@ def main(args: argparse.Namespace) -> int:
     from ..errors import PuckboardError
 
     overrides = parse_overrides(args.overrides)
+    if args.json and args.monitor:
+        raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     if args.duration is not None and not args.duration > 0:
         raise CliError(f"--duration must be positive seconds, got {args.duration}")
     backend_options = {

@@ -71,6 +71,8 @@ def test_bad_input_exits_2_with_one_clear_line(tmp_path, capsys):
     assert code == 2 and "expected NAME=VALUE" in line
     code, line = run_error(capsys, ["--set", "layer.Nope.speed=1"])
     assert code == 2 and "no controller has a layer 'Nope'" in line
+    code, line = run_error(capsys, ["--json", "--monitor"])
+    assert code == 2 and "--monitor" in line
     code, line = run_error(capsys, ["--host", "10.0.0.2"])
     assert code == 2 and "--host" in line
 
