@@ -438,35 +438,77 @@ def fig_blackboard() -> None:
     save(fig, "blackboard")
 
 
+class FindLineOnTheRight(Layer):
+    """The layer the tutorial's reader writes (tutorial step 4), repeated here to draw it."""
+
+    reads = ("ground",)
+
+    def __init__(self, speed: float = 2.0, ratio: float = 0.8) -> None:
+        super().__init__()
+        self.speed = speed
+        self.ratio = ratio
+
+    def applies(self, frame):  # type: ignore[no-untyped-def]
+        ground = frame.ground
+        return ground is not None and not ground.dark().any()
+
+    def command(self, frame):  # type: ignore[no-untyped-def]
+        from puckboard.records import WheelCommand
+
+        return WheelCommand(self.speed, self.ratio * self.speed)
+
+
+def tutorial_controller() -> Controller:
+    """The tutorial's controller (step 5): improved plus FindLineOnTheRight."""
+    return Controller(
+        [
+            FrontObstacleLeftTurn(),
+            LineFollow(inner_factor=0.2, recovery=True),
+            SideWallKeep(("right",)),
+            FindLineOnTheRight(),
+            Cruise(),
+        ],
+        name="tutorial",
+        requires=("proximity",),
+    )
+
+
 def fig_two_robot_pass() -> None:
-    """Trajectories of the two-robot pass with the stock and the improved controller."""
+    """Trajectories of the two-robot pass: stock, improved, and the tutorial's controller."""
     from puckboard.episode import Episode
     from puckboard.viz.scene_art import draw_scene, scene_bounds
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.3))
-    for ax, name in zip(axes, ("stock", "improved")):
-        episode = Episode("two-robot-pass", controller=name, seed=0)
+    runs = [
+        ("stock", "stock"),
+        ("improved", "improved"),
+        ("improved + FindLineOnTheRight", tutorial_controller),
+    ]
+    done = []
+    for label, controller in runs:
+        episode = Episode("two-robot-pass", controller=controller, seed=0)
         paths: list[np.ndarray] = []
         episode.add_observer(lambda ep, paths=paths: paths.append(ep.world.poses[:, :2].copy()))
-        result = episode.run()
-        track = np.array(paths)  # T × N × 2
+        done.append((label, episode, episode.run(), np.array(paths)))  # paths: T × N × 2
+    everything = np.concatenate([track.reshape(-1, 2) for *_, track in done])
+    xmin, xmax, ymin, ymax = scene_bounds(done[0][1].scene, everything)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    for ax, (label, episode, result, track) in zip(axes, done):
         draw_scene(ax, episode.scene, labels=False)
         for k, spec in enumerate(episode.scene.robots):
             colour = np.array(spec.colour) / 255
             ax.plot(track[:, k, 0], track[:, k, 1], color=colour, lw=2, label=spec.name)
             ax.plot(*track[0, k], "o", color=colour, ms=7, mec="black")
             ax.plot(*track[-1, k], "s", color=colour, ms=7, mec="black")
-        xmin, xmax, ymin, ymax = scene_bounds(episode.scene)
         ax.set_xlim(xmin, xmax)
         ax.set_ylim(ymin, ymax)
         ax.set_aspect("equal")
         ax.set_xticks([])
         ax.set_yticks([])
         verdict = "passed" if result.success else f"failed: {result.failure}"
-        ax.set_title(f"{name} controller — {verdict} ({result.sim_time_s:.0f} s)", fontsize=10)
-    axes[0].legend(fontsize=8, loc="center")
-    fig.suptitle("The two-robot pass (seed 0): ● start, ■ end of the run", fontsize=10)
-    fig.subplots_adjust(top=0.82, wspace=0.05)
+        ax.set_title(f"{label}\n{verdict} after {result.sim_time_s:.0f} s", fontsize=10)
+    axes[0].legend(fontsize=8, loc="upper left")
+    fig.suptitle("The two-robot pass, seed 0 (● start, ■ end of the run)", fontsize=11)
+    fig.subplots_adjust(top=0.8, wspace=0.04)
     save(fig, "two-robot-pass")
 
 

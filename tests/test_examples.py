@@ -148,6 +148,16 @@ def test_compose_controller_orders_layers_by_priority() -> None:
     assert controller.find("LineFollow").inner_factor == 0.3
 
 
+def test_compose_controller_gets_the_robots_past_each_other_where_stock_collides() -> None:
+    out = load("compose_controller").main(duration=40.0)
+    assert out["stock"].failure == "collision"
+    assert not any(r.passed_other for r in out["stock"].robots)
+    composed = out["composed"]
+    assert all(r.passed_other for r in composed.robots)
+    assert composed.failure not in ("collision", "parallel_driving", "stuck")
+    assert sum(r.collisions for r in composed.robots) == 0
+
+
 def test_switch_backend_runs_embedded_by_default() -> None:
     example = load("switch_backend")
     assert example.BACKEND == "embedded"

@@ -1,0 +1,261 @@
+"""The documentation works: the tutorial's code runs, the site builds without warnings,
+every page is reachable, and ``puckboard docs`` builds it.
+
+A newcomer follows the tutorial literally, so its code blocks are executed in order, in
+one fresh interpreter, exactly as written (headless: matplotlib on the Agg backend).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+MKDOCS_YML = ROOT / "mkdocs.yml"
+
+HAVE_MKDOCS = all(
+    importlib.util.find_spec(m) is not None for m in ("mkdocs", "material", "mkdocstrings")
+)
+needs_mkdocs = pytest.mark.skipif(
+    not HAVE_MKDOCS, reason="mkdocs is not installed (pip install 'puckboard[docs]')"
+)
+
+
+def headless_env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["MPLBACKEND"] = "Agg"
+    env["NO_MKDOCS_2_WARNING"] = "1"
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    return env
+
+
+def nav_pages() -> list[str]:
+    """Every page named in mkdocs.yml's nav (a tiny YAML reader: nav entries end in .md)."""
+    text = MKDOCS_YML.read_text(encoding="utf-8")
+    nav = text[text.index("\nnav:") :]
+    return re.findall(r":\s*([\w./-]+\.md)\s*$", nav, flags=re.MULTILINE)
+
+
+# -- the tutorial -------------------------------------------------------------------------
+def fenced(page: Path, language: str) -> list[str]:
+    pattern = re.compile(rf"^```{language}[^\n]*\n(.*?)^```", re.MULTILINE | re.DOTALL)
+    return [m.group(1) for m in pattern.finditer(page.read_text(encoding="utf-8"))]
+
+
+def shell_commands(page: Path) -> list[str]:
+    """The ``puckboard ...`` lines of the page's bash blocks, in order.
+
+    ``pip install`` lines are the one thing not run: the test environment has puckboard
+    installed already, and installing from the network is not a test.
+    """
+    commands = []
+    for block in fenced(page, "bash"):
+        for line in block.splitlines():
+            line = line.strip()
+            if line.startswith("puckboard"):
+                commands.append(line)
+            else:
+                assert not line or line.startswith("pip "), f"unexpected shell line: {line}"
+    return commands
+
+
+def test_tutorial_has_code_to_run() -> None:
+    page = DOCS / "tutorial.md"
+    assert len(fenced(page, "python")) >= 6, "the tutorial should walk through runnable steps"
+    assert any("--controller my_controller.py:my_controller" in c for c in shell_commands(page))
+
+
+@pytest.mark.slow
+def test_tutorial_code_runs_in_order_with_the_promised_outcomes(tmp_path: Path) -> None:
+    """The Python blocks, concatenated, run as one script (as a reader pasting them into
+    one session would); a block that starts with ``# NAME.py`` is also saved as that file,
+    as the reader is told to; then every ``puckboard`` command of the page runs."""
+    page = DOCS / "tutorial.md"
+    blocks = fenced(page, "python")
+    for block in blocks:
+        first = block.splitlines()[0].strip()
+        if re.fullmatch(r"# [\w-]+\.py", first):
+            (tmp_path / first[2:]).write_text(block, encoding="utf-8")
+    script = tmp_path / "tutorial.py"
+    script.write_text(
+        "\n\n".join(f"# --- block {i + 1}\n{b}" for i, b in enumerate(blocks)), encoding="utf-8"
+    )
+    result = subprocess.run(
+        [sys.executable, str(script)],
+        cwd=tmp_path,  # a student's own folder, not the repository
+        env=headless_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    out = result.stdout
+    assert result.returncode == 0, (
+        f"a tutorial block failed:\n{out[-3000:]}\n{result.stderr[-3000:]}"
+    )
+    # step 2: the two failures the prose explains
+    assert re.search(r"stock +failed \(collision\)", out), out[-3000:]
+    assert re.search(r"improved +failed \(lost_line\); the robots got past each other: True", out)
+    # step 3: who drives when, read from the blackboard
+    for layer in ("LineFollow", "FrontObstacleLeftTurn", "SideWallKeep", "Cruise"):
+        assert re.search(rf"->\s+{layer}$", out, flags=re.MULTILINE), (layer, out[-3000:])
+    # step 4: the hand check shows the student's layer taking over off the line
+    assert re.search(r"line under the centre +-> LineFollow", out), out[-3000:]
+    assert re.search(r"no line anywhere +-> FindLineOnTheRight", out), out[-3000:]
+    # step 6: the student's controller passes
+    assert "Your controller passed the two-robot pass!" in out, out[-3000:]
+    # step 7: the parameter change has a visible effect
+    assert "ratio=0.8: passed" in out, out[-3000:]
+    assert "ratio=1.0: failed" in out, out[-3000:]
+
+    for command in shell_commands(page):
+        argv = [sys.executable, "-m", "puckboard", *shlex.split(command)[1:]]
+        done = subprocess.run(
+            argv, cwd=tmp_path, env=headless_env(), capture_output=True, text=True, timeout=300
+        )
+        assert done.returncode == 0, f"{command}\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"
+
+
+# -- the site -----------------------------------------------------------------------------
+def test_every_nav_entry_exists_once_and_the_teaching_pages_are_listed() -> None:
+    pages = {p.relative_to(DOCS).as_posix() for p in DOCS.rglob("*.md")}
+    listed = nav_pages()
+    assert len(listed) == len(set(listed)), "a page is listed twice in the nav"
+    missing = sorted(set(listed) - pages)
+    assert not missing, f"nav names pages that do not exist: {missing}"
+    teaching = {"index.md", "tutorial.md", "architectures.md", "lecturer-notes.md", "faq.md"}
+    teaching |= {p for p in pages if p.startswith(("layers/", "api/"))}
+    unlisted = sorted(teaching - set(listed))
+    assert not unlisted, f"pages not reachable from the nav (add them to mkdocs.yml): {unlisted}"
+
+
+def test_every_image_the_pages_show_exists() -> None:
+    for page in DOCS.rglob("*.md"):
+        for target in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", page.read_text(encoding="utf-8")):
+            assert (page.parent / target).resolve().is_file(), f"{page.name} shows missing {target}"
+
+
+@needs_mkdocs
+@pytest.mark.slow
+def test_mkdocs_build_is_strict_clean(tmp_path: Path) -> None:
+    result = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(MKDOCS_YML),
+         "-d", str(tmp_path / "site")],
+        cwd=ROOT, env=headless_env(), capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr[-4000:]
+    # the reference really was generated from docstrings, not left as ::: directives
+    core = (tmp_path / "site" / "api" / "core" / "index.html").read_text(encoding="utf-8")
+    assert "thread-safe key/value store" in core  # Blackboard's docstring
+    behaviours = (tmp_path / "site" / "api" / "behaviours" / "index.html").read_text(
+        encoding="utf-8"
+    )
+    assert "Follow a dark line" in behaviours  # LineFollow's docstring
+    for page in (tmp_path / "site").rglob("*.html"):
+        assert "::: puckboard" not in page.read_text(encoding="utf-8"), page
+
+
+# -- puckboard docs -----------------------------------------------------------------------
+@needs_mkdocs
+@pytest.mark.slow
+def test_puckboard_docs_builds_and_prints_the_page_to_open(tmp_path: Path) -> None:
+    out = tmp_path / "site"
+    result = subprocess.run(
+        [sys.executable, "-m", "puckboard", "docs", "--output", str(out)],
+        cwd=ROOT, env=headless_env(), capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert (out / "index.html").is_file()
+    assert (out / "index.html").as_uri() in result.stdout
+
+
+def test_puckboard_docs_names_the_missing_extra(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from puckboard.cli import docs as docs_cli
+    from puckboard.cli import main
+
+    real_find_spec = importlib.util.find_spec
+
+    def no_mkdocs(name: str, *args: object, **kwargs: object):  # type: ignore[no-untyped-def]
+        if name.split(".")[0] in ("mkdocs", "mkdocstrings"):
+            return None
+        return real_find_spec(name, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(importlib.util, "find_spec", no_mkdocs)
+    assert "mkdocs" in docs_cli.missing_modules()
+    assert main(["docs"]) == 2
+    err = capsys.readouterr().err
+    assert "pip install 'puckboard[docs]'" in err
+
+
+def test_puckboard_docs_without_a_config_says_where_it_looked(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from puckboard.cli import main
+
+    status = main(["docs", "--config", str(tmp_path / "nowhere" / "mkdocs.yml")])
+    assert status == 2
+    assert "no mkdocs.yml found" in capsys.readouterr().err
+
+
+def test_find_config_walks_up_from_a_subfolder() -> None:
+    from puckboard.cli.docs import find_config
+
+    assert find_config(DOCS / "layers") == MKDOCS_YML
+
+
+def test_puckboard_docs_serve_binds_this_machine_only_by_default(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from puckboard.cli import docs as docs_cli
+    from puckboard.cli import main
+
+    if docs_cli.missing_modules():
+        pytest.skip("mkdocs is not installed (pip install 'puckboard[docs]')")
+    calls: list[list[str]] = []
+    monkeypatch.setattr(subprocess, "call", lambda argv, **kw: calls.append(argv) or 0)
+    assert main(["docs", "--serve", "--config", str(MKDOCS_YML)]) == 0
+    (argv,) = calls
+    assert argv[1:4] == ["-m", "mkdocs", "serve"]
+    assert argv[argv.index("-a") + 1] == "127.0.0.1:8000"
+    assert "http://127.0.0.1:8000/" in capsys.readouterr().out
+
+
+LAYER_PAGES = {
+    "layers/line-follow.md": ("LineFollow",),
+    "layers/front-obstacle.md": ("FrontBraitenbergAvoid", "FrontObstacleLeftTurn"),
+    "layers/side-wall-keep.md": ("SideWallKeep",),
+    "layers/cruise.md": ("Cruise",),
+    "layers/hold-for.md": ("HoldFor",),
+}
+
+
+@pytest.mark.parametrize("page", sorted(LAYER_PAGES))
+def test_layer_page_documents_exactly_the_layers_parameters(page: str) -> None:
+    """A layer page's parameter table lists every constructor parameter and no other, so
+    the page cannot drift from the code."""
+    import inspect
+
+    import puckboard.behaviours as behaviours
+
+    expected: set[str] = set()
+    for cls_name in LAYER_PAGES[page]:
+        signature = inspect.signature(getattr(behaviours, cls_name).__init__)
+        expected |= {p for p in signature.parameters if p not in ("self", "name")}
+    text = (DOCS / page).read_text(encoding="utf-8")
+    table = text[text.index("## Parameters") :]
+    documented = set()
+    for row in re.findall(r"^\|(.*)\|\s*$", table, flags=re.MULTILINE):
+        cells = [c.strip() for c in row.split("|")]
+        for cell in cells[:2]:  # "| parameter |" or "| layer | parameter |"
+            documented |= set(re.findall(r"^`(\w+)`$", cell))
+    documented -= set(LAYER_PAGES[page]) | {"both"}
+    assert documented == expected, f"{page}: documented {documented}, constructor {expected}"
