@@ -259,3 +259,15 @@ def test_layer_page_documents_exactly_the_layers_parameters(page: str) -> None:
             documented |= set(re.findall(r"^`(\w+)`$", cell))
     documented -= set(LAYER_PAGES[page]) | {"both"}
     assert documented == expected, f"{page}: documented {documented}, constructor {expected}"
+
+
+@pytest.mark.parametrize("page", [p for p in sorted(LAYER_PAGES) if fenced(DOCS / p, "python")])
+def test_layer_page_code_runs(page: str) -> None:
+    """The snippets on the layer pages build real controllers."""
+    from puckboard.behaviours import Controller
+
+    for block in fenced(DOCS / page, "python"):
+        namespace: dict[str, object] = {}
+        exec(compile(block, f"{page} block", "exec"), namespace)
+        built = [v for v in namespace.values() if isinstance(v, Controller)]
+        assert built, f"{page}: a snippet should build a Controller"
