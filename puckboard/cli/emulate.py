@@ -3,7 +3,8 @@
 Serves the first robot of a scene over the e-puck2 Wi-Fi protocol (TCP) or advanced
 sercom (a pseudo-terminal on Linux/macOS, or TCP with ``--port``), paced in real time,
 and prints the judge's verdict (the ``puckboard run --json`` fields) when it stops:
-after ``--duration`` seconds counted from the client's first command, or on Ctrl-C.
+when the client is done (it disconnects, or is silent for ``--idle-timeout`` s), after
+``--duration`` seconds counted from its first command, or on Ctrl-C.
 """
 
 from __future__ import annotations
@@ -45,7 +46,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "pseudo-terminal, connect with --device socket://HOST:PORT; 0 = any free port)",
     )
     p.add_argument(
-        "--duration", type=float, default=None, help="seconds of robot time (default: the scene's)"
+        "--duration",
+        type=float,
+        default=None,
+        help="at most this many seconds of robot time (default: the scene's duration + 10 s)",
+    )
+    p.add_argument(
+        "--idle-timeout",
+        type=float,
+        default=2.0,
+        help="end when the client sends nothing for this long (s; 0: never); a TCP client "
+        "that disconnects ends the run at once",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
@@ -64,6 +75,8 @@ def main(args: argparse.Namespace) -> int:
 
     if args.duration is not None and args.duration <= 0:
         raise CliError(f"--duration must be positive seconds, got {args.duration}")
+    if args.idle_timeout < 0:
+        raise CliError(f"--idle-timeout must be >= 0 seconds, got {args.idle_timeout}")
     serial = None
     port = args.port
     if args.protocol == "wifi":
@@ -87,6 +100,7 @@ def main(args: argparse.Namespace) -> int:
             seed=args.seed,
             serial=serial,
             others=args.others,
+            idle_timeout=args.idle_timeout or None,
         )
     except (SceneError, FileNotFoundError, KeyError) as exc:
         raise CliError(str(exc)) from None
@@ -100,7 +114,12 @@ def main(args: argparse.Namespace) -> int:
         file=banner,
     )
     print(f"connect with: {info.command_line(args.scenario)}", file=banner)
-    print("the clock starts with the first command; Ctrl-C stops", file=banner, flush=True)
+    print(
+        "the clock starts with the first command; the run ends when the client is done, "
+        "or on Ctrl-C",
+        file=banner,
+        flush=True,
+    )
     try:
         result = emulation.run(args.duration)
     except KeyboardInterrupt:
@@ -111,7 +130,10 @@ def main(args: argparse.Namespace) -> int:
         print(json.dumps(data, indent=2))
     else:
         verdict = "success" if data["success"] else f"failure: {data['failure']}"
-        print(f"{data['scenario']}: {verdict} after {data['sim_time_s']:.1f} s of robot time")
+        print(
+            f"{data['scenario']}: {verdict} after {data['sim_time_s']:.1f} s of robot time "
+            f"(ended: {emulation.ended_by or 'no client'})"
+        )
         for r in data["robots"]:
             print(
                 f"  {r['name']}: {r['progress_laps']:.2f} laps, {r['distance_m']:.2f} m, "

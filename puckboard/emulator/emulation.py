@@ -9,8 +9,10 @@ its verdict as an :class:`~puckboard.episode.EpisodeResult`, the same fields as
 ``puckboard run --json``.
 
 The clock starts with the first command a client sends (the moment a real robot would
-start moving), so a slow connect does not count against the controller. When the client
-disconnects the wheels stop. The scene's other robots (the oncoming robot of the
+start moving), so a slow connect does not count against the controller. The run ends
+when the client is done: it disconnects (TCP), or sends nothing for ``idle_timeout``
+seconds (a pseudo-terminal cannot tell a closed client from a silent one), or at the
+latest after ``duration``. When the client disconnects the wheels stop. The scene's other robots (the oncoming robot of the
 two-robot pass, say) are driven by their own scene controllers inside the emulator,
 synchronously with the world, unless ``others="still"`` leaves them standing.
 """
@@ -29,11 +31,14 @@ from .robot import EmulatedRobot
 from .servers import PtyServer, TcpServer, _ServerBase, pty_available
 from .sessions import SercomSession, WifiSession
 
-__all__ = ["PROTOCOLS", "Emulation", "EmulationInfo"]
+__all__ = ["PROTOCOLS", "START_SLACK", "Emulation", "EmulationInfo"]
 
 log = logging.getLogger(__name__)
 
 PROTOCOLS = ("wifi", "sercom")
+
+START_SLACK = 10.0
+"""Seconds added to the scene's duration by default (connecting, building controllers)."""
 
 
 @dataclass(frozen=True)
@@ -68,6 +73,8 @@ class Emulation:
         serial: str | None = None,
         realtime: float = 1.0,
         others: str = "controller",
+        until_client_leaves: bool = True,
+        idle_timeout: float | None = 2.0,
     ) -> None:
         from ..sim.world import World
 
@@ -92,11 +99,15 @@ class Emulation:
         self.judge.update(self.world.time, self.world.poses, self.world.collisions)
         self._lock = self.robot.lock
         self._stop = threading.Event()
+        self._client_left = threading.Event()
+        self.until_client_leaves = until_client_leaves
+        self.idle_timeout = idle_timeout
+        self.ended_by = ""
         self._started_at: float | None = None
         self.wall_s = 0.0
         server: _ServerBase
         if protocol == "wifi":
-            server = TcpServer(lambda: WifiSession(self.robot), self.robot.stop, host, port)
+            server = TcpServer(lambda: WifiSession(self.robot), self._client_gone, host, port)
             self.info = EmulationInfo(
                 protocol, server.endpoint, "epuck2-wifi", {"host": server.host, "port": server.port}
             )
@@ -104,15 +115,20 @@ class Emulation:
             if serial is None:
                 serial = "pty" if pty_available() else "tcp"
             if serial == "pty":
-                server = PtyServer(lambda: SercomSession(self.robot), self.robot.stop)
+                server = PtyServer(lambda: SercomSession(self.robot), self._client_gone)
                 device = server.endpoint
             elif serial == "tcp":
-                server = TcpServer(lambda: SercomSession(self.robot), self.robot.stop, host, port)
+                server = TcpServer(lambda: SercomSession(self.robot), self._client_gone, host, port)
                 device = f"socket://{server.endpoint}"
             else:
                 raise ValueError(f"serial carrier must be 'pty' or 'tcp', got {serial!r}")
             self.info = EmulationInfo(protocol, server.endpoint, "sercom", {"device": device})
         self.server = server
+
+    def _client_gone(self) -> None:
+        self.robot.stop()
+        if self.robot.commands:
+            self._client_left.set()
 
     def _build_others(self) -> list[tuple[Any, Any]]:
         """An embedded adapter and the scene's controller for every robot but the first."""
@@ -154,11 +170,13 @@ class Emulation:
                 adapter.close()
 
     def run(self, duration: float | None = None, *, wait_for_client: float | None = None) -> Any:
-        """Serve and step in real time for ``duration`` s of robot time (default: the
-        scene's), counted from the first command; returns the judge's verdict as an
-        :class:`~puckboard.episode.EpisodeResult`. Returns early after :meth:`stop`, or
-        when no client sent a command within ``wait_for_client`` seconds."""
-        duration = self.scene.duration if duration is None else float(duration)
+        """Serve and step in real time for at most ``duration`` s of robot time, counted
+        from the first command (default: the scene's duration plus :data:`START_SLACK`, as a
+        client's own run starts a moment after its first command); returns the judge's
+        verdict as an :class:`~puckboard.episode.EpisodeResult`. Returns early when the
+        client is done (see the module docstring), after :meth:`stop`, or when no client
+        sent a command within ``wait_for_client`` seconds."""
+        duration = self.scene.duration + START_SLACK if duration is None else float(duration)
         if duration <= 0:
             raise ValueError(f"duration must be positive seconds, got {duration}")
         if self.server._thread is None:
@@ -182,8 +200,17 @@ class Emulation:
         steps = int(round(duration / dt))
         t0 = time.monotonic()
         self._started_at = t0
+        self.ended_by = "duration"
         for k in range(1, steps + 1):
             if self._stop.is_set():
+                self.ended_by = "stopped"
+                break
+            if self.until_client_leaves and self._client_left.is_set():
+                self.ended_by = "client left"
+                break
+            idle = time.monotonic() - self.robot.last_command
+            if self.idle_timeout is not None and idle > self.idle_timeout:
+                self.ended_by = f"client silent for {self.idle_timeout:g} s"
                 break
             self._check_server()
             delay = t0 + k * period - time.monotonic()

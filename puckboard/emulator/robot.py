@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 
 import numpy as np
 import numpy.typing as npt
@@ -65,6 +66,7 @@ class EmulatedRobot:
         self._step_offset = (0, 0)  # set by "set steps" commands
         self._prox_baseline = np.zeros(8)  # what the last IR calibration saw
         self.commands = 0
+        self.last_command = 0.0  # time.monotonic() of the last command
         self.calibrations = 0
 
     # -- actuators -------------------------------------------------------------------------
@@ -84,10 +86,16 @@ class EmulatedRobot:
             now = self._world_steps()
             self._step_offset = (int(left) - now[0], int(right) - now[1])
 
+    def count_command(self) -> None:
+        """Note a request from the client (the emulation's clock starts with the first; the
+        idle timer restarts with each)."""
+        with self.lock:
+            self.commands += 1
+            self.last_command = time.monotonic()
+
     def apply(self, block: ActuatorBlock) -> None:
         """Apply a "set all actuators" block (Wi-Fi 0x80 bytes 2..20, sercom 0x09)."""
         with self.lock:
-            self.commands += 1
             if block.settings & ActuatorBlock.CALIBRATE_IR:
                 self.calibrate_ir()
             if block.settings & ActuatorBlock.SET_STEPS:

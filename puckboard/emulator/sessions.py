@@ -46,6 +46,7 @@ class WifiSession:
         self.framer.feed(data)
         out = bytearray()
         for cmd in self.framer.commands():
+            self.robot.count_command()
             self.robot.apply(cmd.actuators)
             if cmd.sensors:
                 out += encode_sensor_packet(self.robot.sensor_block())
@@ -71,6 +72,7 @@ class SercomSession:
     def feed(self, data: bytes) -> bytes:
         out = bytearray()
         for kind, payload in self.parser.feed(data):
+            self.robot.count_command()
             if kind == "binary":
                 assert isinstance(payload, list)
                 out += self._binary(payload)
@@ -87,9 +89,7 @@ class SercomSession:
                 r.apply(ActuatorBlock.decode(params))
             elif cmd == sc.SET_SPEED:
                 left, right = sc.decode_int16s(params, 2)
-                with r.lock:
-                    r.commands += 1
-                    r.set_speeds(left, right)
+                r.set_speeds(left, right)
             elif cmd == sc.SET_STEPS:
                 left, right = sc.decode_int16s(params, 2)
                 r.set_steps(left, right)
@@ -132,9 +132,7 @@ class SercomSession:
                 return "k, Calibration finished"
             if key == "D":
                 left, right = int(parts[1]), int(parts[2])
-                with r.lock:
-                    r.commands += 1
-                    r.set_speeds(left, right)
+                r.set_speeds(left, right)
                 return "d"
             if key == "E":
                 return "e,{},{}".format(*r.speeds)

@@ -90,3 +90,30 @@ def test_run_without_a_client_returns_after_the_wait() -> None:
     result = em.run(5.0, wait_for_client=0.2)
     assert time.monotonic() - t0 < 5.0
     assert result.steps == 0  # the clock never started
+
+
+def _drive_briefly(em: Emulation, then: str) -> threading.Thread:
+    thread = threading.Thread(target=em.run, args=(30.0,), daemon=True)
+    thread.start()
+    conn = open_wifi(em.scene, **em.info.options)
+    robot = conn.adapters[em.robot.name]
+    robot.set_wheel_speeds(1.0, 1.0)
+    if then == "disconnect":
+        conn.close()
+    return thread
+
+
+def test_run_ends_when_the_tcp_client_leaves() -> None:
+    em = Emulation("line-follow", protocol="wifi", idle_timeout=None)
+    thread = _drive_briefly(em, "disconnect")
+    thread.join(10)
+    assert not thread.is_alive()
+    assert em.ended_by == "client left"
+
+
+def test_run_ends_when_the_client_falls_silent() -> None:
+    em = Emulation("line-follow", protocol="wifi", idle_timeout=0.3, until_client_leaves=False)
+    thread = _drive_briefly(em, "stay")
+    thread.join(10)
+    assert not thread.is_alive()
+    assert em.ended_by.startswith("client silent")

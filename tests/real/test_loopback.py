@@ -44,7 +44,15 @@ CARRIERS = [
 
 @contextmanager
 def emulated(protocol: str, serial: str | None) -> Iterator[Emulation]:
-    em = Emulation(SCENE, protocol=protocol, serial=serial, seed=3)
+    # these tests are about the client: keep the robot up whatever the client does
+    em = Emulation(
+        SCENE,
+        protocol=protocol,
+        serial=serial,
+        seed=3,
+        until_client_leaves=False,
+        idle_timeout=None,
+    )
     thread = threading.Thread(target=em.run, args=(60.0,), daemon=True)
     thread.start()
     try:
