@@ -100,8 +100,13 @@ def frame_indices(
         )
     n = int(math.floor((t1 - t0) * fps / speed + 1e-9)) + 1
     wanted = t0 + np.arange(n) * (speed / fps)
-    idx = np.searchsorted(t, wanted - 1e-9)
-    return np.clip(idx, 0, len(t) - 1)
+    idx = np.clip(np.searchsorted(t, wanted - 1e-9), 0, len(t) - 1)
+    last = int(np.searchsorted(t, t1 + 1e-9) - 1)
+    if end is None or end >= t[-1]:
+        last = len(t) - 1
+    if idx[-1] != last:  # always end on the final state: how a run ends matters most
+        idx = np.append(idx, last)
+    return idx
 
 
 def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
@@ -124,6 +129,7 @@ def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
         layers=layers,
         title=rec.title,
         bounds=bounds,
+        cycle=float(rec.meta.get("dt") or 0.05),
         **options,
     )
 
@@ -155,7 +161,7 @@ def draw_row(stage: Any, rec: Recording, i: int, trail_start: int = 0) -> None:
     trails = [rec.pose[trail_start : i + 1, r, :2] for r in range(len(rec.robot_names))]
     stage.update(
         float(rec.time[i]), rec.pose[i], rec.proximity[i], rec.ground[i], _layer_names(rec, i),
-        trails,
+        trails, rec.meta.get("events") or (),
     )  # fmt: skip
 
 

@@ -151,6 +151,7 @@ class LiveView:
             arrays["ground"][-1],
             layers,
             trails,
+            self._events(),
         )
         self.frames_drawn += 1
         self._last_draw = started
@@ -164,6 +165,15 @@ class LiveView:
                 canvas.flush_events()
         cost = _time.perf_counter() - started
         self._draw_cost = cost if self.frames_drawn == 1 else 0.8 * self._draw_cost + 0.2 * cost
+
+    def _events(self) -> list[dict[str, Any]]:
+        source = getattr(self.recorder, "events", None)
+        if source is None:
+            return []
+        try:
+            return list(source())
+        except Exception:  # a view must never break a run
+            return []
 
     def _show_inline(self) -> None:
         """Inline notebooks show pictures, not canvases: render off-screen and update
@@ -253,6 +263,9 @@ class _Replay:
         self.rec = rec
         self.n = 0
         self.layer_names = rec.layer_names
+
+    def events(self) -> list[dict[str, Any]]:
+        return list(self.rec.meta.get("events") or [])
 
     def __len__(self) -> int:
         return self.n

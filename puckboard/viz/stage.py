@@ -30,6 +30,9 @@ __all__ = ["Stage", "figure_rgb"]
 ZOOM_MAX_ROBOTS = 3
 """Above this many robots the stage shows the overview only."""
 
+NEWS_SECONDS = 3.0
+"""How long (s of run time) a judge's event stays on screen."""
+
 _RAY_IDLE = (0.55, 0.55, 0.55, 0.55)
 
 
@@ -48,6 +51,7 @@ class Stage:
         zoom: bool | None = None,
         zoom_width: float = 0.30,
         bounds: tuple[float, float, float, float] | None = None,
+        cycle: float = 0.05,
     ) -> None:
         from matplotlib.lines import Line2D
         from matplotlib.patches import Patch
@@ -57,6 +61,9 @@ class Stage:
         self.names = tuple(robot_names)
         self.colours = dict(colours)
         self.zoom_width = zoom_width
+        # the judge stamps a cycle's events at the end of the cycle, one period after
+        # the sensing time the recording shows
+        self._event_slack = cycle + 1e-6
         n = len(self.names)
         self.zoom = (n <= ZOOM_MAX_ROBOTS) if zoom is None else zoom
         self.profiles = [_profile_of(scene, name) for name in self.names]
@@ -107,6 +114,11 @@ class Stage:
 
         self._footer.set_animated(True)
         self._clock.set_animated(True)
+        self._news = fig.text(
+            0.06, 0.912, "", fontsize=FONT["label"], va="center", color="#8b0000",
+            fontweight="bold",
+        )  # fmt: skip
+        self._news.set_animated(True)
         self._background: Any = None
         self._own_draw = False
 
@@ -202,14 +214,22 @@ class Stage:
         ground: np.ndarray,
         layers: Sequence[str | None],
         trails: Sequence[np.ndarray] | None = None,
+        events: Sequence[Mapping[str, Any]] = (),
     ) -> None:
         """Show the state at ``time``: ``pose`` N×3, ``proximity`` N×8 distances (m),
         ``ground`` N×3 (0..1), ``layers`` the active layer per robot, ``trails`` one
-        K×2 array of past positions per robot."""
+        K×2 array of past positions per robot, ``events`` the judge's events so far
+        (the last few seconds' are shown under the title)."""
         pose = np.asarray(pose, dtype=float)
         proximity = np.asarray(proximity, dtype=float)
         ground = np.asarray(ground, dtype=float)
         self._clock.set_text(f"t = {time:.1f} s")
+        recent = [
+            f"{e.get('robot') or 'run'}: {str(e.get('kind', '')).replace('_', ' ')}"
+            for e in events
+            if time - NEWS_SECONDS <= float(e.get("time_s", -1e9)) <= time + self._event_slack
+        ]
+        self._news.set_text("   ".join(dict.fromkeys(recent[-3:])))
         rays_xy, ray_colours, ray_widths = self._rays(pose, proximity)
         ground_xy = self._ground_points(pose)
         for arts in self._artists:
@@ -305,6 +325,7 @@ class Stage:
                 for spine in ax.spines.values():
                     draw(spine)
         draw(self._clock)
+        draw(self._news)
         draw(self._footer)
 
     def invalidate(self, _event: Any = None) -> None:

@@ -20,9 +20,11 @@ def rec():
 
 def test_frame_indices_sample_run_time_at_speed_over_fps(rec):
     idx = frame_indices(rec, fps=10, speed=4)
-    # 3.95 s of run at 0.4 s of run per frame -> frames at 0, 0.4, ..., 3.6
-    assert len(idx) == 10
-    np.testing.assert_allclose(rec.time[idx], np.arange(10) * 0.4, atol=1e-9)
+    # 3.95 s of run at 0.4 s of run per frame -> frames at 0, 0.4, ..., 3.6, then the
+    # final state at 3.95 s
+    assert len(idx) == 11
+    np.testing.assert_allclose(rec.time[idx[:-1]], np.arange(10) * 0.4, atol=1e-9)
+    assert idx[-1] == len(rec) - 1
 
 
 def test_gif_has_the_expected_frames_and_size(rec, tmp_path):
@@ -76,6 +78,8 @@ def test_bad_suffix_is_refused(tmp_path):
 def test_part_of_a_run_and_bad_windows(rec):
     idx = frame_indices(rec, fps=10, speed=2, start=1.0, end=2.0)
     np.testing.assert_allclose(rec.time[idx], 1.0 + np.arange(6) * 0.2, atol=1e-9)
+    idx = frame_indices(rec, fps=10, speed=2, start=1.0, end=2.1)
+    np.testing.assert_allclose(rec.time[idx[-2:]], [2.0, 2.1], atol=1e-9)
     with pytest.raises(ValueError, match="nothing to animate"):
         frame_indices(rec, fps=10, speed=2, start=10.0)
 
@@ -95,7 +99,29 @@ def test_plot_cli_writes_plots_and_a_sized_animation(rec, tmp_path, capsys):
     ]
     with Image.open(gif) as im:
         assert im.size == (320, 180)
-        assert im.n_frames == 3  # 0, 0.4, 0.8 s
-    assert "3 frames" in capsys.readouterr().out
+        assert im.n_frames == 4  # 0, 0.4, 0.8 s and the last state shown, 1.0 s
+    assert "4 frames" in capsys.readouterr().out
     assert main([*argv, "--animate", str(tmp_path / "x.avi")]) == 2
     assert main(["plot", str(tmp_path / "missing.npz")]) == 2
+
+
+def test_judge_events_are_shown_for_a_few_seconds(rec):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from puckboard.viz.animation import draw_row, stage_for_recording
+
+    rec.meta["events"] = [{"time_s": 0.55, "robot": "red", "kind": "passed_other"}]
+    try:
+        fig = Figure(figsize=(6.4, 3.6))
+        FigureCanvasAgg(fig)
+        stage = stage_for_recording(fig, rec)
+        shown = {}
+        for t in (0.45, 0.5, 3.5, 3.6):
+            draw_row(stage, rec, int(np.searchsorted(rec.time, t - 1e-9)))
+            shown[t] = stage._news.get_text()
+        # stamped at the end of the cycle that sensed at 0.5 s; gone 3 s later
+        news = "red: passed other"
+        assert shown == {0.45: "", 0.5: news, 3.5: news, 3.6: ""}
+    finally:
+        del rec.meta["events"]

@@ -56,7 +56,7 @@ def test_attach_writes_gif_and_plots_at_the_end(tmp_path):
         ["run.gif", "trajectories.png", "arbitration.png", "sensors.png", "wheels.png"]
     )
     with Image.open(tmp_path / "run.gif") as im:
-        assert im.n_frames == 5  # 1.95 s of run, one frame per 0.4 s
+        assert im.n_frames == 6  # 1.95 s of run: one frame per 0.4 s, then the final state
 
 
 def test_outputs_are_flushed_when_the_run_is_interrupted(tmp_path):
