@@ -512,7 +512,27 @@ def fig_two_robot_pass() -> None:
     save(fig, "two-robot-pass")
 
 
+def fig_task_tree() -> None:
+    """The task tree of examples/task_control.py, drawn by puckboard's own tree renderer
+    (needs Graphviz's ``dot``)."""
+    import importlib.util
+
+    from puckboard.viz.tree import render_tree
+
+    path = IMG.parent.parent / "examples" / "task_control.py"
+    spec = importlib.util.spec_from_file_location("task_control_example", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    png = render_tree(module.mission(), "png")
+    assert isinstance(png, bytes)
+    (IMG / "task-tree.png").write_bytes(png)
+    print(f"wrote {(IMG / 'task-tree.png').relative_to(IMG.parent.parent)}")  # noqa: T201
+
+
 FIGURES: dict[str, Callable[[], None]] = {
+    "task-tree": fig_task_tree,
     "two-robot-pass": fig_two_robot_pass,
     "sensors": fig_sensors,
     "line-follow": fig_line_follow,

@@ -116,8 +116,18 @@ class Stop(Layer):
 
 
 def follow_line(metres: float) -> Task:
+    """A task: follow the line (else cruise) until ``metres`` have been driven.
+
+    Its layers carry the distance in their names, so ``command/layer`` (and the drawn
+    tree) tell the two line-following tasks apart.
+    """
     drive = py_trees.composites.Selector(
-        "line or cruise", memory=False, children=[LineFollow(recovery=True), Cruise()]
+        f"line or cruise ({metres:g} m)",
+        memory=False,
+        children=[
+            LineFollow(recovery=True, name=f"LineFollow ({metres:g} m)"),
+            Cruise(name=f"Cruise ({metres:g} m)"),
+        ],
     )
     return Task(f"follow the line for {metres:g} m", drive, distance_driven, metres)
 
