@@ -42,6 +42,7 @@ __all__ = [
     "StepCounterUnwrapper",
     "acceleration_from_raw",
     "acceleration_to_raw",
+    "clamp_int16",
     "ground_value_from_raw",
     "prox_distance_from_value",
     "prox_value_from_distance",
@@ -49,6 +50,7 @@ __all__ = [
     "rgb565_decode",
     "rgb565_encode",
     "steps_s_to_rad_s",
+    "wrap_int16",
 ]
 
 GRAVITY = 9.81
@@ -210,16 +212,6 @@ def rgb565_encode(pixels: npt.NDArray[np.uint8]) -> bytes:
     out[..., 0] = ((r5 << 3) | (g6 >> 3)).astype(np.uint8)
     out[..., 1] = (((g6 & 0x07) << 5) | b5).astype(np.uint8)
     return out.tobytes()
-
-
-def resize_nearest(pixels: npt.NDArray[np.uint8], width: int, height: int) -> npt.NDArray[np.uint8]:
-    """Nearest-neighbour resize (no dependency beyond numpy), used to fit a frame to QQVGA."""
-    h, w = pixels.shape[:2]
-    if (w, h) == (width, height):
-        return pixels
-    rows = np.minimum((np.arange(height) + 0.5) * h / height, h - 1).astype(np.intp)
-    cols = np.minimum((np.arange(width) + 0.5) * w / width, w - 1).astype(np.intp)
-    return pixels[rows[:, None], cols[None, :]]
 
 
 def wrap_int16(value: int) -> int:
