@@ -24,11 +24,11 @@ Two things a textbook filter lacks and a proximity sensor needs:
 **Why plain Python and not filterpy (or numpy).** filterpy's ``KalmanFilter`` spends
 most of a predict+update in a general matrix inverse, ``deepcopy`` and bookkeeping
 copies, all for a 1×1 innovation (64 µs for ``KalmanFilter(1, 1)`` in the reference
-measurements). Eight 2-state filterpy filters measured 600-960 µs per cycle in the
+measurements). Eight 2-state filterpy filters measured 470-960 µs per cycle in the
 ``estimation`` benchmark -- more than a whole simulation step of two robots. With a
 scalar measurement the Kalman equations are a dozen multiplications per sensor: on
-Python floats, all eight sensors took 26-40 µs; the same equations vectorised over the
-eight sensors with numpy took 66-113 µs, because every numpy call has a fixed overhead of
+Python floats, all eight sensors took 20-40 µs; the same equations vectorised over the
+eight sensors with numpy took 65-113 µs, because every numpy call has a fixed overhead of
 a microsecond or two and eight elements never amortise it (``costs`` in
 ``python -m puckboard.estimation.bench``; absolute figures move with the machine's
 load, the ratios do not). So: plain floats, one loop over the sensors, the equations
