@@ -246,3 +246,25 @@ def test_image_rotation_turns_sideways_cameras() -> None:
             turned = conn.adapters["epuck"].camera_image().pixels
     assert turned.shape == (160, 120, 3)
     assert np.array_equal(turned, np.rot90(upright, 1))  # the robot stood still in between
+
+
+@pytest.mark.parametrize("carrier", CARRIERS[:2])
+def test_step_counters_wrap_on_the_wire_but_not_in_the_encoders(
+    carrier: tuple[str, str | None, str | None],
+) -> None:
+    protocol, serial, model = carrier
+    with emulated(protocol, serial) as em:
+        em.robot.set_steps(32700, -32700)  # the counters are about to wrap
+        with connect(em, model) as conn:
+            robot = conn.adapters["epuck"]
+            robot.set_wheel_speeds(4.0, -4.0)  # turn on the spot: left counts up, right down
+
+            def wrapped() -> bool:
+                robot.sense_all()
+                left, right = robot.last_block.steps
+                return left < 0 < right  # both int16 counters went round
+
+            assert eventually(wrapped)
+            enc = robot.refresh(Sensor.ENCODERS)
+            assert 0 < enc.left < 10 and -10 < enc.right < 0  # rad: no 65536-step jump
+            assert enc.left == pytest.approx(-enc.right, rel=0.2)
