@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..recording import Recording
-from .style import FONT, LINE, layer_colours, robot_colours
+from .style import FONT, LINE, event_label, layer_colours, robot_colours
 
 __all__ = [
     "PLOT_FORMATS",
@@ -150,7 +150,7 @@ def plot_arbitration(rec: Recording) -> Any:
         switches = max(0, len(spans) - 1)
         ax.annotate(
             f"{switches} switch{'' if switches == 1 else 'es'}", (1.0, y), xycoords=("axes fraction", "data"),
-            xytext=(8, 0), textcoords="offset points", va="center", fontsize=FONT["tick"],
+            xytext=(14, 0), textcoords="offset points", va="center", fontsize=FONT["tick"],
         )  # fmt: skip
     handles_events = _draw_events(ax, rec, names)
     ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=FONT["label"])
@@ -179,11 +179,11 @@ def plot_arbitration(rec: Recording) -> Any:
 
 
 _EVENT_MARKERS = {
-    "collision": ("X", "black", "collision"),
-    "passed_other": ("^", "white", "passed the other robot"),
-    "passed_obstacle": ("D", "white", "passed an obstacle"),
-    "left_line": ("v", "#bbbbbb", "left the line"),
-    "back_on_line": ("o", "#bbbbbb", "back on the line"),
+    "collision": ("X", "black"),
+    "passed_other": ("^", "white"),
+    "passed_obstacle": ("D", "white"),
+    "left_line": ("v", "#bbbbbb"),
+    "back_on_line": ("o", "#bbbbbb"),
 }
 
 
@@ -203,7 +203,8 @@ def _draw_events(ax: Any, rec: Recording, names: list[str]) -> list[Any]:
                 )
             continue
         y = len(names) - 1 - names.index(robot)
-        marker, colour, label = _EVENT_MARKERS.get(kind, ("*", "#d62728", kind.replace("_", " ")))
+        marker, colour = _EVENT_MARKERS.get(kind, ("*", "#d62728"))
+        label = event_label(kind)
         size = 16 if marker == "*" else 11
         ax.plot(
             t, y, marker=marker, ms=size, color=colour, mec="black", mew=1.5, zorder=5,

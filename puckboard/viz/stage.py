@@ -23,7 +23,7 @@ import numpy as np
 
 from ..profile import EPUCK2, get_profile
 from .scene_art import draw_scene, scene_bounds
-from .style import FONT, LINE, layer_colour, layer_colours
+from .style import FONT, LINE, event_label, layer_colour, layer_colours
 
 __all__ = ["Stage", "figure_rgb"]
 
@@ -225,7 +225,7 @@ class Stage:
         ground = np.asarray(ground, dtype=float)
         self._clock.set_text(f"t = {time:.1f} s")
         recent = [
-            f"{e.get('robot') or 'run'}: {str(e.get('kind', '')).replace('_', ' ')}"
+            f"{e.get('robot') or 'run'}: {event_label(str(e.get('kind', '')))}"
             for e in events
             if time - NEWS_SECONDS <= float(e.get("time_s", -1e9)) <= time + self._event_slack
         ]

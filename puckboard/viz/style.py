@@ -15,9 +15,11 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 __all__ = [
+    "EVENT_LABELS",
     "FONT",
     "LINE",
     "NO_DATA_COLOUR",
+    "event_label",
     "layer_colour",
     "layer_colours",
     "robot_colours",
@@ -54,6 +56,25 @@ _BY_KEYWORD: tuple[tuple[str, str], ...] = (
 _EXTRA = (_PURPLE, _SKY, _YELLOW, "#8C564B", "#7F7F7F", "#BCBD22", "#17BECF", "#9467BD")
 
 _ROBOT_PALETTE = ("#2ca02c", "#1f77b4", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2")
+
+
+EVENT_LABELS = {
+    "collision": "collision",
+    "passed_other": "passed the other robot",
+    "passed_obstacle": "passed an obstacle",
+    "left_line": "left the line",
+    "back_on_line": "back on the line",
+    "lost_line": "lost the line",
+    "turned_back": "turned back",
+    "parallel_driving": "drove side by side",
+    "stuck": "stuck",
+    "success": "success",
+}
+
+
+def event_label(kind: str) -> str:
+    """Words for a judge's event kind (``passed_other`` -> ``passed the other robot``)."""
+    return EVENT_LABELS.get(kind, kind.replace("_", " "))
 
 
 def layer_colour(name: str | None) -> str:

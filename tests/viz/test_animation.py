@@ -121,7 +121,7 @@ def test_judge_events_are_shown_for_a_few_seconds(rec):
             draw_row(stage, rec, int(np.searchsorted(rec.time, t - 1e-9)))
             shown[t] = stage._news.get_text()
         # stamped at the end of the cycle that sensed at 0.5 s; gone 3 s later
-        news = "red: passed other"
+        news = "red: passed the other robot"
         assert shown == {0.45: "", 0.5: news, 3.5: news, 3.6: ""}
     finally:
         del rec.meta["events"]
