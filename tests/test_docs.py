@@ -144,38 +144,27 @@ def test_every_image_the_pages_show_exists() -> None:
 
 @needs_mkdocs
 @pytest.mark.slow
-def test_mkdocs_build_is_strict_clean(tmp_path: Path) -> None:
+def test_docs_build_strict_clean_through_puckboard_docs(tmp_path: Path) -> None:
+    """``puckboard docs --strict`` runs ``mkdocs build --strict`` (warnings are errors:
+    broken links, missing images, unresolvable docstrings) and prints the page to open."""
+    out = tmp_path / "site"
     result = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(MKDOCS_YML),
-         "-d", str(tmp_path / "site")],
+        [sys.executable, "-m", "puckboard", "docs", "--strict", "--output", str(out)],
         cwd=ROOT, env=headless_env(), capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr[-4000:]
+    assert (out / "index.html").is_file()
+    assert (out / "index.html").as_uri() in result.stdout
     # the reference really was generated from docstrings, not left as ::: directives
-    core = (tmp_path / "site" / "api" / "core" / "index.html").read_text(encoding="utf-8")
+    core = (out / "api" / "core" / "index.html").read_text(encoding="utf-8")
     assert "thread-safe key/value store" in core  # Blackboard's docstring
-    behaviours = (tmp_path / "site" / "api" / "behaviours" / "index.html").read_text(
-        encoding="utf-8"
-    )
+    behaviours = (out / "api" / "behaviours" / "index.html").read_text(encoding="utf-8")
     assert "Follow a dark line" in behaviours  # LineFollow's docstring
-    for page in (tmp_path / "site").rglob("*.html"):
+    for page in out.rglob("*.html"):
         assert "::: puckboard" not in page.read_text(encoding="utf-8"), page
 
 
 # -- puckboard docs -----------------------------------------------------------------------
-@needs_mkdocs
-@pytest.mark.slow
-def test_puckboard_docs_builds_and_prints_the_page_to_open(tmp_path: Path) -> None:
-    out = tmp_path / "site"
-    result = subprocess.run(
-        [sys.executable, "-m", "puckboard", "docs", "--output", str(out)],
-        cwd=ROOT, env=headless_env(), capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
-    assert result.returncode == 0, result.stderr[-3000:]
-    assert (out / "index.html").is_file()
-    assert (out / "index.html").as_uri() in result.stdout
-
-
 def test_puckboard_docs_names_the_missing_extra(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
