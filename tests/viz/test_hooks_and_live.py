@@ -141,3 +141,40 @@ def test_the_judges_events_are_recorded(tmp_path):
     rec = load_recording(tmp_path / "run.npz")
     assert rec.meta["events"] == [e.to_dict() for e in ep.judge.events]
     assert rec.meta["events"], "the stock controller's run has events to record"
+
+
+def test_notebook_inline_view_updates_one_displayed_image(monkeypatch):
+    import sys
+    import types
+
+    import matplotlib
+    from viz_standin import StandInEpisode
+
+    from puckboard.recording import Recorder
+
+    shown = []
+
+    class Handle:
+        def update(self, obj):
+            shown.append(obj)
+
+    def display(obj, display_id=False):
+        assert display_id is True
+        shown.append(obj)
+        return Handle()
+
+    fake = types.ModuleType("IPython.display")
+    fake.display = display
+    monkeypatch.setitem(sys.modules, "IPython", types.ModuleType("IPython"))
+    monkeypatch.setitem(sys.modules, "IPython.display", fake)
+    monkeypatch.setattr(
+        matplotlib, "get_backend", lambda: "module://matplotlib_inline.backend_inline"
+    )
+    ep = StandInEpisode()
+    recorder = Recorder.for_episode(ep)
+    ep.add_observer(recorder)
+    view = LiveView(recorder, speed=None).attach(ep)
+    assert view.notebook and not view.interactive
+    ep.run(1.0)
+    assert len(shown) == view.frames_drawn >= 2
+    assert shown[-1].size == (1024, 576)  # 12.8 x 7.2 in at 80 dpi
