@@ -25,6 +25,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--controller", default=None, metavar="SPEC", help="override every robot's controller"
     )
+    p.add_argument(
+        "--still",
+        action="store_true",
+        help="keep the wheels still and only watch the sensors (a real robot on the desk)",
+    )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
         "--duration",
@@ -51,13 +56,16 @@ def main(args: argparse.Namespace) -> int:
 
     if args.refresh <= 0:
         raise CliError("--refresh must be positive")
+    if args.still and args.controller:
+        raise CliError("--still and --controller exclude each other")
+    controller = _still if args.still else args.controller
     options = {
         k: getattr(args, k) for k in ("host", "port", "device") if getattr(args, k) is not None
     }
     try:
         episode = Episode(
             args.scenario,
-            controller=args.controller,
+            controller=controller,
             seed=args.seed,
             backend=args.backend,
             **options,
@@ -69,3 +77,15 @@ def main(args: argparse.Namespace) -> int:
     verdict = "success" if result.success else f"failure ({result.failure})"
     print(f"{result.scenario}: {verdict} after {result.sim_time_s:.1f} s")
     return 0
+
+
+def _still():  # type: ignore[no-untyped-def]
+    """A controller with one layer that always applies and commands zero speed."""
+    from ..behaviours import Controller, Layer
+    from ..records import WheelCommand
+
+    class Still(Layer):
+        def command(self, frame):  # type: ignore[no-untyped-def]
+            return WheelCommand.stop()
+
+    return Controller([Still()], name="still")

@@ -60,3 +60,12 @@ def test_monitor_cli_prints_a_plain_table_when_piped(capsys):
     for word in ("left", "right", "proximity", "ground", "command/layer", "rate (Hz)"):
         assert word in out
     assert main(["monitor", "no-such-scene"]) == 2
+
+
+def test_monitor_still_keeps_the_wheels_at_zero(capsys):
+    from puckboard.cli import main
+
+    assert main(["monitor", "line-follow", "--still", "--duration", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "L +0.00  R +0.00 rad/s" in out
+    assert "Still" in out
