@@ -161,7 +161,9 @@ def test_docs_build_strict_clean_through_puckboard_docs(tmp_path: Path) -> None:
     behaviours = (out / "api" / "behaviours" / "index.html").read_text(encoding="utf-8")
     assert "Follow a dark line" in behaviours  # LineFollow's docstring
     for page in out.rglob("*.html"):
-        assert "::: puckboard" not in page.read_text(encoding="utf-8"), page
+        html = page.read_text(encoding="utf-8")
+        assert "::: puckboard" not in html, page
+        assert not re.search(r":(class|func|meth|mod|attr):<code>", html), f"raw role in {page}"
 
 
 # -- puckboard docs -----------------------------------------------------------------------
@@ -260,3 +262,14 @@ def test_layer_page_code_runs(page: str) -> None:
         exec(compile(block, f"{page} block", "exec"), namespace)
         built = [v for v in namespace.values() if isinstance(v, Controller)]
         assert built, f"{page}: a snippet should build a Controller"
+
+
+def test_sphinx_roles_become_code_spans_in_the_reference() -> None:
+    sys.path.insert(0, str(DOCS))
+    try:
+        from griffe_rst_roles import plain_roles
+    finally:
+        sys.path.remove(str(DOCS))
+    text = "See :class:`~puckboard.records.Proximity` and :meth:`Episode.run`, or ``x``."
+    assert plain_roles(text) == "See `Proximity` and `Episode.run`, or ``x``."
+    assert plain_roles(":func:`the loader <puckboard.load_controller>`") == "`the loader`"
