@@ -420,7 +420,7 @@ class Recorder:
     def arrays(self) -> dict[str, np.ndarray]:
         """Read-only views of the rows so far (no copies; valid until the next row)."""
         n = self._n
-        out = {
+        out: dict[str, np.ndarray] = {
             "time": self._time[:n],
             "pose": self._pose[:n],
             "wheels": self._wheels[:n],
@@ -537,7 +537,7 @@ def scene_from_json(data: Mapping[str, Any]) -> Any:
                 log.warning("recording holds an unknown scene part %r; ignoring it", value["type"])
                 return None
             known = {f.name for f in dataclasses.fields(cls)}
-            return cls(**{k: decode(v) for k, v in value.items() if k in known})
+            return cls(**{k: decode(v) for k, v in value.items() if k in known})  # type: ignore[operator]
         if isinstance(value, list):
             return tuple(d for d in (decode(v) for v in value) if d is not None)
         return value

@@ -212,7 +212,7 @@ def render_animation(
     else:
         _write_mp4(path, frames(), fps)
     elapsed = _time.perf_counter() - t0
-    result = {
+    result: dict[str, Any] = {
         "path": path,
         "frames": len(indices),
         "size": (width, height),
@@ -244,7 +244,7 @@ def _palette(rec: Recording, stage: Any, indices: np.ndarray) -> Any:
     exact = [_rgb(c) for c in stage.key_colours()]
     exact = list(dict.fromkeys([(255, 255, 255), (0, 0, 0), *exact]))[: GIF_COLOURS // 2]
     rest = sheet.quantize(colors=GIF_COLOURS - len(exact), method=Image.Quantize.MEDIANCUT)
-    rest_pal = rest.getpalette()[: 3 * (GIF_COLOURS - len(exact))]
+    rest_pal = (rest.getpalette() or [])[: 3 * (GIF_COLOURS - len(exact))]
     pal = Image.new("P", (1, 1))
     pal.putpalette([v for c in exact for v in c] + rest_pal)
     return pal

@@ -66,8 +66,9 @@ def track_path(track: Any) -> Any:
         corners = [(x0 - nx, y0 - ny), (x1 - nx, y1 - ny), (x1 + nx, y1 + ny), (x0 + nx, y0 + ny)]
         pieces.append(MplPath([*corners, corners[0]], closed=True))
     disc = MplPath.circle((0.0, 0.0), half)
+    ring = np.asarray(disc.vertices, dtype=float)
     for x, y in track.points:
-        pieces.append(MplPath(disc.vertices + (x, y), disc.codes))
+        pieces.append(MplPath(ring + (x, y), disc.codes))
     return MplPath.make_compound_path(*pieces)
 
 
@@ -86,6 +87,7 @@ def draw_scene(ax: Any, scene: Any, *, labels: bool = True) -> None:
         )
     for ob in getattr(scene, "obstacles", ()):
         colour = rgb01(ob.colour)
+        patch: Any
         if hasattr(ob, "radius"):
             patch = Circle((ob.x, ob.y), ob.radius)
             cx, below = ob.x, ob.y - ob.radius

@@ -147,7 +147,9 @@ class Stage:
         ]
 
         lcol = layer_colours(legend_layers)
-        handles = [Patch(facecolor=lcol[name], edgecolor="none", label=name) for name in layers]
+        handles: list[Any] = [
+            Patch(facecolor=lcol[name], edgecolor="none", label=name) for name in layers
+        ]
         handles += [
             Line2D([], [], color=self.colours[name], linewidth=LINE["trail"] * 2, label=name)
             for name in self.names
