@@ -273,3 +273,17 @@ def test_sphinx_roles_become_code_spans_in_the_reference() -> None:
     text = "See :class:`~puckboard.records.Proximity` and :meth:`Episode.run`, or ``x``."
     assert plain_roles(text) == "See `Proximity` and `Episode.run`, or ``x``."
     assert plain_roles(":func:`the loader <puckboard.load_controller>`") == "`the loader`"
+
+
+def test_architecture_page_quotes_the_control_loop_example_verbatim() -> None:
+    """The loop shown on the architectures page is the example's loop, not a paraphrase."""
+
+    def statements(text: str) -> list[str]:
+        lines = (line.split("#", 1)[0].strip() for line in text.splitlines())
+        return [line for line in lines if line]
+
+    quoted = [b for b in fenced(DOCS / "architectures.md", "python") if "sense_all" in b]
+    assert quoted, "the architectures page should show the control loop"
+    example = statements((ROOT / "examples" / "control_loop.py").read_text(encoding="utf-8"))
+    for line in statements(quoted[0]):
+        assert line in example, f"not in examples/control_loop.py: {line}"
