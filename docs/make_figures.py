@@ -487,7 +487,11 @@ def fig_two_robot_pass() -> None:
     for label, controller in runs:
         episode = Episode("two-robot-pass", controller=controller, seed=0)
         paths: list[np.ndarray] = []
-        episode.add_observer(lambda ep, paths=paths: paths.append(ep.world.poses[:, :2].copy()))
+
+        def keep(ep: Episode, paths: list[np.ndarray] = paths) -> None:
+            paths.append(ep.world.poses[:, :2].copy())
+
+        episode.add_observer(keep)
         done.append((label, episode, episode.run(), np.array(paths)))  # paths: T × N × 2
     everything = np.concatenate([track.reshape(-1, 2) for *_, track in done])
     xmin, xmax, ymin, ymax = scene_bounds(done[0][1].scene, everything)

@@ -40,6 +40,8 @@ from typing import Any
 
 from puckboard.episode import run_episode
 
+BACKEND: str
+OPTIONS: dict[str, Any]
 BACKEND, OPTIONS = "embedded", {}  # ← the one line to change; see the docstring
 
 

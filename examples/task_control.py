@@ -85,6 +85,7 @@ class Task(py_trees.decorators.Decorator):
         self._start = None  # measure from the first tick of this task
 
     def update(self) -> Status:
+        assert self.controller is not None, "a Task runs inside a Controller"
         frame: Frame = self.controller.frame
         encoders = frame.value("encoders")
         if encoders is None:
