@@ -30,6 +30,9 @@ __all__ = ["Stage", "figure_rgb"]
 ZOOM_MAX_ROBOTS = 3
 """Above this many robots the stage shows the overview only."""
 
+UNPLACED_X, UNPLACED_Y = 1.0e4, 1.0e4
+"""Where robots without a pose are drawn (m): nowhere near any scene."""
+
 NEWS_SECONDS = 3.0
 """How long (s of run time) a judge's event stays on screen."""
 
@@ -61,6 +64,8 @@ class Stage:
         self.names = tuple(robot_names)
         self.colours = dict(colours)
         self.zoom_width = zoom_width
+        self._closeup_text = f"close-up, {zoom_width * 100:.0f} cm wide"
+        self._unplaced_text = "no pose known: robot-centred"
         # the judge stamps a cycle's events at the end of the cycle, one period after
         # the sensing time the recording shows
         self._event_slack = cycle + 1e-6
@@ -138,9 +143,8 @@ class Stage:
             for spine in ax.spines.values():
                 spine.set_edgecolor(self.colours[self.names[i]])
                 spine.set_linewidth(4)
-            ax.set_xlabel(
-                f"close-up, {zoom_width * 100:.0f} cm wide", fontsize=FONT["tick"], labelpad=4
-            )
+            ax.set_xlabel(self._closeup_text, fontsize=FONT["tick"], labelpad=4)
+        self._closeup_labels = [ax.xaxis.label for ax in self.closeups]
         self._closeup_titles = [
             ax.set_title("", fontsize=FONT["label"], fontweight="bold", color="white", pad=6)
             for ax in self.closeups
@@ -222,7 +226,17 @@ class Stage:
         ``ground`` N×3 (0..1), ``layers`` the active layer per robot, ``trails`` one
         K×2 array of past positions per robot, ``events`` the judge's events so far
         (the last few seconds' are shown under the title)."""
-        pose = np.asarray(pose, dtype=float)
+        pose = np.array(pose, dtype=float)
+        # A robot without a pose (a real e-puck has no ground truth) is drawn facing up
+        # at a spot of its own far outside the scene, so its close-up still shows what
+        # it senses and decides, robot-centred, while the overview leaves it out.
+        lost = ~np.isfinite(pose).all(axis=1)
+        for i in np.flatnonzero(lost):
+            pose[i] = (UNPLACED_X + 10.0 * i, UNPLACED_Y, math.pi / 2)
+        for i, label in enumerate(self._closeup_labels):
+            text = self._unplaced_text if lost[i] else self._closeup_text
+            if label.get_text() != text:
+                label.set_text(text)
         proximity = np.asarray(proximity, dtype=float)
         ground = np.asarray(ground, dtype=float)
         self._clock.set_text(f"t = {time:.1f} s")

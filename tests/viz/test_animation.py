@@ -125,3 +125,27 @@ def test_judge_events_are_shown_for_a_few_seconds(rec):
         assert shown == {0.45: "", 0.5: news, 3.5: news, 3.6: ""}
     finally:
         del rec.meta["events"]
+
+
+def test_a_robot_without_a_pose_is_still_shown_robot_centred(rec):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from puckboard.viz.animation import stage_for_recording
+
+    fig = Figure(figsize=(6.4, 3.6))
+    FigureCanvasAgg(fig)
+    stage = stage_for_recording(fig, rec)
+    pose = rec.pose[5].copy()
+    pose[0] = np.nan  # the first robot has no pose (a real robot)
+    stage.update(1.0, pose, rec.proximity[5], rec.ground[5], ["Cruise", "LineFollow"])
+    stage.frame_rgb()
+    red_closeup = stage._artists[1]["robots"][0]
+    assert red_closeup["body"].get_visible()
+    x, y = red_closeup["body"].center
+    xmin, xmax = stage.closeups[0].get_xlim()
+    assert xmin < x < xmax and x > 1000  # far from the scene, centred in its close-up
+    assert "robot-centred" in stage.closeups[0].xaxis.label.get_text()
+    assert "cm wide" in stage.closeups[1].xaxis.label.get_text()
+    ox0, ox1 = stage.overview.get_xlim()
+    assert ox1 < 100  # the overview still shows the scene, not the stand-in spot
