@@ -103,9 +103,14 @@ def test_tutorial_code_runs_in_order_with_the_promised_outcomes(tmp_path: Path) 
     # step 2: the two failures the prose explains
     assert re.search(r"stock +failed \(collision\)", out), out[-3000:]
     assert re.search(r"improved +failed \(lost_line\); the robots got past each other: True", out)
-    # step 3: who drives when, read from the blackboard
-    for layer in ("LineFollow", "FrontObstacleLeftTurn", "SideWallKeep", "Cruise"):
-        assert re.search(rf"->\s+{layer}$", out, flags=re.MULTILINE), (layer, out[-3000:])
+
+    # step 3: who drives when, read from the blackboard, in the order the page shows
+    def layer_sequence(text: str) -> list[str]:
+        return re.findall(r"^t=.*->\s+(\w+)$", text, flags=re.MULTILINE)
+
+    shown = layer_sequence(fenced(page, "text")[0])
+    assert shown == ["LineFollow", "FrontObstacleLeftTurn", "SideWallKeep", "Cruise"]
+    assert layer_sequence(out) == shown, out[-3000:]
     # step 4: the hand check shows the student's layer taking over off the line
     assert re.search(r"line under the centre +-> LineFollow", out), out[-3000:]
     assert re.search(r"no line anywhere +-> FindLineOnTheRight", out), out[-3000:]
