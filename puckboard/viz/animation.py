@@ -38,7 +38,7 @@ log = logging.getLogger(__name__)
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 
-GIF_SIZE = (960, 540)
+GIF_SIZE = (800, 450)
 MP4_SIZE = (1280, 720)
 GIF_COLOURS = 64
 """Palette size of GIFs: the pictures are flat colours, and 64 instead of 256 makes a
@@ -180,7 +180,7 @@ def render_animation(
 
     ``start``/``end`` (s of run time) animate only part of the run; the trails still
     show the path from the beginning.
-    ``size`` is (width, height) in pixels (default 960×540 for GIF, 1280×720 for MP4).
+    ``size`` is (width, height) in pixels (default 800×450 for GIF, 1280×720 for MP4).
     ``progress(done, total)`` is called after each frame. The result holds ``path``,
     ``frames``, ``size``, ``fps``, ``speed``, ``bytes`` and ``seconds_per_frame``.
     """
