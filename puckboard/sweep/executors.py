@@ -23,6 +23,7 @@ import os
 import sys
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
@@ -143,7 +144,7 @@ class LocalExecutor(SweepExecutor):
             for future in cf.as_completed(futures):
                 try:
                     result = future.result()
-                except cf.process.BrokenProcessPool as exc:
+                except BrokenProcessPool as exc:
                     raise WorkerLostError(f"a local worker process died: {exc}") from exc
                 yield result
             finished = True
