@@ -104,6 +104,7 @@ class Floor:
         self._grid_reach = -1.0
         self._grid: dict[tuple[int, int], npt.NDArray[np.intp]] = {}
         self._cell_near: dict[tuple[int, int], _Near] = {}
+        self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
 
     # -- ground sensors --------------------------------------------------------------------
     def coverage(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
@@ -123,14 +124,16 @@ class Floor:
         w = points[:, None] - near.start  # P×S
         t = (w * near.vector_conj).real
         t *= near.inv_len2
-        np.clip(t, 0.0, 1.0, out=t)
+        np.maximum(t, 0.0, out=t)  # two ufuncs: cheaper than np.clip's wrapper
+        np.minimum(t, 1.0, out=t)
         w -= t * near.vector
         d = np.abs(w).min(axis=1)
         # covered length of the footprint strip [d - rho, d + rho] inside [-h, h]
         overlap = np.minimum(d + self.footprint, self.half_width)
         overlap -= np.maximum(d - self.footprint, -self.half_width)
         overlap *= 1.0 / (2.0 * self.footprint)
-        return np.clip(overlap, 0.0, 1.0, out=overlap)
+        np.maximum(overlap, 0.0, out=overlap)
+        return np.minimum(overlap, 1.0, out=overlap)
 
     def brightness(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
         """Noise-free ground reading 0..1 at ``points`` (P×2); ``near`` as in :meth:`coverage`."""
@@ -155,10 +158,13 @@ class Floor:
         if reach != self._grid_reach:
             self._build_grid(reach)
         inv = 1.0 / GRID_CELL
+        key = tuple((math.floor(x * inv), math.floor(y * inv)) for x, y in centres)
+        joined = self._joined.get(key)
+        if joined is not None:
+            return joined
         cells = self._cell_near
         found: list[_Near] = []
-        for x, y in centres:
-            cell = (math.floor(x * inv), math.floor(y * inv))
+        for cell in key:
             near = cells.get(cell)
             if near is None:
                 idx = self._grid.get(cell)
@@ -167,9 +173,11 @@ class Floor:
                 )
                 cells[cell] = near
             found.append(near)
-        if len(found) == 1:
-            return found[0]
-        return _Near.join(found)
+        joined = found[0] if len(found) == 1 else _Near.join(found)
+        if len(self._joined) > 4096:
+            self._joined.clear()
+        self._joined[key] = joined
+        return joined
 
     def _build_grid(self, reach: float) -> None:
         grow = reach + self.half_width + self.footprint
@@ -184,6 +192,7 @@ class Floor:
                     grid.setdefault((i, j), []).append(k)
         self._grid = {cell: np.array(idx, dtype=np.intp) for cell, idx in grid.items()}
         self._cell_near: dict[tuple[int, int], _Near] = {}
+        self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
         self._grid_reach = reach
 
     # -- camera ----------------------------------------------------------------------------

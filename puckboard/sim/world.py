@@ -639,7 +639,9 @@ class World(Stepper):
                 noisy = np.minimum(distance * (1.0 - 0.5 * self._noise_prox * zp), self._range_col)
                 np.copyto(distance, noisy, where=seen)
                 np.maximum(distance, 0.0, out=distance)
-        np.clip(response, 0.0, RAW_MAX, out=response)
+        # (two ufuncs: np.clip's Python wrapper costs more than the clamping itself)
+        np.maximum(response, 0.0, out=response)
+        np.minimum(response, RAW_MAX, out=response)
         # -- ground: only the track segments near the robots ------------------------------
         # three points per robot: plain floats are cheaper than a dozen numpy calls here
         points: list[complex] = []
@@ -654,7 +656,8 @@ class World(Stepper):
         value = self.floor.brightness(np.array(points), near).reshape(n, 3)
         if z is not None and self._noise_ground > 0:
             value += self._noise_ground * z[10 * n : 13 * n].reshape(n, 3)
-        np.clip(value, 0.0, 1.0, out=self._ground)
+        np.maximum(value, 0.0, out=self._ground)
+        np.minimum(self._ground, 1.0, out=self._ground)
         np.multiply(self._ground, 1023.0, out=self._ground_raw)
 
     # -- records -------------------------------------------------------------------------------
