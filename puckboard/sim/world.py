@@ -26,6 +26,7 @@ See docs/simulator.md for every model's source and the choices made.
 
 from __future__ import annotations
 
+import cmath
 import logging
 import math
 import threading
@@ -80,9 +81,8 @@ class _IRSubset:
     """Rays and objects selected by one IR broad-phase outcome (see ``_ir_subset``)."""
 
     robots: npt.NDArray[np.intp]
-    lx: FloatArray
-    ly: FloatArray
-    angle: FloatArray
+    local_origin: npt.NDArray[np.complex128]
+    local_direction: npt.NDArray[np.complex128]
     ignore: npt.NDArray[np.bool_]
     seg_start: FloatArray
     seg_vector: FloatArray
@@ -579,9 +579,8 @@ class World(Stepper):
             m = len(robots) * 8 * self._ir_rays
             prep = _IRSubset(
                 robots=idx,
-                lx=self._ray_ox[idx],
-                ly=self._ray_oy[idx],
-                angle=self._ray_angle[idx],
+                local_origin=self._ray_ox[idx] + 1j * self._ray_oy[idx],
+                local_direction=np.exp(1j * self._ray_angle[idx]),
                 ignore=self._ray_ignore[idx][:, :, cidx].reshape(m, len(cidx)),
                 seg_start=self._seg_start[sidx].reshape(-1, 2),
                 seg_vector=self._seg_vector[sidx].reshape(-1, 2),
@@ -607,16 +606,18 @@ class World(Stepper):
         if robots:
             prep = self._ir_subset(robots, circles, segments)
             self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
-            sub = self._poses[prep.robots]
-            th = sub[:, 2:3]
-            c = np.cos(th)
-            s = np.sin(th)
-            ang = th + prep.angle
+            # rays as complex numbers: origin = position + rotation·local, direction =
+            # rotation·local direction (fewer numpy calls than separate x and y)
+            poses = self._pose_list
+            position = np.array([complex(poses[i][0], poses[i][1]) for i in robots])[:, None]
+            rotation = np.array([cmath.exp(1j * poses[i][2]) for i in robots])[:, None]
+            origin = (position + rotation * prep.local_origin).reshape(-1, 1)
+            direction = (rotation * prep.local_direction).reshape(-1, 1)
             allt = ray_hits(
-                (sub[:, 0:1] + c * prep.lx - s * prep.ly).reshape(-1, 1),
-                (sub[:, 1:2] + s * prep.lx + c * prep.ly).reshape(-1, 1),
-                np.cos(ang).reshape(-1, 1),
-                np.sin(ang).reshape(-1, 1),
+                origin.real,
+                origin.imag,
+                direction.real,
+                direction.imag,
                 prep.seg_start,
                 prep.seg_vector,
                 self._circle_centres[prep.circles],
@@ -632,7 +633,8 @@ class World(Stepper):
         if z is not None and self._noise_prox > 0:
             zp = z[2 * n : 10 * n].reshape(n, 8)
             seen = distance < self._range_col
-            sigma = np.hypot(self._noise_prox, relative_sigma(np.where(seen, distance, np.inf)))
+            # the table's own σ at the reported distance (at the range when nothing is seen)
+            sigma = np.hypot(self._noise_prox, relative_sigma(distance))
             response *= 1.0 + sigma * zp
             # a reading that comes back high means "closer": raw ~ 1/d², so d moves by −½
             if seen.any():

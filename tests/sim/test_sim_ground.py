@@ -76,3 +76,18 @@ def test_nearby_segment_search_gives_the_same_readings_as_testing_every_segment(
         points = np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
         near = floor.segments_near([centre], 0.0142)
         assert floor.brightness(points, near) == pytest.approx(floor.brightness(points))
+
+
+@pytest.mark.parametrize("width", [0.002, 0.004, 0.015, 0.03])
+def test_fast_brightness_agrees_with_the_footprint_coverage(width):
+    track = loop_track(0.4, 0.25, n=200, width=width)
+    floor = Floor(empty_scene(track=track))
+    rng = np.random.default_rng(1)
+    angles = rng.uniform(0, 2 * math.pi, 300)
+    points = np.column_stack(
+        [0.4 * np.cos(angles) + rng.normal(0, 0.01, 300), 0.25 * np.sin(angles)]
+    )
+    expected = floor.floor_brightness + floor.coverage(points) * (
+        floor.line_brightness - floor.floor_brightness
+    )
+    assert floor.brightness(points) == pytest.approx(expected, abs=1e-12)
