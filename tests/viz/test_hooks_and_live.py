@@ -178,3 +178,15 @@ def test_notebook_inline_view_updates_one_displayed_image(monkeypatch):
     ep.run(1.0)
     assert len(shown) == view.frames_drawn >= 2
     assert shown[-1].size == (1024, 576)  # 12.8 x 7.2 in at 80 dpi
+
+
+def test_the_gif_is_the_same_file_with_or_without_a_view(tmp_path):
+    files = []
+    for tag, view in (("plain", False), ("viewed", True)):
+        ep = Episode("two-robot-pass", controller="improved", seed=0)
+        outputs = attach(ep, record=tmp_path / f"{tag}.gif")
+        if view:
+            outputs.view = LiveView(outputs.recorder, speed=None, figure=plt.figure()).attach(ep)
+        ep.run(2.0, stop_early=False)
+        files.append((tmp_path / f"{tag}.gif").read_bytes())
+    assert files[0] == files[1]
