@@ -118,7 +118,12 @@ def attach(
 
         assert outputs.recorder is not None
         if can_show():
-            outputs.view = LiveView(outputs.recorder, speed=speed).attach(episode)
+            # A real robot's loop keeps wall-clock time and every redraw is taken out
+            # of a control period: redraw less often there.
+            realtime = not getattr(getattr(episode, "loop", None), "synchronous", True)
+            outputs.view = LiveView(
+                outputs.recorder, speed=speed, fps=5.0 if realtime else 20.0
+            ).attach(episode)
         else:
             log.warning(
                 "--view needs a display, and matplotlib found none (backend %s); running "
