@@ -222,6 +222,18 @@ class Episode:
             self.world = self.connection.world
             self.blackboard = self.connection.blackboard
             missing = [n for n in specs if n not in self.connection.adapters]
+            if missing and self.world is None and self.connection.adapters:
+                # a real robot (or a remote simulator holding fewer robots) drives only the
+                # robots it has: the episode, and the judge, shrink to those
+                log.warning(
+                    "backend %r drives only %s; leaving out %s",
+                    backend, ", ".join(self.connection.adapters), ", ".join(missing),
+                )  # fmt: skip
+                kept = tuple(r for r in self.scene.robots if r.name in self.connection.adapters)
+                self.scene = dataclasses.replace(self.scene, robots=kept)
+                specs = {n: specs[n] for n in specs if n in self.connection.adapters}
+                self.controllers = {n: self.controllers[n] for n in specs}
+                missing = []
             if missing:
                 raise SceneError(
                     f"backend {backend!r} has no robot called {', '.join(missing)}; it has "
@@ -266,12 +278,15 @@ class Episode:
             self.judge.update(self.world.time, poses, collisions)
             return
         poses = np.empty((len(self.controllers), 3))
+        stamp = self.loop.time
         for k, name in enumerate(self.controllers):
-            pose = self.connection.adapters[name].ns.value("pose")
-            if pose is None:
+            record = self.connection.adapters[name].ns.snapshot(["pose"]).get("pose")
+            if record is None:
                 return  # this backend gives no pose (yet): nothing to judge on this cycle
+            pose = record.value
             poses[k] = (pose.x, pose.y, pose.theta)
-        self.judge.update(self.loop.time, poses)
+            stamp = record.stamp  # the pose describes the sensing instant, not the step after
+        self.judge.update(stamp, poses)
 
     def _after_cycle(self, loop: ControlLoop) -> None:
         self._feed_judge()

@@ -35,18 +35,24 @@ class SensorPose:
 
 
 # IR proximity sensors ps0..ps7 (real e-puck order: clockwise seen from above, starting at
-# the front-right sensor). Positions and headings from the Webots e-puck model, whose
-# sensor model was calibrated on a real robot.
-_PROX_POSES = (
-    SensorPose(0.030, -0.010, math.radians(-17.0)),  # ps0 front_right
-    SensorPose(0.022, -0.025, math.radians(-46.0)),  # ps1 diagonal_right
-    SensorPose(0.000, -0.031, math.radians(-90.0)),  # ps2 right
-    SensorPose(-0.030, -0.015, math.radians(-151.0)),  # ps3 rear_right
-    SensorPose(-0.030, 0.015, math.radians(151.0)),  # ps4 rear_left
-    SensorPose(0.000, 0.031, math.radians(90.0)),  # ps5 left
-    SensorPose(0.022, 0.025, math.radians(46.0)),  # ps6 diagonal_left
-    SensorPose(0.030, 0.010, math.radians(17.0)),  # ps7 front_left
-)
+# the front-right sensor), at the Webots e-puck model's headings. They sit on the body's
+# outline (radius 0.037 m, the collision radius): the response table's distance 0 means
+# "an obstacle touching the sensor", and only at the outline can an obstacle touch it.
+# (Webots' proto places them 6 mm inside its own 37 mm collision cylinder, so a touching
+# wall would read 6 mm there; the sources give radii from 3.0 to 3.7 cm.)
+_PROX_HEADINGS_DEG = (-17.0, -46.0, -90.0, -151.0, 151.0, 90.0, 46.0, 17.0)
+
+
+def _on_outline(radius: float) -> tuple[SensorPose, ...]:
+    return tuple(
+        SensorPose(
+            radius * math.cos(math.radians(h)), radius * math.sin(math.radians(h)), math.radians(h)
+        )
+        for h in _PROX_HEADINGS_DEG
+    )
+
+
+_PROX_POSES = _on_outline(0.037)
 
 # Ground sensors gs0 (left), gs1 (centre), gs2 (right): 30 mm ahead of the axle, 10 mm apart.
 _GROUND_POSES = (

@@ -6,10 +6,11 @@ front_right, diagonal_right: V-REP's sensors 2-5) sees something within range.
 :class:`FrontBraitenbergAvoid` is the stock V-REP behaviour (Code 4.13, lines 34-40):
 each front sensor speeds up the wheel on its own side and slows the other, weights
 ``(1, 2, -2, -1)`` from left to right, scaled by closeness ``1 - d/range``. The robot turns
-*away* from whatever it sees. Two such robots meeting head-on see each other slightly
-off-centre, each turns away from its own side, and seen from above both turn the same
-way: they end up driving side by side (the thesis's Figure 4.6). Facing a flat wall, the
-left and right terms cancel and the robot pushes into it.
+*away* from whatever it sees. Two such robots meeting slightly off-centre can each turn
+away from their own side and, seen from above, both veer the same way: in the thesis's
+V-REP runs they ended up driving side by side (its Figure 4.6). Met nearly head-on, the
+left and right terms cancel and the robots drive into each other, as they do in the
+embedded ``two-robot-pass`` scene; facing a flat wall, a robot pushes into it.
 
 :class:`FrontObstacleLeftTurn` is the improved controller's fix (Code 4.14, lines 28-39):
 the *first* reaction is always a left turn on the spot-ish (right wheel forward at full

@@ -38,13 +38,20 @@ def test_improved_robots_meet_and_pass_each_other_on_every_seed(improved_runs):
 
 
 @pytest.mark.slow
+def test_improved_passes_two_robot_pass_on_nearly_every_seed(improved_runs):
+    """The measured level (docs/controllers.md, 'Measured outcomes'): 19 of seeds 0..19."""
+    failures = {s: r.failure for s, r in improved_runs.items() if not r.success}
+    assert len(failures) <= 1, failures
+    assert set(failures.values()) <= {"lost_line"}, failures
+
+
+@pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "measured: improved succeeds on 0 of seeds 0..19. The robots always pass each other "
-        "without touching, but then leave the line at 25-30 degrees and the one on the "
-        "outside of the loop never finds it again (lost_line). See docs/controllers.md, "
-        "'Measured outcomes'."
+        "measured: improved succeeds on 19 of seeds 0..19; on seed 8 the robot on the "
+        "outside of the loop leaves the mutual rotation parallel to the line, a few cm "
+        "beside it, and never finds it again (lost_line). See docs/controllers.md."
     ),
 )
 def test_improved_passes_two_robot_pass_on_every_seed(improved_runs):
