@@ -2,8 +2,8 @@ import sys
 
 import numpy as np
 import pytest
-from helpers import stand_in_recording
 from PIL import Image
+from viz_helpers import stand_in_recording
 
 from puckboard.viz.animation import (
     VideoSupportError,

@@ -124,7 +124,7 @@ def test_live_view_keys_pause_and_step_without_a_window():
 
 
 def test_replay_plays_a_recording_through_the_live_view():
-    from helpers import stand_in_recording
+    from viz_helpers import stand_in_recording
 
     from puckboard.viz.live import replay
 

@@ -1,8 +1,8 @@
 import xml.etree.ElementTree as ET
 
 import pytest
-from helpers import stand_in_recording
 from PIL import Image
+from viz_helpers import stand_in_recording
 
 from puckboard.viz.plots import layer_spans, save_plots
 
