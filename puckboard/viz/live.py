@@ -62,13 +62,11 @@ class LiveView:
         figure: Any = None,
         block_at_end: bool = True,
     ) -> None:
-        import matplotlib
-
         self.recorder = recorder
         self.speed = speed
         self.fps = fps
         self.block_at_end = block_at_end
-        backend = matplotlib.get_backend().lower()
+        backend = matplotlib_backend()
         self.notebook = "inline" in backend
         self.interactive = not self.notebook and backend not in _NON_INTERACTIVE
         if figure is None and self.notebook:

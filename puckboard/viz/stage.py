@@ -134,7 +134,7 @@ class Stage:
             detailed = k > 0 or not self.zoom
             arts: dict[str, Any] = {"ax": ax, "detailed": detailed, "robots": []}
             for i, name in enumerate(self.names):
-                arts["robots"].append(self._robot_artists(ax, i, name, detailed, Line2D))
+                arts["robots"].append(self._robot_artists(ax, i, name, detailed))
             self._artists.append(arts)
         for i, ax in enumerate(self.closeups):
             draw_scene(ax, scene, labels=False)
@@ -171,13 +171,14 @@ class Stage:
             )
         self._layer_colours = lcol
 
-    def _robot_artists(self, ax: Any, i: int, name: str, detailed: bool, line2d: Any) -> dict:
+    def _robot_artists(self, ax: Any, i: int, name: str, detailed: bool) -> dict[str, Any]:
         from matplotlib.collections import LineCollection
+        from matplotlib.lines import Line2D
         from matplotlib.patches import Circle
 
         colour = self.colours[name]
         radius = self.profiles[i].body_radius
-        trail = line2d([], [], color=colour, linewidth=LINE["trail"], alpha=0.75, zorder=5)
+        trail = Line2D([], [], color=colour, linewidth=LINE["trail"], alpha=0.75, zorder=5)
         ax.add_line(trail)
         # the ring (active layer's colour) stands apart from the body (robot's colour)
         ring = Circle(
@@ -190,7 +191,7 @@ class Stage:
             zorder=10, visible=False,
         )  # fmt: skip
         ax.add_patch(body)
-        heading = line2d(
+        heading = Line2D(
             [], [], color="white", linewidth=LINE["heading"], solid_capstyle="round", zorder=11
         )
         ax.add_line(heading)
