@@ -232,10 +232,10 @@ class Stage:
         # at a spot of its own far outside the scene, so its close-up still shows what
         # it senses and decides, robot-centred, while the overview leaves it out.
         lost = ~np.isfinite(pose).all(axis=1)
-        for i in np.flatnonzero(lost):
-            pose[i] = (UNPLACED_X + 10.0 * i, UNPLACED_Y, math.pi / 2)
-        for i, label in enumerate(self._closeup_labels):
-            text = self._unplaced_text if lost[i] else self._closeup_text
+        for k in np.flatnonzero(lost):
+            pose[k] = (UNPLACED_X + 10.0 * float(k), UNPLACED_Y, math.pi / 2)
+        for k, label in enumerate(self._closeup_labels):
+            text = self._unplaced_text if lost[k] else self._closeup_text
             if label.get_text() != text:
                 label.set_text(text)
         proximity = np.asarray(proximity, dtype=float)
