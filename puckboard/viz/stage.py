@@ -234,8 +234,8 @@ class Stage:
         lost = ~np.isfinite(pose).all(axis=1)
         for k in np.flatnonzero(lost):
             pose[k] = (UNPLACED_X + 10.0 * float(k), UNPLACED_Y, math.pi / 2)
-        for k, label in enumerate(self._closeup_labels):
-            text = self._unplaced_text if lost[k] else self._closeup_text
+        for j, label in enumerate(self._closeup_labels):
+            text = self._unplaced_text if lost[j] else self._closeup_text
             if label.get_text() != text:
                 label.set_text(text)
         proximity = np.asarray(proximity, dtype=float)
