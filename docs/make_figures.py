@@ -438,8 +438,30 @@ def fig_blackboard() -> None:
     save(fig, "blackboard")
 
 
+class TurnLeftFirst(Layer):
+    """The first layer the tutorial's reader writes (step 4), repeated here to draw it."""
+
+    reads = ("proximity",)
+
+    def __init__(self, speed: float = 2.0) -> None:
+        super().__init__()
+        self.speed = speed
+
+    def applies(self, frame):  # type: ignore[no-untyped-def]
+        prox = frame.proximity
+        if prox is None:
+            return False
+        front = [prox.diagonal_left, prox.front_left, prox.front_right, prox.diagonal_right]
+        return min(front) < prox.range
+
+    def command(self, frame):  # type: ignore[no-untyped-def]
+        from puckboard.records import WheelCommand
+
+        return WheelCommand(-self.speed / 2, self.speed)
+
+
 class FindLineOnTheRight(Layer):
-    """The layer the tutorial's reader writes (tutorial step 4), repeated here to draw it."""
+    """The second layer the tutorial's reader writes (step 5), repeated here to draw it."""
 
     reads = ("ground",)
 
@@ -459,10 +481,10 @@ class FindLineOnTheRight(Layer):
 
 
 def tutorial_controller() -> Controller:
-    """The tutorial's controller (step 5): improved plus FindLineOnTheRight."""
+    """The tutorial's controller (step 5)."""
     return Controller(
         [
-            FrontObstacleLeftTurn(),
+            TurnLeftFirst(),
             LineFollow(inner_factor=0.2, recovery=True),
             SideWallKeep(("right",)),
             FindLineOnTheRight(),
@@ -481,7 +503,7 @@ def fig_two_robot_pass() -> None:
     runs = [
         ("stock", "stock"),
         ("improved", "improved"),
-        ("improved + FindLineOnTheRight", tutorial_controller),
+        ("the tutorial's controller", tutorial_controller),
     ]
     done = []
     for label, controller in runs:
@@ -495,7 +517,7 @@ def fig_two_robot_pass() -> None:
         done.append((label, episode, episode.run(), np.array(paths)))  # paths: T × N × 2
     everything = np.concatenate([track.reshape(-1, 2) for *_, track in done])
     xmin, xmax, ymin, ymax = scene_bounds(done[0][1].scene, everything)
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.1))
     for ax, (label, episode, result, track) in zip(axes, done):
         draw_scene(ax, episode.scene, labels=False)
         for k, spec in enumerate(episode.scene.robots):
@@ -512,7 +534,7 @@ def fig_two_robot_pass() -> None:
         ax.set_title(f"{label}\n{verdict} after {result.sim_time_s:.0f} s", fontsize=10)
     axes[0].legend(fontsize=8, loc="upper left")
     fig.suptitle("The two-robot pass, seed 0 (● start, ■ end of the run)", fontsize=11)
-    fig.subplots_adjust(top=0.8, wspace=0.04)
+    fig.subplots_adjust(top=0.8, bottom=0.02, wspace=0.04)
     save(fig, "two-robot-pass")
 
 

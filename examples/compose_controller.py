@@ -19,9 +19,9 @@ What to watch:
   change a parameter — the same thing ``--set layer.LineFollow.inner_factor=...`` does on
   the command line;
 * the outcome at the meeting: the stock controller's robots drive into each other
-  (``collision``); the composed one lets them pass right side to right side. Afterwards
-  one robot usually loses the line (``lost_line``) — the layer that fixes that is the
-  tutorial's exercise (docs/tutorial.md, step 4).
+  (``collision``); the composed one lets them pass right side to right side. Whether
+  both then find the line again depends on the seed; the tutorial (docs/tutorial.md)
+  adds a layer for that.
 
 Run it: ``python examples/compose_controller.py``
 """
