@@ -113,6 +113,15 @@ def test_subsumption_avoidance_takes_control_when_an_obstacle_is_close() -> None
     assert "LineFollow" in out["layer_share"]
 
 
+def test_subsumption_without_hold_lets_go_as_soon_as_the_obstacle_is_gone() -> None:
+    example = load("subsumption")
+    example.HOLD = 0.0
+    out = example.main(duration=10.0)
+    assert out["close"] > 0
+    assert out["avoid_when_close"] == out["close"]
+    assert out["held_after"] == 0
+
+
 def test_blackboard_modules_write_derived_keys_stamped_like_their_inputs() -> None:
     out = load("blackboard").main(duration=20.0)
     assert out["derived"]["percept/line_seen"] is True
