@@ -157,7 +157,8 @@ def plot_arbitration(rec: Recording) -> Any:
     ax.set_ylim(-0.6, len(names) - 0.4)
     if len(rec):
         spans_end = max((b for n in names for _, _, b in layer_spans(rec, n)), default=0.0)
-        ax.set_xlim(float(rec.time[0]), spans_end)
+        start = float(rec.time[0])
+        ax.set_xlim(start, spans_end + 0.01 * (spans_end - start))
     ax.set_xlabel("time (s)")
     ax.set_title(f"Which layer had control: {rec.title}", fontsize=FONT["title"])
     handles = [
@@ -178,13 +179,15 @@ def plot_arbitration(rec: Recording) -> Any:
     return fig
 
 
-_EVENT_MARKERS = {
-    "collision": ("X", "black"),
-    "passed_other": ("^", "white"),
-    "passed_obstacle": ("D", "white"),
-    "left_line": ("v", "#bbbbbb"),
-    "back_on_line": ("o", "#bbbbbb"),
+_EVENT_MARKERS = {  # kind: marker, colour, offset from the band's middle
+    "collision": ("X", "black", 0.0),
+    "passed_other": ("^", "white", 0.2),
+    "passed_obstacle": ("D", "white", 0.2),
+    "left_line": ("v", "#bbbbbb", -0.2),
+    "back_on_line": ("o", "#bbbbbb", -0.2),
 }
+"""Line events sit low on a robot's band and passing events high, so events at the same
+moment (passed the other robot and back on the line, say) do not hide each other."""
 
 
 def _draw_events(ax: Any, rec: Recording, names: list[str]) -> list[Any]:
@@ -202,8 +205,8 @@ def _draw_events(ax: Any, rec: Recording, names: list[str]) -> list[Any]:
                     kind, Line2D([], [], color="#2ca02c", lw=3, ls="--", label="success")
                 )
             continue
-        y = len(names) - 1 - names.index(robot)
-        marker, colour = _EVENT_MARKERS.get(kind, ("*", "#d62728"))
+        marker, colour, dy = _EVENT_MARKERS.get(kind, ("*", "#d62728", 0.0))
+        y = len(names) - 1 - names.index(robot) + dy
         label = event_label(kind)
         size = 16 if marker == "*" else 11
         ax.plot(

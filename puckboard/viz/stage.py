@@ -242,7 +242,7 @@ class Stage:
         ground = np.asarray(ground, dtype=float)
         self._clock.set_text(f"t = {time:.1f} s")
         recent = [
-            f"{e.get('robot') or 'run'}: {event_label(str(e.get('kind', '')))}"
+            (f"{e['robot']}: " if e.get("robot") else "") + event_label(str(e.get("kind", "")))
             for e in events
             if time - NEWS_SECONDS <= float(e.get("time_s", -1e9)) <= time + self._event_slack
         ]
