@@ -35,7 +35,7 @@ def cast_rays(
     ``origins`` and ``directions`` (unit vectors) are R×2. Segments run from
     ``seg_start`` to ``seg_start + seg_vector`` (S×2 each); circles are C×2 centres with
     C radii. ``ignore`` (R×C, optional) masks circles a ray must not see (a robot's own
-    body, which encloses its sensors).
+    body, on or inside which its sensors sit).
 
     Returns ``(distance, hit)``: distance is ``inf`` where nothing lies within
     ``max_length``; ``hit`` indexes segments as ``0..S-1`` and circles as ``S..S+C-1``

@@ -294,7 +294,7 @@ class World(Stepper):
                 weights[i, s] = w / w.sum()
         self._ray_ox, self._ray_oy, self._ray_angle = origin_x, origin_y, angle
         self._ray_weights = weights
-        # a robot's rays never see its own body (its sensors sit inside the body circle)
+        # a robot's rays never see its own body (its sensors sit on or inside its outline)
         n_circ = self._circle_centres.shape[0]
         ignore = np.zeros((n, 8 * k, n_circ), dtype=bool)
         for i in range(n):

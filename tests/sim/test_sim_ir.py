@@ -99,7 +99,7 @@ def test_a_robot_sees_another_robot_but_never_its_own_body():
     scene = empty_scene(robot("a", 0.0, 0.0, 0.0), robot("b", 2 * 0.037 + gap, 0.0, math.pi))
     w = World(scene)
     front = [PS0, PS7]
-    # the front sensors sit inside the body and look 17° outwards: a little further
+    # the front sensors look 17° outwards, so their rays meet the other body a little further
     for i in (0, 1):
         assert (w.prox_distance[i, front] < gap + 0.015).all()
         assert (w.prox_distance[i, front] > gap).all()
