@@ -128,3 +128,13 @@ def test_arena_walls_are_seen_along_the_closest_ray_of_the_aperture():
     assert w.prox_distance[0, PS7] == pytest.approx(perpendicular / math.cos(closest_ray))
     assert w.prox_distance[0, PS0] == pytest.approx(perpendicular / math.cos(closest_ray))
     assert w.prox_distance[0, 4] == EPUCK2.prox_range  # rear_left faces away
+
+
+def test_an_obstacle_touching_the_body_at_a_sensor_reads_zero_and_full_scale():
+    heading = EPUCK2.prox_poses[PS7].heading
+    reach = EPUCK2.body_radius + 0.02
+    post = CircleObstacle(reach * math.cos(heading), reach * math.sin(heading), 0.02)
+    w = World(empty_scene(robot("a"), obstacles=(post,)))
+    assert w.contacts_now[0]
+    assert w.prox_distance[0, PS7] == pytest.approx(0.0, abs=1e-9)
+    assert w.prox_raw[0, PS7] > 3500  # the table starts at 4095 for 0 m
