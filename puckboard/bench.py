@@ -349,12 +349,26 @@ def format_results(results: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+#: Longest list of records the table shows in full; ``--json`` always has everything.
+TABLE_LIST_LIMIT = 8
+
+
 def _format_items(res: dict[str, Any], lines: list[str], indent: str) -> None:
-    width = max((len(k) for k in res), default=0)
+    width = max((len(str(k)) for k in res), default=0)
     for key, value in res.items():
         if isinstance(value, dict):
             lines.append(f"{indent}{key}:")
             _format_items(value, lines, indent + "  ")
+        elif isinstance(value, (list, tuple)) and any(isinstance(v, dict) for v in value):
+            lines.append(f"{indent}{key}: {len(value)} records")
+            for k, item in enumerate(value[:TABLE_LIST_LIMIT]):
+                lines.append(f"{indent}  [{k}]")
+                if isinstance(item, dict):
+                    _format_items(item, lines, indent + "    ")
+                else:
+                    lines.append(f"{indent}    {_fmt(item)}")
+            if len(value) > TABLE_LIST_LIMIT:
+                lines.append(f"{indent}  ... {len(value) - TABLE_LIST_LIMIT} more (see --json)")
         else:
             lines.append(f"{indent}{key:<{width}}  {_fmt(value)}")
 

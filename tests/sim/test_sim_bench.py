@@ -55,3 +55,13 @@ def test_sim_suite_reports_rate_split_and_camera():
     assert res["camera_us_per_frame"] > 0
     text = bench.format_results({"machine": bench.machine(), "suites": {"sim": res}})
     assert "steps_per_s" in text and "camera_us_per_frame" in text
+
+
+def test_table_shows_records_one_block_each_and_cuts_long_lists():
+    rows = [
+        {"seed": k, "errors": {"final_m": 0.001 * k}} for k in range(bench.TABLE_LIST_LIMIT + 3)
+    ]
+    text = bench.format_results({"machine": {}, "suites": {"demo": {"rows": rows}}})
+    assert f"rows: {len(rows)} records" in text
+    assert "final_m" in text and "{" not in text
+    assert "3 more (see --json)" in text
