@@ -9,8 +9,9 @@ shares). Each :meth:`World.step`:
 2. moves every robot along its exact arc (:mod:`.kinematics`), in sub-steps short enough
    that nothing can tunnel, resolving contacts after each (:mod:`.contacts`);
 3. computes every sensor of every robot in a few vectorised numpy calls: all IR rays of
-   all robots in one :func:`~puckboard.sim.geometry.cast_rays`, all ground sensors in one
-   floor query, accelerometers from the velocity change.
+   all robots near something in one cast (:mod:`.proximity`), all ground sensors in one
+   query of the nearby track segments (:mod:`.floor`), accelerometers from the velocity
+   change.
 
 The results live in N×k arrays (``poses``, ``prox_distance``, ``ground`` ...); records
 are only created when an adapter calls :meth:`World.read`. The camera is rendered on
@@ -26,12 +27,10 @@ See docs/simulator.md for every model's source and the choices made.
 
 from __future__ import annotations
 
-import cmath
 import logging
 import math
 import threading
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -53,9 +52,9 @@ from ..records import (
 from .camera import CameraRenderer
 from .contacts import Statics
 from .floor import Floor
-from .geometry import polygon_edges, ray_hits
-from .ir import RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
+from .geometry import polygon_edges
 from .kinematics import arc
+from .proximity import PolygonBound, ProximitySensors, WallSegment
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["GRAVITY", "IR_RAYS", "OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "World"]
@@ -74,22 +73,6 @@ WALL_HEIGHT = 0.08
 #: Largest distance (as a fraction of the body radius) a robot may move in one physics
 #: sub-step; longer steps are split so contacts are never skipped.
 MAX_SUBSTEP_FRACTION = 0.25
-
-
-@dataclass(frozen=True)
-class _IRSubset:
-    """Rays and objects selected by one IR broad-phase outcome (see ``_ir_subset``)."""
-
-    robots: npt.NDArray[np.intp]
-    local_origin: npt.NDArray[np.complex128]
-    local_direction: npt.NDArray[np.complex128]
-    ignore: npt.NDArray[np.bool_]
-    seg_start: FloatArray
-    seg_vector: FloatArray
-    circles: npt.NDArray[np.intp]
-    circle_radii: FloatArray
-    weights: FloatArray
-    range_col: FloatArray
 
 
 def _row(array: FloatArray, i: int) -> FloatArray:
@@ -119,8 +102,6 @@ class World(Stepper):
             raise ValueError(f"scene {scene.name!r} has no robots; add at least one [[robots]]")
         if not scene.dt > 0:
             raise ValueError(f"scene dt must be positive seconds, got {scene.dt}")
-        if ir_rays < 1:
-            raise ValueError(f"ir_rays must be at least 1, got {ir_rays}")
         self.scene = scene
         self.seed = seed
         self.rng = np.random.Generator(np.random.PCG64(seed))
@@ -190,7 +171,6 @@ class World(Stepper):
         self._prox_raw = np.zeros((n, 8))
         self._ground = np.zeros((n, 3))
         self._ground_raw = np.zeros((n, 3))
-        self._ir_cache: dict[tuple[tuple[int, ...], ...], _IRSubset] = {}
         # the first contact check and sensor pass describe the start pose (time 0)
         self._resolve_start_contacts()
         self._sense(None)
@@ -227,11 +207,11 @@ class World(Stepper):
             vectors.append(e)
             seg_colours += [ar.colour] * 4
             seg_heights += [WALL_HEIGHT] * 4
-        # bounding data for the IR broad phase: circles, polygons (bounding circle and
-        # their edges' indices) and walls (each wall segment tested exactly)
-        self._ir_circles = tuple((float(c[0]), float(c[1]), float(c[2])) for c in circles)
-        polygons: list[tuple[float, float, float, tuple[int, ...]]] = []
-        walls: list[tuple[float, float, float, float, float, int]] = []
+        # bounding data for the IR broad phase: polygons (bounding circle and their
+        # edges' indices) and walls (each wall segment tested exactly)
+        self._static_circles = [(float(c[0]), float(c[1]), float(c[2])) for c in circles]
+        polygons: list[PolygonBound] = []
+        walls: list[WallSegment] = []
         first = 0
         for ob in scene.obstacles:
             if isinstance(ob, PolygonObstacle):
@@ -239,15 +219,15 @@ class World(Stepper):
                 centre = v.mean(axis=0)
                 radius = float(np.hypot(*(v - centre).T).max())
                 idx = tuple(range(first, first + len(v)))
-                polygons.append((float(centre[0]), float(centre[1]), radius, idx))
+                polygons.append(PolygonBound(float(centre[0]), float(centre[1]), radius, idx))
                 first += len(v)
         if scene.arena is not None:
             for k in range(4):
                 ax, ay = starts[-1][k].tolist()
                 ex, ey = vectors[-1][k].tolist()
-                walls.append((ax, ay, ex, ey, ex * ex + ey * ey, first + k))
-        self._ir_polygons = tuple(polygons)
-        self._ir_walls = tuple(walls)
+                walls.append(WallSegment(ax, ay, ex, ey, first + k))
+        self._polygon_bounds = polygons
+        self._wall_segments = walls
         self._seg_start = np.vstack(starts) if starts else np.zeros((0, 2))
         self._seg_vector = np.vstack(vectors) if vectors else np.zeros((0, 2))
         n_static = len(circles)
@@ -267,46 +247,20 @@ class World(Stepper):
             seg_heights + [OBSTACLE_HEIGHT] * n_static + [ROBOT_HEIGHT] * self.n, dtype=float
         )
 
-    def _build_sensor_layout(self, k: int) -> None:
-        """Per-ray local origins and angles for every robot's IR sensors, ground points."""
-        n = self.n
-        self._ir_rays = k
-        origin_x = np.zeros((n, 8 * k))
-        origin_y = np.zeros((n, 8 * k))
-        angle = np.zeros((n, 8 * k))
-        weights = np.zeros((n, 8, k))
-        for i, p in enumerate(self.profiles):
-            if len(p.prox_poses) != 8 or len(p.ground_poses) != 3:
-                raise ValueError(
-                    f"profile {p.name!r} must have 8 proximity and 3 ground sensor poses"
-                )
-            offsets = (
-                np.linspace(-p.prox_aperture / 2, p.prox_aperture / 2, k) if k > 1 else np.zeros(1)
-            )
-            # Webots combines a sensor's rays with Gaussian weights; σ = aperture/4 puts
-            # the outermost rays at two standard deviations.
-            sigma = max(p.prox_aperture / 4.0, 1e-9)
-            w = np.exp(-0.5 * (offsets / sigma) ** 2)
-            for s, pose in enumerate(p.prox_poses):
-                origin_x[i, s * k : (s + 1) * k] = pose.x
-                origin_y[i, s * k : (s + 1) * k] = pose.y
-                angle[i, s * k : (s + 1) * k] = pose.heading + offsets
-                weights[i, s] = w / w.sum()
-        self._ray_ox, self._ray_oy, self._ray_angle = origin_x, origin_y, angle
-        self._ray_weights = weights
-        # a robot's rays never see its own body (its sensors sit on or inside its outline)
-        n_circ = self._circle_centres.shape[0]
-        ignore = np.zeros((n, 8 * k, n_circ), dtype=bool)
-        for i in range(n):
-            ignore[i, :, self._n_static_circles + i] = True
-        self._ray_ignore = ignore
-        self._cast_length = max(TABLE_RANGE, float(self._range.max()))
-        self._range_col = self._range[:, None]
-        # what a sensor reads when its rays hit nothing: the table's far baseline
-        self._baseline_raw = (raw_from_distance(np.inf) * weights).sum(axis=2)
-        # broad phase: how far from a robot's centre its rays can reach
-        sensor_offset = max(math.hypot(q.x, q.y) for p in self.profiles for q in p.prox_poses)
-        self._ir_reach = sensor_offset + self._cast_length
+    def _build_sensor_layout(self, rays: int) -> None:
+        """The IR sensor array, and the ground sensors' local positions."""
+        for p in self.profiles:
+            if len(p.ground_poses) != 3:
+                raise ValueError(f"profile {p.name!r} must have 3 ground sensor poses")
+        self.proximity = ProximitySensors(
+            self.profiles,
+            rays=rays,
+            seg_start=self._seg_start,
+            seg_vector=self._seg_vector,
+            static_circles=self._static_circles,
+            polygons=self._polygon_bounds,
+            walls=self._wall_segments,
+        )
         # ground sensors: local positions, and their centroid for the segment grid
         self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in self.profiles]
         self._ground_mid = [
@@ -516,134 +470,19 @@ class World(Stepper):
         self._time = self.step_count * dt
         self._sense(z)
 
-    def _near_ir(self) -> tuple[list[int], list[int], list[int]]:
-        """Broad phase for the IR rays: which robots see anything, and what they may see.
-
-        Most of the time nothing is within a few centimetres of any robot and the rays
-        need not be cast at all; otherwise only the nearby circles and segments are
-        passed to the cast. Returns (robots, circle indices, segment indices); the test
-        is conservative (bounding circles, exact wall distances), so it never drops a hit.
-        """
-        poses = self._pose_list
-        reach = self._ir_reach
-        robots: list[int] = []
-        circles: set[int] = set()
-        segments: set[int] = set()
-        n = self.n
-        for i in range(n):
-            x, y = poses[i][0], poses[i][1]
-            found = False
-            for k, (cx, cy, cr) in enumerate(self._ir_circles):
-                dx, dy = x - cx, y - cy
-                lim = reach + cr
-                if dx * dx + dy * dy < lim * lim:
-                    circles.add(k)
-                    found = True
-            for j in range(n):
-                if j != i:
-                    dx, dy = x - poses[j][0], y - poses[j][1]
-                    lim = reach + self._radius_list[j]
-                    if dx * dx + dy * dy < lim * lim:
-                        circles.add(self._n_static_circles + j)
-                        found = True
-            for cx, cy, cr, idx in self._ir_polygons:
-                dx, dy = x - cx, y - cy
-                lim = reach + cr
-                if dx * dx + dy * dy < lim * lim:
-                    segments.update(idx)
-                    found = True
-            for ax, ay, ex, ey, len2, k in self._ir_walls:
-                wx, wy = x - ax, y - ay
-                t = (wx * ex + wy * ey) / len2
-                t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
-                qx, qy = wx - t * ex, wy - t * ey
-                if qx * qx + qy * qy < reach * reach:
-                    segments.add(k)
-                    found = True
-            if found:
-                robots.append(i)
-        return robots, sorted(circles), sorted(segments)
-
-    def _ir_subset(self, robots: list[int], circles: list[int], segments: list[int]) -> _IRSubset:
-        """The static arrays for one broad-phase outcome, prepared once and cached.
-
-        Which robots are near which objects changes only every few dozen steps, so the
-        fancy indexing that selects their rays and objects is done once per combination.
-        """
-        key = (tuple(robots), tuple(circles), tuple(segments))
-        prep = self._ir_cache.get(key)
-        if prep is None:
-            idx = np.array(robots, dtype=np.intp)
-            cidx = np.array(circles, dtype=np.intp)
-            sidx = np.array(segments, dtype=np.intp)
-            m = len(robots) * 8 * self._ir_rays
-            prep = _IRSubset(
-                robots=idx,
-                local_origin=self._ray_ox[idx] + 1j * self._ray_oy[idx],
-                local_direction=np.exp(1j * self._ray_angle[idx]),
-                ignore=self._ray_ignore[idx][:, :, cidx].reshape(m, len(cidx)),
-                seg_start=self._seg_start[sidx].reshape(-1, 2),
-                seg_vector=self._seg_vector[sidx].reshape(-1, 2),
-                circles=cidx,
-                circle_radii=self._circle_radii[cidx],
-                weights=self._ray_weights[idx],
-                range_col=self._range_col[idx],
-            )
-            if len(self._ir_cache) > 1024:
-                self._ir_cache.clear()
-            self._ir_cache[key] = prep
-        return prep
-
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
         n = self.n
         # -- IR: the rays of every robot near something, in one cast ----------------------
-        robots, circles, segments = self._near_ir()
-        distance = self._prox_distance
-        response = self._prox_raw
-        distance[:] = self._range_col
-        response[:] = self._baseline_raw
-        if robots:
-            prep = self._ir_subset(robots, circles, segments)
-            self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
-            # rays as complex numbers: origin = position + rotation·local, direction =
-            # rotation·local direction (fewer numpy calls than separate x and y)
-            poses = self._pose_list
-            position = np.array([complex(poses[i][0], poses[i][1]) for i in robots])[:, None]
-            rotation = np.array([cmath.exp(1j * poses[i][2]) for i in robots])[:, None]
-            origin = (position + rotation * prep.local_origin).reshape(-1, 1)
-            direction = (rotation * prep.local_direction).reshape(-1, 1)
-            allt = ray_hits(
-                origin.real,
-                origin.imag,
-                direction.real,
-                direction.imag,
-                prep.seg_start,
-                prep.seg_vector,
-                self._circle_centres[prep.circles],
-                prep.circle_radii,
-                prep.ignore,
-            )
-            if allt is not None:
-                dist = allt.min(axis=1).reshape(len(robots), 8, self._ir_rays)
-                dist[dist > self._cast_length] = np.inf
-                nearest = dist.min(axis=2)
-                distance[prep.robots] = np.minimum(nearest, prep.range_col)
-                response[prep.robots] = (raw_from_distance(dist) * prep.weights).sum(axis=2)
-        if z is not None and self._noise_prox > 0:
-            zp = z[2 * n : 10 * n].reshape(n, 8)
-            seen = distance < self._range_col
-            # the table's own σ at the reported distance (at the range when nothing is seen)
-            sigma = np.hypot(self._noise_prox, relative_sigma(distance))
-            response *= 1.0 + sigma * zp
-            # a reading that comes back high means "closer": raw ~ 1/d², so d moves by −½
-            if seen.any():
-                noisy = np.minimum(distance * (1.0 - 0.5 * self._noise_prox * zp), self._range_col)
-                np.copyto(distance, noisy, where=seen)
-                np.maximum(distance, 0.0, out=distance)
-        # (two ufuncs: np.clip's Python wrapper costs more than the clamping itself)
-        np.maximum(response, 0.0, out=response)
-        np.minimum(response, RAW_MAX, out=response)
+        self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
+        self.proximity.sense(
+            self._pose_list,
+            self._circle_centres,
+            self._prox_distance,
+            self._prox_raw,
+            noise=self._noise_prox,
+            z=None if z is None else z[2 * n : 10 * n].reshape(n, 8),
+        )
         # -- ground: only the track segments near the robots ------------------------------
         # three points per robot: plain floats are cheaper than a dozen numpy calls here
         points: list[complex] = []
