@@ -12,7 +12,7 @@ import os
 from collections.abc import Sequence
 from typing import Any
 
-from .summary import GroupSummary, params_label
+from .summary import GroupSummary, controller_labels, params_label
 
 __all__ = ["plot_success"]
 
@@ -46,6 +46,7 @@ def plot_success(
         for name in json.loads(others_text)
         if len({json.dumps(json.loads(o).get(name)) for _, o in lines}) > 1
     }
+    names = controller_labels(controller for controller, _ in lines)
     fig, ax = plt.subplots(figsize=(7, 4.5))
     try:
         numeric = all(
@@ -73,7 +74,7 @@ def plot_success(
             ys = [g.success_rate for g in items]
             below = [g.success_rate - g.ci95_low for g in items]
             above = [g.ci95_high - g.success_rate for g in items]
-            label = controller
+            label = names[controller]
             extra = params_label(json.loads(others_text), varying_others)
             if extra != "-":
                 label = f"{controller} ({extra})"

@@ -21,6 +21,7 @@ from .stats import wilson_interval
 
 __all__ = [
     "GroupSummary",
+    "controller_labels",
     "format_groups",
     "format_ranking",
     "params_label",
@@ -130,6 +131,28 @@ def params_label(params: dict[str, Any], only: Iterable[str] | None = None) -> s
     return " ".join(f"{n}={params[n]}" for n in names) or "-"
 
 
+def controller_labels(specs: Iterable[str]) -> dict[str, str]:
+    """Short names for tables: ``submissions/alice.py:make_controller`` → ``alice``.
+
+    A file spec is shown by its file name without ``.py`` (plus ``:factory`` unless it is
+    the ``--controllers-dir`` convention ``make_controller``), unless that would make two
+    controllers look alike; other specs are shown as given.
+    """
+    from .discover import FACTORY_NAME
+
+    specs = list(dict.fromkeys(specs))
+    short: dict[str, str] = {}
+    for spec in specs:
+        module, sep, factory = spec.rpartition(":")
+        if sep and (module.endswith(".py") or "/" in module or "\\" in module):
+            stem = module.replace("\\", "/").rsplit("/", 1)[-1].removesuffix(".py")
+            short[spec] = stem if factory == FACTORY_NAME else f"{stem}:{factory}"
+        else:
+            short[spec] = spec
+    taken = list(short.values())
+    return {s: (short[s] if taken.count(short[s]) == 1 else s) for s in specs}
+
+
 def _failures_label(failures: dict[str, int]) -> str:
     return ", ".join(f"{name} {count}" for name, count in failures.items()) or "-"
 
@@ -171,13 +194,17 @@ def format_groups(groups: Sequence[GroupSummary]) -> str:
         for name in {n for g in groups for n in g.params}
         if len({json.dumps(g.params.get(name)) for g in groups}) > 1
     }
-    rows = [[g.controller, params_label(g.params, varying), *_stats_cells(g)] for g in groups]
+    names = controller_labels(g.controller for g in groups)
+    rows = [
+        [names[g.controller], params_label(g.params, varying), *_stats_cells(g)] for g in groups
+    ]
     headers = ["controller", "parameters", *_STATS_HEADERS]
     return _table(headers, rows, right=set(range(2, 8)))
 
 
 def format_ranking(ranking: Sequence[GroupSummary]) -> str:
     """A plain-text ranking table, best controller first."""
-    rows = [[str(i), g.controller, *_stats_cells(g)] for i, g in enumerate(ranking, 1)]
+    names = controller_labels(g.controller for g in ranking)
+    rows = [[str(i), names[g.controller], *_stats_cells(g)] for i, g in enumerate(ranking, 1)]
     headers = ["rank", "controller", *_STATS_HEADERS]
     return _table(headers, rows, right={0, *range(2, 8)})

@@ -162,3 +162,25 @@ def test_csv_store_ignores_a_row_cut_off_by_a_killed_run(tmp_path):
     later[0]["error"] = "Traceback\nline two"
     store.append(later)
     assert [r["key"] for r in open_store(path).rows()] == [rows[0]["key"], later[0]["key"]]
+
+
+def test_tables_name_controller_files_by_their_file():
+    from puckboard.sweep.summary import controller_labels
+
+    labels = controller_labels(
+        [
+            "stock",
+            "submissions/alice.py:make_controller",
+            "submissions/bob.py:fast",
+            "a/carol.py:make_controller",
+            "b/carol.py:make_controller",
+            "mypkg.ctrl:make",
+        ]
+    )
+    assert labels["stock"] == "stock"
+    assert labels["submissions/alice.py:make_controller"] == "alice"
+    assert labels["submissions/bob.py:fast"] == "bob:fast"
+    # two files called carol.py stay distinguishable
+    assert labels["a/carol.py:make_controller"] == "a/carol.py:make_controller"
+    assert labels["b/carol.py:make_controller"] == "b/carol.py:make_controller"
+    assert labels["mypkg.ctrl:make"] == "mypkg.ctrl:make"
