@@ -30,6 +30,7 @@ from __future__ import annotations
 import logging
 import math
 import threading
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -110,6 +111,8 @@ class World(Stepper):
         self._dt = float(scene.dt)
         self._time = 0.0
         self.step_count = 0
+        #: wall time (s) spent in the sensor models during steps, for benchmarks
+        self.sensor_seconds = 0.0
         self.running = False
         self.robot_names: tuple[str, ...] = tuple(r.name for r in scene.robots)
         if len(set(self.robot_names)) != len(self.robot_names):
@@ -468,7 +471,9 @@ class World(Stepper):
         self._collisions[:] = self._collision_list
         self.step_count += 1
         self._time = self.step_count * dt
+        t0 = time.perf_counter()
         self._sense(z)
+        self.sensor_seconds += time.perf_counter() - t0
 
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
