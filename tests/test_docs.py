@@ -53,9 +53,11 @@ def fenced(page: Path, language: str) -> list[str]:
 def shell_commands(page: Path) -> list[str]:
     """The ``puckboard ...`` lines of the page's bash blocks, in order.
 
-    ``pip install`` lines are the one thing not run: the test environment has puckboard
-    installed already, and installing from the network is not a test.
+    Installation lines (making and activating a virtual environment, ``pip install``)
+    are the one thing not run: the test environment has puckboard installed already,
+    and installing from the network is not a test.
     """
+    setup = ("pip ", "python -m venv ", "source ")
     commands = []
     for block in fenced(page, "bash"):
         for line in block.splitlines():
@@ -63,7 +65,7 @@ def shell_commands(page: Path) -> list[str]:
             if line.startswith("puckboard"):
                 commands.append(line)
             else:
-                assert not line or line.startswith("pip "), f"unexpected shell line: {line}"
+                assert not line or line.startswith(setup), f"unexpected shell line: {line}"
     return commands
 
 
