@@ -411,7 +411,12 @@ class World(Stepper):
         dt = self._dt
         n = self.n
         z = self.rng.standard_normal(n * 13) if self._noisy else None
-        command = self._command.tolist()
+        # The e-puck's steppers turn the wheels exactly as commanded; the noise is the
+        # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned. So the
+        # step counters (encoders) and reported wheel speeds follow the command, and
+        # odometry drifts as it does on the real robot.
+        stepped = self._command.tolist()
+        command = [list(c) for c in stepped]
         if z is not None and self._noise_wheel > 0:
             zw = z[: 2 * n].tolist()
             sigma = self._noise_wheel
@@ -456,15 +461,15 @@ class World(Stepper):
             velocity[i] = (vx, vy)
             c, s = math.cos(p[2]), math.sin(p[2])
             accel[i] = [ax * c + ay * s, -ax * s + ay * c, GRAVITY]
-            encoders[i][0] += command[i][0] * dt
-            encoders[i][1] += command[i][1] * dt
+            encoders[i][0] += stepped[i][0] * dt
+            encoders[i][1] += stepped[i][1] * dt
             if touched[i] and not self._contact_list[i]:
                 self._collision_list[i] += 1
         self._contact_list = touched
         # publish the state to the read-only arrays in a few bulk copies
         self._poses[:] = poses
-        self._wheels[:] = command
-        self._wheel_list = command
+        self._wheels[:] = stepped
+        self._wheel_list = stepped
         self._encoders[:] = encoders
         self._accel[:] = accel
         self._contacts[:] = touched
