@@ -45,7 +45,7 @@ def run_spec(
             duration=duration,
             overrides=overrides or None,
         )
-    except Exception as exc:
+    except (Exception, SystemExit) as exc:  # a controller calling sys.exit() is its failure
         # Reported once by the driver from the rows' ``error`` column, not per worker.
         log.debug("episode %s raised", spec, exc_info=True)
         return error_row(scenario, spec, exc)

@@ -162,18 +162,21 @@ def test_grading_a_folder_ranks_and_scores_broken_submissions(tmp_path, short_sc
     (folder / "bob.py").write_text(
         "def make_controller(**params):\n    raise RuntimeError('oops')\n"
     )
+    (folder / "carl.py").write_text("import sys\ndef make_controller(**params):\n    sys.exit(3)\n")
     (folder / "_helpers.py").write_text("X = 1\n")
     specs = controllers_in_dir(folder)
-    assert [Path(s.split(":")[0]).name for s in specs] == ["alice.py", "bob.py"]
+    assert [Path(s.split(":")[0]).name for s in specs] == ["alice.py", "bob.py", "carl.py"]
     plan = SweepPlan.from_specs(
         short_scene.name, controllers=specs, seeds="0:2", fixed={"duration": DURATION}
     )
     result = run_sweep(plan, short_scene, executor=InlineExecutor())
     ranking = result.ranking()
     assert ranking[0].controller.endswith("alice.py:make_controller")
-    bob = ranking[1]
-    assert bob.failures == {"error": 2} and bob.successes == 0
-    assert len(result.errors) == 2 and "oops" in result.errors[0]
+    for broken in ranking[1:]:
+        assert broken.failures == {"error": 2} and broken.successes == 0
+    assert len(result.errors) == 4
+    assert any("oops" in e for e in result.errors)
+    assert any("SystemExit" in e for e in result.errors)
 
 
 def test_cli_json_summary(tmp_path, capsys):
