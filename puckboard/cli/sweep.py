@@ -86,6 +86,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="simulated seconds per episode (default: scene's)",
     )
     parser.add_argument(
+        "--episode-timeout",
+        type=float,
+        metavar="S",
+        help="wall-clock seconds after which an episode is stopped and counted as 'error' "
+        "(guards against controllers that never return; default: no limit)",
+    )
+    parser.add_argument(
         "--batch-size",
         type=int,
         metavar="N",
@@ -149,6 +156,8 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(f"--duration must be positive (simulated seconds), got {args.duration}")
     if args.batch_size is not None and args.batch_size < 1:
         raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
+    if args.episode_timeout is not None and not args.episode_timeout > 0:
+        raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
     if args.workers is not None and args.workers < 1:
         raise CliError(f"--workers must be at least 1, got {args.workers}")
     fixed = {} if args.duration is None else {"duration": args.duration}
@@ -194,6 +203,7 @@ def main(args: argparse.Namespace) -> int:
             store=store,
             batch_size=args.batch_size,
             progress=progress,
+            episode_timeout=args.episode_timeout,
         )
     except WorkerLostError as exc:
         kept = f"; finished rows are in {args.out}: run again to resume" if store else ""

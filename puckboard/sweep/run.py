@@ -153,6 +153,7 @@ def run_sweep(
     store: ResultStore | None = None,
     batch_size: int | None = None,
     progress: Progress | None = None,
+    episode_timeout: float | None = None,
 ) -> SweepResult:
     """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
 
@@ -160,8 +161,11 @@ def run_sweep(
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
     need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
     (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
-    ``interrupted=True``.
+    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode whose
+    controller never returns; it is recorded as an ``error`` episode.
     """
+    if episode_timeout is not None and not episode_timeout > 0:
+        raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
     if not hasattr(scene, "robots"):
         from ..sim.scenefile import load_scene
 
@@ -192,7 +196,9 @@ def run_sweep(
             batches = make_batches(todo, executor.workers, batch_size)
             # per-episode warnings only when asked for more output (puckboard -v)
             level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
-            tasks = [(scene, plan.scenario, batch, aliases, level) for batch in batches]
+            tasks = [
+                (scene, plan.scenario, batch, aliases, level, episode_timeout) for batch in batches
+            ]
             for rows in executor.run(run_batch, tasks):
                 if store is not None:
                     store.append(rows)

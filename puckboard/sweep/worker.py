@@ -16,6 +16,7 @@ from typing import Any
 
 from .plan import SCENE_CONTROLLERS, EpisodeSpec
 from .rows import error_row, result_row
+from .watchdog import call_with_wall_limit
 
 __all__ = ["ignore_interrupts", "run_batch", "run_spec"]
 
@@ -23,13 +24,19 @@ log = logging.getLogger(__name__)
 
 
 def run_spec(
-    scene: Any, scenario: str, spec: EpisodeSpec, aliases: Mapping[str, str] | None = None
+    scene: Any,
+    scenario: str,
+    spec: EpisodeSpec,
+    aliases: Mapping[str, str] | None = None,
+    wall_limit: float | None = None,
 ) -> dict[str, Any]:
     """Run one episode and flatten its result; an exception becomes an ``error`` row.
 
     ``aliases`` maps a controller spec to the spec this worker can load it by (a file
     uploaded to a remote Dask worker is imported by module name); rows always carry the
     spec as the user gave it, so they identify the episode the same way everywhere.
+    ``wall_limit`` (s of wall-clock time) stops an episode that runs away; it becomes an
+    ``error`` row like any other exception.
     """
     from ..episode import run_episode
 
@@ -38,12 +45,15 @@ def run_spec(
     loadable = (aliases or {}).get(spec.controller, spec.controller)
     controller = None if loadable == SCENE_CONTROLLERS else loadable
     try:
-        result = run_episode(
-            scene,
-            controller=controller,
-            seed=spec.seed,
-            duration=duration,
-            overrides=overrides or None,
+        result = call_with_wall_limit(
+            lambda: run_episode(
+                scene,
+                controller=controller,
+                seed=spec.seed,
+                duration=duration,
+                overrides=overrides or None,
+            ),
+            wall_limit,
         )
     except (Exception, SystemExit) as exc:  # a controller calling sys.exit() is its failure
         # Reported once by the driver from the rows' ``error`` column, not per worker.
@@ -58,6 +68,7 @@ def run_batch(
     specs: Sequence[EpisodeSpec],
     aliases: Mapping[str, str] | None = None,
     log_level: int = logging.ERROR,
+    wall_limit: float | None = None,
 ) -> list[dict[str, Any]]:
     """Run ``specs`` one after the other in this process and return their rows.
 
@@ -69,7 +80,7 @@ def run_batch(
     previous = logger.level
     logger.setLevel(max(previous, log_level))
     try:
-        return [run_spec(scene, scenario, spec, aliases) for spec in specs]
+        return [run_spec(scene, scenario, spec, aliases, wall_limit) for spec in specs]
     finally:
         logger.setLevel(previous)
 

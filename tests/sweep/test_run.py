@@ -232,3 +232,29 @@ def test_a_dying_worker_process_is_reported_not_hung():
 
     with LocalExecutor(workers=1) as executor, pytest.raises(WorkerLostError, match="died"):
         list(executor.run(os._exit, [(3,)]))
+
+
+def test_a_controller_that_never_returns_is_stopped_by_the_episode_timeout(tmp_path, short_scene):
+    spinning = tmp_path / "spinning.py"
+    spinning.write_text(
+        "from puckboard.behaviours import Controller, Cruise\n"
+        "class Spin(Cruise):\n"
+        "    def command(self, frame):\n"
+        "        while True:\n"
+        "            pass\n"
+        "def make_controller(**params):\n"
+        "    return Controller([Spin()], name='spin')\n"
+    )
+    plan = SweepPlan.from_specs(
+        short_scene.name,
+        controllers=[f"{spinning.as_posix()}:make_controller", "improved"],
+        seeds="0:2",
+        fixed={"duration": DURATION},
+    )
+    result = run_sweep(plan, short_scene, executor=InlineExecutor(), episode_timeout=0.5)
+    by_controller = {g.controller: g for g in result.ranking()}
+    assert by_controller[plan.controllers[0]].failures == {"error": 2}
+    assert len(result.errors) == 2
+    assert all("wall-clock limit of 0.5 s" in e for e in result.errors)
+    # the good controller's episodes ran normally after the runaway ones were stopped
+    assert by_controller["improved"].failures.get("error") is None
