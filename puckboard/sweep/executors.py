@@ -21,6 +21,7 @@ import logging
 import multiprocessing
 import os
 import sys
+import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
@@ -169,13 +170,30 @@ class LocalExecutor(SweepExecutor):
         for process in processes:
             if process.is_alive():
                 process.terminate()
-        for process in processes:
-            process.join(timeout=5)
+        _wait_exited(processes, timeout=5.0)
 
     def close(self) -> None:
         pool, self._pool = self._pool, None
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _wait_exited(processes: Sequence[Any], timeout: float) -> None:
+    """Wait until every process has exited (its sentinel is ready).
+
+    Not ``join()``: the pool's own manager thread joins the same processes, and whichever
+    thread reaps a child second sees no exit code yet; the sentinel is reliable.
+    """
+    from multiprocessing.connection import wait
+
+    pending = {p.sentinel for p in processes}
+    deadline = time.monotonic() + timeout
+    while pending:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            log.warning("%d worker process(es) did not stop within %.0f s", len(pending), timeout)
+            return
+        pending -= set(wait(list(pending), timeout=left))
 
 
 def _is_controller_file(spec: str) -> tuple[Path, str] | None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import multiprocessing.connection
 import time
 from pathlib import Path
 
@@ -145,7 +146,9 @@ def test_cancelling_a_local_pool_stops_running_workers():
         assert processes
         results.close()  # what Ctrl-C in the consuming loop does
         assert executor._pool is None
-        assert not any(p.is_alive() for p in processes)
+        # every worker has exited: a process's sentinel is ready once it has ended
+        sentinels = [p.sentinel for p in processes]
+        assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
     finally:
         executor.close()
 
