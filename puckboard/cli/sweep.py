@@ -23,7 +23,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         description=(
             "Run every combination of controller × parameter values × seed with the embedded "
             "simulator, on all local cores or on a Dask cluster, and report each combination's "
-            "success rate with a 95%% Wilson confidence interval, its failures by name, and "
+            "success rate with a 95 % Wilson confidence interval, its failures by name, and "
             "mean progress and collisions. Several controllers are ranked. --out appends one "
             "row per episode to a CSV or Parquet file; re-running skips the rows already there."
         ),
