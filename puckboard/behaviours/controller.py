@@ -92,11 +92,14 @@ class Controller:
         snapshot = ns.snapshot(self.reads)
         self.frame = Frame(snapshot)
         self._proposal = None
-        if any(snapshot.status(k) != "fresh" for k in self.requires):
-            self.root.stop(Status.INVALID)
-            layer_name, cmd = "(stale inputs)", WheelCommand.stop()
+        status = snapshot.status
+        for key in self.requires:
+            if status(key) != "fresh":
+                self.root.stop(Status.INVALID)
+                layer_name, cmd = "(stale inputs)", WheelCommand.stop()
+                break
         else:
-            self.tree.tick()
+            self._tick_tree()
             if self._proposal is None:
                 layer_name, cmd = NO_LAYER, WheelCommand.stop()
             else:
@@ -109,6 +112,23 @@ class Controller:
             writer=self.name,
         )
         return cmd
+
+    def _tick_tree(self) -> None:
+        """``self.tree.tick()``, without its per-node visitor bookkeeping when nobody uses it.
+
+        ``BehaviourTree.tick`` builds a list of visitors for every node it ticks and walks
+        the whole tree again afterwards, even with no visitors or handlers: at control
+        rates that walk costs as much as the layers' own decisions. With none attached
+        the root's own tick does exactly the same work; attach a visitor or a handler to
+        :attr:`tree` and the full ``tick`` runs again.
+        """
+        tree = self.tree
+        if tree.visitors or tree.pre_tick_handlers or tree.post_tick_handlers:
+            tree.tick()
+            return
+        for _node in self.root.tick():
+            pass
+        tree.count += 1
 
     def reset(self) -> None:
         """Stop every layer (they forget held state) and clear the last decision."""

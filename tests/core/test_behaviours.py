@@ -296,3 +296,22 @@ def test_tree_can_be_printed():
     text = improved().ascii_tree()
     for name in ("improved", "FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"):
         assert name in text
+
+
+def test_tree_visitors_and_handlers_still_see_every_tick():
+    import py_trees
+
+    ctl, high, low = flags_controller()
+    ns = make_ns()
+    ns.put("flag/low", True)
+    ctl.tick(ns)
+    assert ctl.tree.count == 1  # the tick is counted even without visitors
+    visitor = py_trees.visitors.SnapshotVisitor()
+    ctl.tree.visitors.append(visitor)
+    seen: list[int] = []
+    ctl.tree.add_post_tick_handler(lambda tree: seen.append(tree.count))
+    ctl.tick(ns)
+    assert seen == [1]
+    assert ctl.tree.count == 2
+    assert low.id in visitor.visited and high.id in visitor.visited
+    assert ctl.active_layer == "low"
