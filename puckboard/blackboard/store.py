@@ -156,6 +156,7 @@ class Blackboard:
         self._slots: dict[str, _Slot] = {}
         self._subscribers: dict[str, dict[int, Subscriber]] = {}
         self._sub_ids = itertools.count(1)
+        self._waiting = 0  # threads blocked in wait_for (guarded by _lock)
 
     # -- declarations ----------------------------------------------------------------------
     def declare(
@@ -198,25 +199,28 @@ class Blackboard:
         if stamp is None:
             stamp = self.clock()
         written: list[Record] = []
+        items = values.items()
         with self._lock:
             slots = self._slots
-            for key, value in values.items():  # validate all before writing any
+            for key, value in items:  # validate all before writing any
                 slot = slots.get(key)
                 if slot is None:
                     _check_key(key)
                 elif slot.schema is not None:
                     check(key, slot.schema, value)
-            for key, value in values.items():
+            for key, value in items:
                 slot = slots.get(key)
                 if slot is None:
                     slot = slots[key] = _Slot()
-                slot.seq += 1
-                rec = Record(key, value, stamp, received, slot.seq, writer)
+                seq = slot.seq = slot.seq + 1
+                rec = Record(key, value, stamp, received, seq, writer)
                 slot.record = rec
                 if slot.history is not None:
                     slot.history.append(rec)
                 written.append(rec)
-            self._changed.notify_all()
+            # waking waiters costs a lock probe even when nobody waits, on every write
+            if self._waiting:
+                self._changed.notify_all()
             callbacks = self._callbacks_for(written) if self._subscribers else ()
         for callback, rec in callbacks:
             try:
@@ -283,7 +287,11 @@ class Blackboard:
                         f"no value newer than seq {after_seq} arrived at blackboard key "
                         f"{key!r} within {timeout} s"
                     )
-                self._changed.wait(remaining)
+                self._waiting += 1
+                try:
+                    self._changed.wait(remaining)
+                finally:
+                    self._waiting -= 1
 
     # -- subscriptions ---------------------------------------------------------------------
     def subscribe(self, pattern: str, callback: Subscriber) -> Subscription:
@@ -364,11 +372,24 @@ class Namespace:
     def snapshot(self, keys: Iterable[str] | None = None) -> Snapshot:
         """A consistent snapshot; keys in the result are relative to this namespace."""
         p = self.prefix
-        snap = (
-            self.board.snapshot(prefix=p)
-            if keys is None
-            else self.board.snapshot([p + k for k in keys])
-        )
+        if keys is not None:
+            # every controller tick takes one: read the slots directly under the board's
+            # lock instead of building absolute keys and re-keying a second snapshot
+            board = self.board
+            records: dict[str, Record | None] = {}
+            ages: dict[str, float | None] = {}
+            with board._lock:
+                now = board.clock()
+                slots = board._slots
+                for key in keys:
+                    slot = slots.get(p + key)
+                    if slot is None:
+                        records[key] = ages[key] = None
+                    else:
+                        records[key] = slot.record
+                        ages[key] = slot.max_age
+            return Snapshot(records, ages, now)
+        snap = self.board.snapshot(prefix=p)
         n = len(p)
         return Snapshot(
             {k[n:]: r for k, r in snap._records.items()},
