@@ -257,7 +257,16 @@ class WheelCommand:
     right: float
 
     def __post_init__(self) -> None:
-        _check_finite("WheelCommand", left=self.left, right=self.right)
+        # every layer decision and every wheel write builds one: plain finite floats (the
+        # usual case) are accepted without the general check's keyword-argument loop
+        left, right = self.left, self.right
+        if not (
+            type(left) is float
+            and type(right) is float
+            and -math.inf < left < math.inf
+            and -math.inf < right < math.inf
+        ):
+            _check_finite("WheelCommand", left=left, right=right)
 
     @classmethod
     def stop(cls) -> WheelCommand:
@@ -315,8 +324,13 @@ def _unchecked(cls: type[_R], **fields: Any) -> _R:
     be read-only copies that nobody else holds. Not part of the public API.
     """
     record = object.__new__(cls)
-    for name, value in fields.items():
-        object.__setattr__(record, name, value)
+    try:
+        # the records are frozen dataclasses with a __dict__: filling it directly costs
+        # one call instead of one object.__setattr__ per field
+        record.__dict__.update(fields)
+    except AttributeError:  # a record class with __slots__
+        for name, value in fields.items():
+            object.__setattr__(record, name, value)
     return record
 
 
