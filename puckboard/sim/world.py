@@ -76,11 +76,11 @@ WALL_HEIGHT = 0.08
 MAX_SUBSTEP_FRACTION = 0.25
 
 
-def _row(array: FloatArray, i: int) -> FloatArray:
-    """A read-only copy of row ``i`` (records own their arrays)."""
-    row = array[i].copy()
-    row.flags.writeable = False
-    return row
+def _frozen(array: FloatArray) -> FloatArray:
+    """A read-only copy of ``array``; records get views of its rows."""
+    copy = array.copy()
+    copy.flags.writeable = False
+    return copy
 
 
 class World(Stepper):
@@ -174,6 +174,11 @@ class World(Stepper):
         self._prox_raw = np.zeros((n, 8))
         self._ground = np.zeros((n, 3))
         self._ground_raw = np.zeros((n, 3))
+        # read-only copies of the sensor arrays, made once per sensor pass when a record
+        # first needs them: records share views of their rows, which nobody can write
+        self._sense_count = 0
+        self._frozen_count = -1
+        self._frozen_sensors: tuple[FloatArray, ...] = ()
         # the first contact check and sensor pass describe the start pose (time 0)
         self._resolve_start_contacts()
         self._sense(None)
@@ -483,6 +488,7 @@ class World(Stepper):
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
         n = self.n
+        self._sense_count += 1
         # -- IR: the rays of every robot near something, in one cast ----------------------
         self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
         self.proximity.sense(
@@ -526,18 +532,25 @@ class World(Stepper):
         # The arrays are finite and in range by construction, so the records skip their
         # validation (which would cost more than the whole simulation step).
         out: dict[Sensor, Any] = {}
+        if self._frozen_count != self._sense_count:
+            self._frozen_sensors = (
+                _frozen(self._prox_distance),
+                _frozen(self._prox_raw),
+                _frozen(self._ground),
+                _frozen(self._ground_raw),
+            )
+            self._frozen_count = self._sense_count
+        prox_distance, prox_raw, ground, ground_raw = self._frozen_sensors
         for sensor in sensors:
             if sensor is Sensor.PROXIMITY:
                 out[sensor] = _unchecked(
                     Proximity,
-                    distance=_row(self._prox_distance, i),
-                    raw=_row(self._prox_raw, i),
+                    distance=prox_distance[i],
+                    raw=prox_raw[i],
                     range=self._range_list[i],
                 )
             elif sensor is Sensor.GROUND:
-                out[sensor] = _unchecked(
-                    Ground, value=_row(self._ground, i), raw=_row(self._ground_raw, i)
-                )
+                out[sensor] = _unchecked(Ground, value=ground[i], raw=ground_raw[i])
             elif sensor is Sensor.POSE:
                 x, y, theta = self._pose_list[i]
                 out[sensor] = _unchecked(Pose, x=x, y=y, theta=theta, ground_truth=True)
