@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .record import Record
-from .schema import Schema, check
+from .schema import InstanceOf, Schema, check
 
 __all__ = [
     "Blackboard",
@@ -60,6 +60,8 @@ class _Slot:
     record: Record | None = None
     history: deque[Record] | None = None
     seq: int = 0
+    #: a value of exactly this type passes ``schema`` (an ``InstanceOf``) without a call
+    exact_type: type | None = None
 
 
 @dataclass(frozen=True)
@@ -179,6 +181,7 @@ class Blackboard:
         with self._lock:
             slot = self._slots.setdefault(key, _Slot())
             slot.schema = schema
+            slot.exact_type = schema.cls if type(schema) is InstanceOf else None
             slot.max_age = max_age
             if history:
                 old = list(slot.history or ())
@@ -202,14 +205,15 @@ class Blackboard:
         items = values.items()
         with self._lock:
             slots = self._slots
+            pending = []
             for key, value in items:  # validate all before writing any
                 slot = slots.get(key)
                 if slot is None:
                     _check_key(key)
-                elif slot.schema is not None:
+                elif slot.schema is not None and type(value) is not slot.exact_type:
                     check(key, slot.schema, value)
-            for key, value in items:
-                slot = slots.get(key)
+                pending.append((key, value, slot))
+            for key, value, slot in pending:
                 if slot is None:
                     slot = slots[key] = _Slot()
                 seq = slot.seq = slot.seq + 1
