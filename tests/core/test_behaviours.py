@@ -315,3 +315,38 @@ def test_tree_visitors_and_handlers_still_see_every_tick():
     assert ctl.tree.count == 2
     assert low.id in visitor.visited and high.id in visitor.visited
     assert ctl.active_layer == "low"
+
+
+def test_layers_tick_the_same_with_py_trees_debug_logging_on():
+    import py_trees
+
+    def decisions():
+        ctl, high, low = flags_controller()
+        ns = make_ns()
+        out = []
+        for flags in ({}, {"low": True}, {"high": True}, {"high": False}, {"low": False}):
+            for name, on in flags.items():
+                ns.put(f"flag/{name}", on)
+            out.append((ctl.tick(ns), ctl.active_layer, [n.status for n in ctl.root.iterate()]))
+        return out, high.terminated, low.terminated
+
+    quiet = decisions()
+    old = py_trees.logging.level
+    py_trees.logging.level = py_trees.logging.Level.DEBUG
+    try:
+        debug = decisions()
+    finally:
+        py_trees.logging.level = old
+    assert debug == quiet
+    assert Status.INVALID in quiet[2]  # the pre-empted layer was stopped on both paths
+
+
+def test_a_layer_returning_a_non_status_is_invalid():
+    class Broken(Layer):
+        def update(self):
+            return "RUNNING"
+
+    broken = Broken()
+    ctl = Controller([broken, Cruise(0.1)])
+    assert ctl.tick(make_ns()) == WheelCommand(0.1, 0.1)
+    assert broken.status == Status.INVALID
