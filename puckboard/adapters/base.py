@@ -251,7 +251,8 @@ class RobotAdapter(abc.ABC):
     def _publish(self, records: Mapping[Sensor, Any], stamp: float) -> None:
         if not records:
             return
-        self.ns.put_many({s.key: r for s, r in records.items()}, stamp=stamp, writer=self.name)
+        # ``_value_`` is the key (Sensor.key); the enum's property costs a Python call each
+        self.ns.put_many({s._value_: r for s, r in records.items()}, stamp=stamp, writer=self.name)
         if self._sensor_observers:
             changed = frozenset(records)
             for obs in list(self._sensor_observers):

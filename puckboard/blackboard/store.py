@@ -122,8 +122,14 @@ class Snapshot(Mapping[str, Record]):
 
     def value(self, key: str, default: Any = None) -> Any:
         """The fresh value, or ``default`` when missing or stale."""
-        rec = self.get(key)
-        return default if rec is None else rec.value
+        # layers call this several times per tick: the status test inlined, not re-called
+        rec = self._records.get(key)
+        if rec is None:
+            return default
+        limit = self._max_age.get(key)
+        if limit is not None and self.now - rec.stamp > limit:
+            return default
+        return rec.value
 
     def record(self, key: str) -> Record | None:
         """The newest record whatever its age (``None`` if missing)."""
