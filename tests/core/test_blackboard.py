@@ -202,3 +202,16 @@ def test_hammer_no_lost_update_no_torn_snapshot_no_deadlock():
         assert rec.seq == n_writes  # no lost sequence numbers
     assert bb.get("total").value == n_writers * n_writes
     assert bb.get("total").seq == n_writers * n_writes
+
+
+def test_written_records_are_ordinary_frozen_records():
+    import dataclasses
+
+    from puckboard.blackboard import Record
+
+    bb = Blackboard(clock=lambda: 2.5)
+    rec = bb.put("r/x", 7, writer="me")
+    same = Record("r/x", 7, 2.5, rec.received, 1, "me")
+    assert rec == same and hash(rec) == hash(same) and repr(rec) == repr(same)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        rec.value = 8  # type: ignore[misc]
