@@ -49,14 +49,20 @@ class LineFollow(Layer):
         self.recovery = recovery
         self.sharp_factor = sharp_factor
 
+    # Both tests compare the three readings as plain floats: the same comparisons as
+    # ``Ground.dark``, without the numpy calls, on a layer the arbiter asks every tick.
     def applies(self, frame: Frame) -> bool:
         ground = frame.ground
-        return ground is not None and bool(ground.dark(self.threshold).any())
+        if ground is None:
+            return False
+        threshold = self.threshold
+        return any(v < threshold for v in ground.value.tolist())
 
     def command(self, frame: Frame) -> WheelCommand:
         ground = frame.ground
         assert ground is not None
-        left_dark, centre_dark, right_dark = (bool(d) for d in ground.dark(self.threshold))
+        threshold = self.threshold
+        left_dark, centre_dark, right_dark = (v < threshold for v in ground.value.tolist())
         v = self.speed
         if self.recovery:
             if centre_dark and right_dark and not left_dark:

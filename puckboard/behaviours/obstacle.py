@@ -43,8 +43,8 @@ _BRAITENBERG_FRONT = (1.0, 2.0, -2.0, -1.0)
 
 def obstacle_in_front(prox: Proximity) -> bool:
     """True when any of the four front sensors sees something within range."""
-    d, r = prox.distance, prox.range
-    return any(d[i] < r for i in _FRONT_IDX)  # plain indexing: 8 values are cheaper than ufuncs
+    d, r = prox.distance.tolist(), prox.range  # plain floats: cheaper than ufuncs or numpy scalars
+    return any(d[i] < r for i in _FRONT_IDX)
 
 
 def braitenberg_front(prox: Proximity, speed: float, weights=_BRAITENBERG_FRONT) -> WheelCommand:  # type: ignore[no-untyped-def]
