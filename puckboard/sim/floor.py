@@ -212,8 +212,8 @@ class Floor:
                 for j in range(j0, j1 + 1):
                     grid.setdefault((i, j), []).append(k)
         self._grid = {cell: np.array(idx, dtype=np.intp) for cell, idx in grid.items()}
-        self._cell_near: dict[tuple[int, int], _Near] = {}
-        self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
+        self._cell_near = {}
+        self._joined = {}
         self._grid_reach = reach
 
     # -- camera ----------------------------------------------------------------------------

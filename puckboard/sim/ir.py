@@ -50,9 +50,9 @@ _SIGMA = np.ascontiguousarray(TABLE[:, 2])
 
 def raw_from_distance(distance: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Raw value for obstacle distances (m) from the sensor; ``inf`` gives the baseline."""
-    return np.interp(distance, _D, _RAW)
+    return np.interp(np.asarray(distance, dtype=float), _D, _RAW)
 
 
 def relative_sigma(distance: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """The real sensor's noise σ at ``distance``, as a fraction of the raw value."""
-    return np.interp(distance, _D, _SIGMA)
+    return np.interp(np.asarray(distance, dtype=float), _D, _SIGMA)
