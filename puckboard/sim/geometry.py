@@ -73,12 +73,17 @@ def ray_hits(
     circle_centres: FloatArray,
     circle_radii: FloatArray,
     ignore: npt.NDArray[np.bool_] | None = None,
+    *,
+    visible: npt.NDArray[np.bool_] | None = None,
+    circle_radii_sq: FloatArray | None = None,
 ) -> FloatArray | None:
     """The distance along each ray to every object (R×(S+C), ``inf`` where it misses).
 
     The kernel behind :func:`cast_rays`, for callers that only need the nearest
     distance (``.min(axis=1)``) and already hold the rays as R×1 coordinate columns.
-    Returns None when there is nothing to hit.
+    Returns None when there is nothing to hit. A caller casting against the same
+    objects many times may pass ``visible`` (``~ignore``) and ``circle_radii_sq``
+    (``circle_radii²``) precomputed, saving two numpy calls per cast.
     """
     n_seg = seg_start.shape[0]
     n_circ = circle_centres.shape[0]
@@ -98,13 +103,17 @@ def ray_hits(
             fx = ox - circle_centres[:, 0]  # R×C
             fy = oy - circle_centres[:, 1]
             b = fx * dx + fy * dy
-            c = fx * fx + fy * fy - circle_radii * circle_radii
+            if circle_radii_sq is None:
+                circle_radii_sq = circle_radii * circle_radii
+            c = fx * fx + fy * fy - circle_radii_sq
             disc = b * b - c
             t_near = -b - np.sqrt(disc)
             # inside the circle (c < 0): the surface is at distance 0 from the ray's start
             t = np.where(c < 0.0, 0.0, t_near)
             ok = (disc >= 0.0) & (t >= 0.0)
-            if ignore is not None:
+            if visible is not None:
+                ok &= visible
+            elif ignore is not None:
                 ok &= ~ignore
             candidates.append(np.where(ok, t, np.inf))
     if not candidates:

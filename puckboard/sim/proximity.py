@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from ..profile import RobotProfile
 from .geometry import ray_hits
-from .ir import RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
+from .ir import _D, _RAW, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 
 __all__ = ["PolygonBound", "ProximitySensors", "WallSegment"]
 
@@ -59,13 +59,15 @@ class _Subset:
     robots: npt.NDArray[np.intp]
     local_origin: npt.NDArray[np.complex128]
     local_direction: npt.NDArray[np.complex128]
-    ignore: npt.NDArray[np.bool_]
+    visible: npt.NDArray[np.bool_]
     seg_start: FloatArray
     seg_vector: FloatArray
-    circles: npt.NDArray[np.intp]
+    circles: tuple[int, ...]
     circle_radii: FloatArray
+    circle_radii_sq: FloatArray
     weights: FloatArray
     range_col: FloatArray
+    every_robot: bool
 
 
 class ProximitySensors:
@@ -73,7 +75,7 @@ class ProximitySensors:
 
     ``seg_start``/``seg_vector`` are every static segment (polygon edges, walls);
     circles are the static round obstacles followed by one circle per robot (their
-    centres are passed to :meth:`sense` each step). ``polygons`` and ``walls`` say which
+    centres are the poses passed to :meth:`sense` each step). ``polygons`` and ``walls`` say which
     segments belong to what, for the broad phase.
     """
 
@@ -139,6 +141,8 @@ class ProximitySensors:
         offset = max(math.hypot(q.x, q.y) for p in profiles for q in p.prox_poses)
         self.reach = offset + self.cast_length
         self._cache: dict[tuple[tuple[int, ...], ...], _Subset] = {}
+        self._far_sigma_noise = math.nan
+        self._far_sigma_value = np.zeros((n, 8))
 
     # -- broad phase -----------------------------------------------------------------------
     def near(self, poses: Sequence[Sequence[float]]) -> tuple[list[int], list[int], list[int]]:
@@ -203,13 +207,15 @@ class ProximitySensors:
                 robots=idx,
                 local_origin=self._local_origin[idx],
                 local_direction=self._local_direction[idx],
-                ignore=self._ignore[idx][:, :, cidx].reshape(m, len(cidx)),
+                visible=~self._ignore[idx][:, :, cidx].reshape(m, len(cidx)),
                 seg_start=self.seg_start[sidx].reshape(-1, 2),
                 seg_vector=self.seg_vector[sidx].reshape(-1, 2),
-                circles=cidx,
+                circles=tuple(circles),
                 circle_radii=self.circle_radii[cidx],
+                circle_radii_sq=self.circle_radii[cidx] * self.circle_radii[cidx],
                 weights=self._weights[idx],
                 range_col=self.range[idx],
+                every_robot=len(robots) == self.n,
             )
             if len(self._cache) > 1024:
                 self._cache.clear()
@@ -220,7 +226,6 @@ class ProximitySensors:
     def sense(
         self,
         poses: Sequence[Sequence[float]],
-        circle_centres: FloatArray,
         distance: FloatArray,
         raw: FloatArray,
         *,
@@ -229,15 +234,25 @@ class ProximitySensors:
     ) -> None:
         """Fill ``distance`` (N×8 m) and ``raw`` (N×8) for robots at ``poses`` (x, y, θ).
 
-        ``circle_centres`` holds the static circles then the robots' centres. With
-        ``noise`` > 0, ``z`` (N×8 standard normals) perturbs the readings: raw by the
+        The robots' bodies are circles at ``poses``. With ``noise`` > 0, ``z`` (N×8 standard normals) perturbs the readings: raw by the
         relative σ √(noise² + σ_table²), a seen distance by −½·noise·z (raw falls roughly
         as 1/d², so a high reading means "closer"); an empty reading stays at the range.
         """
         robots, circles, segments = self.near(poses)
-        distance[:] = self.range
-        raw[:] = self.baseline_raw
-        if robots:
+        if noise <= 0:
+            z = None
+        if not robots:
+            # Nothing near anyone (most steps of a line-following run): every sensor
+            # reads the range and the far baseline, whose noise σ is fixed, so the
+            # table look-ups and the "seen" test decide nothing and are skipped.
+            distance[:] = self.range
+            if z is not None:
+                np.multiply(self._far_sigma(noise), z, out=raw)
+                raw += 1.0
+                raw *= self.baseline_raw
+            else:
+                raw[:] = self.baseline_raw
+        else:
             prep = self._subset(robots, circles, segments)
             # rays as complex numbers: origin = position + rotation·local, direction =
             # rotation·local direction (fewer numpy calls than separate x and y)
@@ -252,24 +267,57 @@ class ProximitySensors:
                 direction.imag,
                 prep.seg_start,
                 prep.seg_vector,
-                circle_centres[prep.circles],
+                self._circle_centres(poses, prep.circles),
                 prep.circle_radii,
-                prep.ignore,
+                visible=prep.visible,
+                circle_radii_sq=prep.circle_radii_sq,
             )
+            if prep.every_robot:
+                distance[:] = self.range
+                raw[:] = self.baseline_raw
             if allt is not None:
                 dist = allt.min(axis=1).reshape(len(robots), 8, self.rays)
-                dist[dist > self.cast_length] = np.inf
-                distance[prep.robots] = np.minimum(dist.min(axis=2), prep.range_col)
-                raw[prep.robots] = (raw_from_distance(dist) * prep.weights).sum(axis=2)
-        if noise > 0 and z is not None:
-            seen = distance < self.range
-            # the table's own σ at the reported distance (at the range when nothing is seen)
-            sigma = np.hypot(noise, relative_sigma(distance))
-            raw *= 1.0 + sigma * z
-            if seen.any():
-                noisy = np.minimum(distance * (1.0 - 0.5 * noise * z), self.range)
-                np.copyto(distance, noisy, where=seen)
-                np.maximum(distance, 0.0, out=distance)
+                # Hits beyond the cast length need no masking: the table keeps its last
+                # value beyond TABLE_RANGE (as for ``inf``), and the distance is capped
+                # at the range, which the cast length is at least.
+                if prep.every_robot:
+                    np.minimum(dist.min(axis=2), self.range, out=distance)
+                    np.multiply(np.interp(dist, _D, _RAW), prep.weights).sum(axis=2, out=raw)
+                else:
+                    distance[prep.robots] = np.minimum(dist.min(axis=2), prep.range_col)
+                    raw[prep.robots] = (np.interp(dist, _D, _RAW) * prep.weights).sum(axis=2)
+            if z is not None:
+                seen = distance < self.range
+                # the table's own σ at the reported distance (the range if nothing is seen)
+                sigma = np.hypot(noise, relative_sigma(distance))
+                raw *= 1.0 + sigma * z
+                if seen.any():
+                    noisy_distance = np.minimum(distance * (1.0 - 0.5 * noise * z), self.range)
+                    np.copyto(distance, noisy_distance, where=seen)
+                    np.maximum(distance, 0.0, out=distance)
         # two ufuncs: np.clip's Python wrapper costs more than the clamping itself
         np.maximum(raw, 0.0, out=raw)
         np.minimum(raw, RAW_MAX, out=raw)
+
+    def _circle_centres(
+        self, poses: Sequence[Sequence[float]], circles: tuple[int, ...]
+    ) -> FloatArray:
+        """C×2 centres of ``circles`` (static circles first, then robots at ``poses``)."""
+        if not circles:
+            return np.zeros((0, 2))
+        n_static = self.n_static
+        static = self.static_circles
+        return np.array(
+            [
+                static[k][:2] if k < n_static else (poses[k - n_static][0], poses[k - n_static][1])
+                for k in circles
+            ]
+        )
+
+    def _far_sigma(self, noise: float) -> FloatArray:
+        """N×8 relative noise σ of sensors that see nothing (they read the range)."""
+        if noise != self._far_sigma_noise:
+            at_range = np.broadcast_to(self.range, (self.n, 8))
+            self._far_sigma_value = np.hypot(noise, relative_sigma(at_range))
+            self._far_sigma_noise = noise
+        return self._far_sigma_value

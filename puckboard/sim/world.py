@@ -174,6 +174,8 @@ class World(Stepper):
         self._prox_raw = np.zeros((n, 8))
         self._ground = np.zeros((n, 3))
         self._ground_raw = np.zeros((n, 3))
+        self._ground_flat = self._ground.reshape(-1)  # views, written in place
+        self._ground_raw_flat = self._ground_raw.reshape(-1)
         # read-only copies of the sensor arrays, made once per sensor pass when a record
         # first needs them: records share views of their rows, which nobody can write
         self._sense_count = 0
@@ -457,6 +459,7 @@ class World(Stepper):
         accel = self._accel_list
         velocity = self._velocity_list
         encoders = self._encoder_list
+        new_collision = False
         for i in range(n):
             p = poses[i]
             vx = (p[0] - old[i][0]) * inv_dt
@@ -470,15 +473,19 @@ class World(Stepper):
             encoders[i][1] += stepped[i][1] * dt
             if touched[i] and not self._contact_list[i]:
                 self._collision_list[i] += 1
-        self._contact_list = touched
-        # publish the state to the read-only arrays in a few bulk copies
+                new_collision = True
+        # publish the state to the read-only arrays in a few bulk copies (contacts and
+        # collision counts change rarely: copied only when they do)
         self._poses[:] = poses
         self._wheels[:] = stepped
         self._wheel_list = stepped
         self._encoders[:] = encoders
         self._accel[:] = accel
-        self._contacts[:] = touched
-        self._collisions[:] = self._collision_list
+        if touched != self._contact_list:
+            self._contacts[:] = touched
+        self._contact_list = touched
+        if new_collision:
+            self._collisions[:] = self._collision_list
         self.step_count += 1
         self._time = self.step_count * dt
         t0 = time.perf_counter()
@@ -490,10 +497,8 @@ class World(Stepper):
         n = self.n
         self._sense_count += 1
         # -- IR: the rays of every robot near something, in one cast ----------------------
-        self._circle_centres[self._n_static_circles :] = self._poses[:, :2]
         self.proximity.sense(
             self._pose_list,
-            self._circle_centres,
             self._prox_distance,
             self._prox_raw,
             noise=self._noise_prox,
@@ -510,12 +515,14 @@ class World(Stepper):
             mx, my = self._ground_mid[i]
             centres.append((x + c * mx - s * my, y + s * mx + c * my))
         near = self.floor.segments_near(centres, self._ground_reach)
-        value = self.floor.brightness(np.array(points), near).reshape(n, 3)
+        # the 3N readings stay flat (robot-major, as the N×3 arrays store them): no reshapes
+        value = self.floor.brightness(np.array(points), near)
         if z is not None and self._noise_ground > 0:
-            value += self._noise_ground * z[10 * n : 13 * n].reshape(n, 3)
-        np.maximum(value, 0.0, out=self._ground)
-        np.minimum(self._ground, 1.0, out=self._ground)
-        np.multiply(self._ground, 1023.0, out=self._ground_raw)
+            value += self._noise_ground * z[10 * n : 13 * n]
+        ground = self._ground_flat
+        np.maximum(value, 0.0, out=ground)
+        np.minimum(ground, 1.0, out=ground)
+        np.multiply(ground, 1023.0, out=self._ground_raw_flat)
 
     # -- records -------------------------------------------------------------------------------
     def read(self, i: int, sensors: frozenset[Sensor] | Sequence[Sensor]) -> dict[Sensor, Any]:
