@@ -88,8 +88,8 @@ def ray_hits(
     n_seg = seg_start.shape[0]
     n_circ = circle_centres.shape[0]
     candidates: list[FloatArray] = []
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if n_seg:
+    if n_seg:
+        with np.errstate(divide="ignore", invalid="ignore"):  # parallel rays: 0/0
             ex = seg_vector[:, 0]
             ey = seg_vector[:, 1]
             wx = seg_start[:, 0] - ox  # R×S
@@ -99,23 +99,27 @@ def ray_hits(
             u = (wx * dy - wy * dx) / den
             ok = (t >= 0.0) & (u >= 0.0) & (u <= 1.0)
             candidates.append(np.where(ok, t, np.inf))
-        if n_circ:
-            fx = ox - circle_centres[:, 0]  # R×C
-            fy = oy - circle_centres[:, 1]
-            b = fx * dx + fy * dy
-            if circle_radii_sq is None:
-                circle_radii_sq = circle_radii * circle_radii
-            c = fx * fx + fy * fy - circle_radii_sq
-            disc = b * b - c
-            t_near = -b - np.sqrt(disc)
-            # inside the circle (c < 0): the surface is at distance 0 from the ray's start
-            t = np.where(c < 0.0, 0.0, t_near)
-            ok = (disc >= 0.0) & (t >= 0.0)
-            if visible is not None:
-                ok &= visible
-            elif ignore is not None:
-                ok &= ~ignore
-            candidates.append(np.where(ok, t, np.inf))
+    if n_circ:
+        fx = ox - circle_centres[:, 0]  # R×C
+        fy = oy - circle_centres[:, 1]
+        b = fx * dx + fy * dy
+        if circle_radii_sq is None:
+            circle_radii_sq = circle_radii * circle_radii
+        c = fx * fx + fy * fy - circle_radii_sq
+        disc = b * b - c
+        ok = disc >= 0.0
+        # the root only where the ray meets the circle (no invalid-value warning to
+        # suppress; the other entries are masked out below)
+        root = np.sqrt(disc, out=disc, where=ok)
+        t = np.subtract(-b, root, out=root)
+        # inside the circle (c < 0): the surface is at distance 0 from the ray's start
+        t[c < 0.0] = 0.0
+        ok &= t >= 0.0
+        if visible is not None:
+            ok &= visible
+        elif ignore is not None:
+            ok &= ~ignore
+        candidates.append(np.where(ok, t, np.inf))
     if not candidates:
         return None
     return candidates[0] if len(candidates) == 1 else np.concatenate(candidates, axis=1)

@@ -140,6 +140,16 @@ class ProximitySensors:
         # how far from a robot's centre its rays can reach
         offset = max(math.hypot(q.x, q.y) for p in profiles for q in p.prox_poses)
         self.reach = offset + self.cast_length
+        # squared broad-phase limits, computed once
+        reach = self.reach
+        self._circle_bounds = tuple(
+            (k, cx, cy, (reach + cr) * (reach + cr))
+            for k, (cx, cy, cr) in enumerate(self.static_circles)
+        )
+        self._robot_lim2 = [(reach + r) * (reach + r) for r in self.robot_radii]
+        self._polygon_bounds = tuple(
+            (p.x, p.y, (reach + p.radius) * (reach + p.radius), p.segments) for p in self.polygons
+        )
         self._cache: dict[tuple[tuple[int, ...], ...], _Subset] = {}
         self._far_sigma_noise = math.nan
         self._far_sigma_value = np.zeros((n, 8))
@@ -151,39 +161,44 @@ class ProximitySensors:
         Conservative (bounding circles, exact wall distances), so it never drops a hit.
         Circle indices count static circles first, then robots.
         """
-        reach = self.reach
+        reach2 = self.reach * self.reach
         robots: list[int] = []
         circles: set[int] = set()
         segments: set[int] = set()
         n = self.n
+        n_static = self.n_static
+        # each robot pair's distance once: i may see j, and j may see i
+        sees = [False] * n
+        for i in range(n):
+            xi, yi = poses[i][0], poses[i][1]
+            for j in range(i + 1, n):
+                dx, dy = xi - poses[j][0], yi - poses[j][1]
+                d2 = dx * dx + dy * dy
+                if d2 < self._robot_lim2[j]:
+                    circles.add(n_static + j)
+                    sees[i] = True
+                if d2 < self._robot_lim2[i]:
+                    circles.add(n_static + i)
+                    sees[j] = True
         for i in range(n):
             x, y = poses[i][0], poses[i][1]
-            found = False
-            for k, (cx, cy, cr) in enumerate(self.static_circles):
+            found = sees[i]
+            for k, cx, cy, lim2 in self._circle_bounds:
                 dx, dy = x - cx, y - cy
-                lim = reach + cr
-                if dx * dx + dy * dy < lim * lim:
+                if dx * dx + dy * dy < lim2:
                     circles.add(k)
                     found = True
-            for j in range(n):
-                if j != i:
-                    dx, dy = x - poses[j][0], y - poses[j][1]
-                    lim = reach + self.robot_radii[j]
-                    if dx * dx + dy * dy < lim * lim:
-                        circles.add(self.n_static + j)
-                        found = True
-            for poly in self.polygons:
-                dx, dy = x - poly.x, y - poly.y
-                lim = reach + poly.radius
-                if dx * dx + dy * dy < lim * lim:
-                    segments.update(poly.segments)
+            for px, py, lim2, poly_segments in self._polygon_bounds:
+                dx, dy = x - px, y - py
+                if dx * dx + dy * dy < lim2:
+                    segments.update(poly_segments)
                     found = True
             for ax, ay, ex, ey, len2, k in self.walls:
                 wx, wy = x - ax, y - ay
                 t = (wx * ex + wy * ey) / len2
                 t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
                 qx, qy = wx - t * ex, wy - t * ey
-                if qx * qx + qy * qy < reach * reach:
+                if qx * qx + qy * qy < reach2:
                     segments.add(k)
                     found = True
             if found:
