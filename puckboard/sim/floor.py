@@ -179,7 +179,7 @@ class Floor:
         if reach != self._grid_reach:
             self._build_grid(reach)
         inv = 1.0 / GRID_CELL
-        key = tuple((math.floor(x * inv), math.floor(y * inv)) for x, y in centres)
+        key = tuple([(math.floor(x * inv), math.floor(y * inv)) for x, y in centres])
         joined = self._joined.get(key)
         if joined is not None:
             return joined

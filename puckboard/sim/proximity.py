@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from ..profile import RobotProfile
 from .geometry import ray_hits
-from .ir import _D, _RAW, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
+from .ir import _D, _RAW, _SIGMA, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 
 __all__ = ["PolygonBound", "ProximitySensors", "WallSegment"]
 
@@ -271,8 +271,11 @@ class ProximitySensors:
             prep = self._subset(robots, circles, segments)
             # rays as complex numbers: origin = position + rotation·local, direction =
             # rotation·local direction (fewer numpy calls than separate x and y)
-            position = np.array([complex(poses[i][0], poses[i][1]) for i in robots])[:, None]
-            rotation = np.array([cmath.exp(1j * poses[i][2]) for i in robots])[:, None]
+            frames = np.array(
+                [(complex(poses[i][0], poses[i][1]), cmath.exp(1j * poses[i][2])) for i in robots]
+            )
+            position = frames[:, 0:1]
+            rotation = frames[:, 1:2]
             origin = (position + rotation * prep.local_origin).reshape(-1, 1)
             direction = (rotation * prep.local_direction).reshape(-1, 1)
             allt = ray_hits(
@@ -304,7 +307,7 @@ class ProximitySensors:
             if z is not None:
                 seen = distance < self.range
                 # the table's own σ at the reported distance (the range if nothing is seen)
-                sigma = np.hypot(noise, relative_sigma(distance))
+                sigma = np.hypot(noise, np.interp(distance, _D, _SIGMA))  # relative_sigma
                 raw *= 1.0 + sigma * z
                 if seen.any():
                     noisy_distance = np.minimum(distance * (1.0 - 0.5 * noise * z), self.range)
