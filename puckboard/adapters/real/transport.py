@@ -51,7 +51,39 @@ class Transport(Protocol):
     def close(self) -> None: ...
 
 
-class TcpTransport:
+class _ByteStream:
+    """What both transports share: reading exactly ``n`` bytes before a deadline.
+
+    Subclasses provide ``_recv(n, timeout)``, which returns what arrived (possibly
+    nothing) within ``timeout`` and raises :class:`ConnectionLostError` when the link is
+    gone, and ``_check_open``.
+    """
+
+    description: str
+
+    def _check_open(self) -> None:
+        raise NotImplementedError
+
+    def _recv(self, n: int, timeout: float) -> bytes:
+        raise NotImplementedError
+
+    def read_exact(self, n: int, timeout: float) -> bytes:
+        """Exactly ``n`` bytes, or :class:`TransportTimeout` after ``timeout`` seconds."""
+        self._check_open()
+        deadline = time.monotonic() + timeout
+        buf = bytearray()
+        while len(buf) < n:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise TransportTimeout(
+                    f"the robot ({self.description}) sent {len(buf)} of {n} expected bytes "
+                    f"within {timeout:.2f} s"
+                )
+            buf += self._recv(n - len(buf), remaining)
+        return bytes(buf)
+
+
+class TcpTransport(_ByteStream):
     """A TCP connection (the e-puck2's Wi-Fi server listens on port 1000)."""
 
     def __init__(self, host: str, port: int, *, connect_timeout: float = 5.0) -> None:
@@ -76,30 +108,19 @@ class TcpTransport:
                 f"sending to the robot at {self.description} failed: {exc}"
             ) from exc
 
-    def read_exact(self, n: int, timeout: float) -> bytes:
-        self._check_open()
-        deadline = time.monotonic() + timeout
-        buf = bytearray()
-        while len(buf) < n:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                raise TransportTimeout(
-                    f"the robot at {self.description} sent {len(buf)} of {n} expected bytes "
-                    f"within {timeout:.2f} s"
-                )
-            self._sock.settimeout(remaining)
-            try:
-                chunk = self._sock.recv(n - len(buf))
-            except TimeoutError:
-                continue
-            except OSError as exc:
-                raise ConnectionLostError(
-                    f"connection to the robot at {self.description} failed: {exc}"
-                ) from exc
-            if not chunk:
-                raise ConnectionLostError(f"the robot at {self.description} closed the connection")
-            buf += chunk
-        return bytes(buf)
+    def _recv(self, n: int, timeout: float) -> bytes:
+        self._sock.settimeout(timeout)
+        try:
+            chunk = self._sock.recv(n)
+        except TimeoutError:
+            return b""
+        except OSError as exc:
+            raise ConnectionLostError(
+                f"connection to the robot at {self.description} failed: {exc}"
+            ) from exc
+        if not chunk:
+            raise ConnectionLostError(f"the robot at {self.description} closed the connection")
+        return chunk
 
     def drain(self, quiet: float = 0.05) -> int:
         self._check_open()
@@ -157,7 +178,7 @@ class TcpTransport:
             raise ConnectionLostError(f"the connection {self.description} is closed")
 
 
-class SerialTransport:
+class SerialTransport(_ByteStream):
     """A serial port through pyserial: ``/dev/rfcomm0``, ``/dev/ttyACM0``, ``COM5``, a
     pseudo-terminal, or any pyserial URL (``loop://``, ``socket://host:port``)."""
 
@@ -184,26 +205,14 @@ class SerialTransport:
         except self._errors as exc:
             raise ConnectionLostError(f"writing to {self.description} failed: {exc}") from exc
 
-    def read_exact(self, n: int, timeout: float) -> bytes:
-        self._check_open()
-        deadline = time.monotonic() + timeout
-        buf = bytearray()
-        while len(buf) < n:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                raise TransportTimeout(
-                    f"the robot on {self.description} sent {len(buf)} of {n} expected bytes "
-                    f"within {timeout:.2f} s"
-                )
-            try:
-                self._port.timeout = min(remaining, 0.2)
-                chunk = self._port.read(n - len(buf))
-            except self._errors as exc:
-                raise ConnectionLostError(
-                    f"reading from {self.description} failed (robot off or out of range?): {exc}"
-                ) from exc
-            buf += chunk
-        return bytes(buf)
+    def _recv(self, n: int, timeout: float) -> bytes:
+        try:
+            self._port.timeout = min(timeout, 0.2)
+            return bytes(self._port.read(n))
+        except self._errors as exc:
+            raise ConnectionLostError(
+                f"reading from {self.description} failed (robot off or out of range?): {exc}"
+            ) from exc
 
     def drain(self, quiet: float = 0.05) -> int:
         self._check_open()
