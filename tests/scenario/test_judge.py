@@ -90,6 +90,12 @@ def feed(judge, pose_fn, duration, collisions_fn=None):
     return duration
 
 
+def head_on(geo, t):
+    """Two robots 0.5 m apart on the line, driving towards each other at SPEED."""
+    L = geo.length
+    return [line_pose(geo, L - 0.25 + SPEED * t, 1), line_pose(geo, 0.25 - SPEED * t, -1)]
+
+
 def wrapped_distance(s, e, length):
     d = (s - e) % length
     return min(d, length - d)
@@ -132,12 +138,11 @@ def test_driving_side_by_side_is_parallel_driving():
     scene = pass_scene()
     geo = TrackGeometry(scene.track)
     judge = Judge(scene)
-    L = geo.length
     meet = (0.25 - 0.045) / SPEED  # the robots stop approaching 9 cm apart
 
     def poses(t):
         if t <= meet:
-            return [line_pose(geo, L - 0.25 + SPEED * t, 1), line_pose(geo, 0.25 - SPEED * t, -1)]
+            return head_on(geo, t)
         # both turn to face +y (a turns left, b turns right: the same way seen from
         # above) within a second, then drive side by side
         turn = min(1.0, t - meet)
@@ -200,10 +205,9 @@ def test_driving_head_on_is_a_geometric_collision():
     scene = pass_scene()
     geo = TrackGeometry(scene.track)
     judge = Judge(scene)
-    L = geo.length
 
     def poses(t):
-        return [line_pose(geo, L - 0.25 + SPEED * t, 1), line_pose(geo, 0.25 - SPEED * t, -1)]
+        return head_on(geo, t)
 
     t = feed(judge, poses, 60.0)
     assert judge.failure == "collision"
@@ -216,10 +220,9 @@ def test_simulator_collision_counts_are_used_when_given():
     scene = pass_scene()
     geo = TrackGeometry(scene.track)
     judge = Judge(scene)
-    L = geo.length
 
     def poses(t):
-        return [line_pose(geo, L - 0.25 + SPEED * t, 1), line_pose(geo, 0.25 - SPEED * t, -1)]
+        return head_on(geo, t)
 
     t = feed(judge, poses, 10.0, collisions_fn=lambda t: [0, 1 if t >= 2.0 else 0])
     assert judge.failure == "collision" and judge.failure_robot == "b"
@@ -231,10 +234,9 @@ def test_run_ending_before_the_meeting_is_not_passed():
     scene = pass_scene()
     geo = TrackGeometry(scene.track)
     judge = Judge(scene)
-    L = geo.length
 
     def poses(t):
-        return [line_pose(geo, L - 0.25 + SPEED * t, 1), line_pose(geo, 0.25 - SPEED * t, -1)]
+        return head_on(geo, t)
 
     feed(judge, poses, 3.0)
     assert not judge.decided
@@ -243,7 +245,7 @@ def test_run_ending_before_the_meeting_is_not_passed():
     assert all(not m.passed_other for m in judge.metrics())
     # progress is measured in each robot's own starting direction
     for m in judge.metrics():
-        assert m.progress_laps == pytest.approx(3.0 * SPEED / L, rel=0.05)
+        assert m.progress_laps == pytest.approx(3.0 * SPEED / geo.length, rel=0.05)
         assert m.distance_m == pytest.approx(3.0 * SPEED, rel=0.01)
 
 
