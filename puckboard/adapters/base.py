@@ -29,7 +29,7 @@ import abc
 import logging
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -460,8 +460,3 @@ def _as_sensor(s: Sensor | str) -> Sensor:
     except ValueError:
         known = ", ".join(x.value for x in Sensor)
         raise ValueError(f"unknown sensor {s!r}; known sensors: {known}") from None
-
-
-def sensors_from(names: Iterable[str | Sensor]) -> frozenset[Sensor]:
-    """Parse sensor names (e.g. from a command line)."""
-    return frozenset(_as_sensor(n) for n in names)

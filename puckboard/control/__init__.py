@@ -1,5 +1,5 @@
 """The control loop that ties adapters, the blackboard and controllers together."""
 
-from .loop import Binding, ControlLoop, bind
+from .loop import Binding, ControlLoop
 
-__all__ = ["Binding", "ControlLoop", "bind"]
+__all__ = ["Binding", "ControlLoop"]

@@ -16,7 +16,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from ..adapters.base import RobotAdapter, Stepper, declare_robot_keys
@@ -245,10 +245,3 @@ def _unique(items: Iterable[Stepper]) -> list[Stepper]:
         if not any(item is o for o in out):
             out.append(item)
     return out
-
-
-def bind(adapters: Sequence[RobotAdapter], controllers: Sequence[Controller]) -> list[Binding]:
-    """Pair adapters with controllers, checking the counts match."""
-    if len(adapters) != len(controllers):
-        raise ValueError(f"{len(adapters)} robots but {len(controllers)} controllers")
-    return [Binding(a, c) for a, c in zip(adapters, controllers)]
