@@ -290,7 +290,9 @@ class ProximitySensors:
                 visible=prep.visible,
                 circle_radii_sq=prep.circle_radii_sq,
             )
-            if prep.every_robot:
+            if not prep.every_robot:
+                # the robots that cast no ray see nothing this step; the cast below
+                # overwrites only the rows of those that do
                 distance[:] = self.range
                 raw[:] = self.baseline_raw
             if allt is not None:

@@ -138,3 +138,34 @@ def test_an_obstacle_touching_the_body_at_a_sensor_reads_zero_and_full_scale():
     assert w.contacts_now[0]
     assert w.prox_distance[0, PS7] == pytest.approx(0.0, abs=1e-9)
     assert w.prox_raw[0, PS7] > 3500  # the table starts at 4095 for 0 m
+
+
+def test_a_robot_that_moves_out_of_reach_while_another_still_sees_reads_nothing():
+    # Both robots see the post, then one is carried far away while the other still sees
+    # it: only the near robot casts rays that step, and the far one must read the range
+    # and the baseline, not what it saw the step before.
+    post = obstacle_on_sensor_axis(PS7, 0.02)
+    # b is a turned half a turn about the post, so its ps7 sees the post as a's does
+    b = robot("b", 2 * post.x, 2 * post.y, math.pi)
+    w = World(empty_scene(robot("a"), b, obstacles=(post,)))
+    assert w.prox_distance[1, PS7] == pytest.approx(0.02, abs=1e-9)
+    w.set_pose(1, 1.0, 1.0, 0.0)
+    assert w.prox_distance[0, PS7] < EPUCK2.prox_range
+    assert (w.prox_distance[1] == EPUCK2.prox_range).all()
+    assert w.prox_raw[1] == pytest.approx(np.full(8, TABLE[-1, 1]))
+
+
+def test_a_far_robot_keeps_fresh_noise_while_another_robot_casts_rays():
+    # with noise, a robot that sees nothing reads the baseline times (1 + sigma z) with a
+    # new z each step; its raw values must not random-walk away from the baseline
+    post = obstacle_on_sensor_axis(PS7, 0.02)
+    scene = empty_scene(
+        robot("a"), robot("b", 1.0, 1.0, 0.0), obstacles=(post,), noise=Noise(proximity=0.05)
+    )
+    w = World(scene, seed=1)
+    raws = []
+    for _ in range(300):
+        w.step()
+        raws.append(w.prox_raw[1].copy())
+    # sigma = sqrt(0.05² + 0.049²) ≈ 0.07: 6 sigma of the baseline bounds every reading
+    assert np.abs(np.array(raws) / TABLE[-1, 1] - 1.0).max() < 6 * 0.07
