@@ -50,19 +50,20 @@ class LineFollow(Layer):
         self.sharp_factor = sharp_factor
 
     # Both tests compare the three readings as plain floats: the same comparisons as
-    # ``Ground.dark``, without the numpy calls, on a layer the arbiter asks every tick.
+    # ``Ground.dark``, without the numpy calls or a generator, on a layer the arbiter
+    # asks every tick ("some sensor is dark" is "the darkest sensor is dark").
     def applies(self, frame: Frame) -> bool:
         ground = frame.ground
         if ground is None:
             return False
-        threshold = self.threshold
-        return any(v < threshold for v in ground.value.tolist())
+        return min(ground.value.tolist()) < self.threshold
 
     def command(self, frame: Frame) -> WheelCommand:
         ground = frame.ground
         assert ground is not None
         threshold = self.threshold
-        left_dark, centre_dark, right_dark = (v < threshold for v in ground.value.tolist())
+        left, centre, right = ground.value.tolist()
+        left_dark, centre_dark, right_dark = left < threshold, centre < threshold, right < threshold
         v = self.speed
         if self.recovery:
             if centre_dark and right_dark and not left_dark:

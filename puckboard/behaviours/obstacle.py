@@ -28,6 +28,8 @@ prose: it is what was run to produce the thesis's result.
 
 from __future__ import annotations
 
+from operator import itemgetter
+
 from ..records import PROX_NAMES, Proximity, WheelCommand
 from .cruise import DEFAULT_SPEED
 from .layer import Frame, Layer
@@ -38,13 +40,15 @@ FRONT_SENSORS = ("diagonal_left", "front_left", "front_right", "diagonal_right")
 """The four front sensors, left to right (V-REP's ePuck_proxSensor2..5)."""
 
 _FRONT_IDX = [PROX_NAMES.index(n) for n in FRONT_SENSORS]
+_front_distances = itemgetter(*_FRONT_IDX)
 _BRAITENBERG_FRONT = (1.0, 2.0, -2.0, -1.0)
 
 
 def obstacle_in_front(prox: Proximity) -> bool:
     """True when any of the four front sensors sees something within range."""
-    d, r = prox.distance.tolist(), prox.range  # plain floats: cheaper than ufuncs or numpy scalars
-    return any(d[i] < r for i in _FRONT_IDX)
+    # plain floats: cheaper than ufuncs or numpy scalars; "any sensor sees something" is
+    # "the nearest reading is within range"
+    return min(_front_distances(prox.distance.tolist())) < prox.range
 
 
 def braitenberg_front(prox: Proximity, speed: float, weights=_BRAITENBERG_FRONT) -> WheelCommand:  # type: ignore[no-untyped-def]

@@ -12,13 +12,15 @@ the robot drives straight, which lets it peel away.
 
 from __future__ import annotations
 
-from ..records import WheelCommand
+from ..records import PROX_NAMES, WheelCommand
 from .cruise import DEFAULT_SPEED
 from .layer import Frame, Layer
 
 __all__ = ["SideWallKeep"]
 
 _BRAITENBERG_SIDE = (-1.0, 0.0)  # (own-side wheel, other wheel), the script's braitSideSens
+# the side sensors' indices: a tick reads plain floats instead of looking names up on the record
+_SIDE_INDEX = {side: PROX_NAMES.index(side) for side in ("left", "right")}
 
 
 class SideWallKeep(Layer):
@@ -51,12 +53,14 @@ class SideWallKeep(Layer):
         prox = frame.proximity
         if prox is None:
             return []
-        low = self.near_fraction * prox.range
+        reach = prox.range
+        low = self.near_fraction * reach
+        distance = prox.distance.tolist()
         out = []
         for side in self.sides:
-            d = getattr(prox, side)
-            if low < d < prox.range:
-                out.append((side, 1.0 - d / prox.range))
+            d = distance[_SIDE_INDEX[side]]
+            if low < d < reach:
+                out.append((side, 1.0 - d / reach))
         return out
 
     def applies(self, frame: Frame) -> bool:

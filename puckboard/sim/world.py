@@ -140,7 +140,8 @@ class World(Stepper):
         if noise.start_jitter > 0:
             self._poses += self.rng.normal(0.0, noise.start_jitter, size=(n, 3))
         self._poses[:, 2] = np.remainder(self._poses[:, 2] + math.pi, math.tau) - math.pi
-        self._command = np.zeros((n, 2))
+        # wheel commands as plain floats: set once per robot per cycle, read once per step
+        self._command: list[list[float]] = [[0.0, 0.0] for _ in range(n)]
         self._wheels = np.zeros((n, 2))
         self._encoders = np.zeros((n, 2))
         self._accel = np.zeros((n, 3))
@@ -331,7 +332,7 @@ class World(Stepper):
         """Stop: wheels commanded to zero. Stepping again resumes from here."""
         with self._lock:
             self.running = False
-            self._command[:] = 0.0
+            self._command = [[0.0, 0.0] for _ in range(self.n)]
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` steps of ``dt``; sensors then describe the new state."""
@@ -399,10 +400,11 @@ class World(Stepper):
     # -- actuation -----------------------------------------------------------------------------
     def set_wheel_speeds(self, i: int, left: float, right: float) -> None:
         """Command robot ``i``'s wheels (rad/s), clamped to its profile's limit."""
-        limit = self.profiles[i].max_wheel_speed
+        limit = self._max_wheel_list[i]
+        # a new list, never one changed in place: the last step's records share the old one
+        command = [max(-limit, min(limit, float(left))), max(-limit, min(limit, float(right)))]
         with self._lock:
-            self._command[i, 0] = max(-limit, min(limit, float(left)))
-            self._command[i, 1] = max(-limit, min(limit, float(right)))
+            self._command[i] = command
 
     def set_pose(self, i: int, x: float, y: float, theta: float) -> None:
         """Place robot ``i`` (for tests and scripted set-ups); sensors are recomputed."""
@@ -422,7 +424,7 @@ class World(Stepper):
         # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned. So the
         # step counters (encoders) and reported wheel speeds follow the command, and
         # odometry drifts as it does on the real robot.
-        stepped = self._command.tolist()
+        stepped = list(self._command)
         command = [list(c) for c in stepped]
         if z is not None and self._noise_wheel > 0:
             zw = z[: 2 * n].tolist()
