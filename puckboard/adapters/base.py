@@ -251,8 +251,14 @@ class RobotAdapter(abc.ABC):
     def _publish(self, records: Mapping[Sensor, Any], stamp: float) -> None:
         if not records:
             return
-        # ``_value_`` is the key (Sensor.key); the enum's property costs a Python call each
-        self.ns.put_many({s._value_: r for s, r in records.items()}, stamp=stamp, writer=self.name)
+        # One dict keyed by the absolute keys, written straight to the board (what
+        # ``Namespace.put_many`` does after re-keying a second dict); ``_value_`` is the
+        # key (Sensor.key), whose property would cost a Python call per record.
+        ns = self.ns
+        prefix = ns.prefix
+        ns.board.put_many(
+            {prefix + s._value_: r for s, r in records.items()}, stamp=stamp, writer=self.name
+        )
         if self._sensor_observers:
             changed = frozenset(records)
             for obs in list(self._sensor_observers):

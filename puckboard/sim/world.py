@@ -76,13 +76,6 @@ WALL_HEIGHT = 0.08
 MAX_SUBSTEP_FRACTION = 0.25
 
 
-def _frozen(array: FloatArray) -> FloatArray:
-    """A read-only copy of ``array``; records get views of its rows."""
-    copy = array.copy()
-    copy.flags.writeable = False
-    return copy
-
-
 class World(Stepper):
     """A simulated scene; see the module docstring.
 
@@ -171,17 +164,31 @@ class World(Stepper):
         self._build_geometry()
         self._build_sensor_layout(ir_rays)
 
-        self._prox_distance = np.zeros((n, 8))
-        self._prox_raw = np.zeros((n, 8))
-        self._ground = np.zeros((n, 3))
-        self._ground_raw = np.zeros((n, 3))
+        # The four sensor arrays are consecutive blocks of one buffer (each still a
+        # contiguous N×k array), so the read-only copy that records share is one copy
+        # per step, and a record's row is a slice of it.
+        blocks = (("prox_distance", 8), ("prox_raw", 8), ("ground", 3), ("ground_raw", 3))
+        self._sensor_buffer = np.zeros(n * sum(k for _, k in blocks))
+        views = {}
+        rows: list[dict[str, slice]] = [{} for _ in range(n)]
+        start = 0
+        for name, k in blocks:
+            views[name] = self._sensor_buffer[start : start + n * k].reshape(n, k)
+            for i in range(n):
+                rows[i][name] = slice(start + i * k, start + (i + 1) * k)
+            start += n * k
+        self._prox_distance = views["prox_distance"]
+        self._prox_raw = views["prox_raw"]
+        self._ground = views["ground"]
+        self._ground_raw = views["ground_raw"]
         self._ground_flat = self._ground.reshape(-1)  # views, written in place
         self._ground_raw_flat = self._ground_raw.reshape(-1)
-        # read-only copies of the sensor arrays, made once per sensor pass when a record
-        # first needs them: records share views of their rows, which nobody can write
+        self._sensor_rows = rows
+        # the read-only copy of the buffer, made once per sensor pass when a record
+        # first needs it: records share slices of it, which nobody can write
         self._sense_count = 0
         self._frozen_count = -1
-        self._frozen_sensors: tuple[FloatArray, ...] = ()
+        self._frozen_buffer = self._sensor_buffer
         # the first contact check and sensor pass describe the start pose (time 0)
         self._resolve_start_contacts()
         self._sense(None)
@@ -542,24 +549,24 @@ class World(Stepper):
         # validation (which would cost more than the whole simulation step).
         out: dict[Sensor, Any] = {}
         if self._frozen_count != self._sense_count:
-            self._frozen_sensors = (
-                _frozen(self._prox_distance),
-                _frozen(self._prox_raw),
-                _frozen(self._ground),
-                _frozen(self._ground_raw),
-            )
+            frozen = self._sensor_buffer.copy()
+            frozen.flags.writeable = False
+            self._frozen_buffer = frozen
             self._frozen_count = self._sense_count
-        prox_distance, prox_raw, ground, ground_raw = self._frozen_sensors
+        frozen = self._frozen_buffer
+        rows = self._sensor_rows[i]
         for sensor in sensors:
             if sensor is Sensor.PROXIMITY:
                 out[sensor] = _unchecked(
                     Proximity,
-                    distance=prox_distance[i],
-                    raw=prox_raw[i],
+                    distance=frozen[rows["prox_distance"]],
+                    raw=frozen[rows["prox_raw"]],
                     range=self._range_list[i],
                 )
             elif sensor is Sensor.GROUND:
-                out[sensor] = _unchecked(Ground, value=ground[i], raw=ground_raw[i])
+                out[sensor] = _unchecked(
+                    Ground, value=frozen[rows["ground"]], raw=frozen[rows["ground_raw"]]
+                )
             elif sensor is Sensor.POSE:
                 x, y, theta = self._pose_list[i]
                 out[sensor] = _unchecked(Pose, x=x, y=y, theta=theta, ground_truth=True)
