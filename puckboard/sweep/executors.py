@@ -32,6 +32,7 @@ from .worker import ignore_interrupts
 
 __all__ = [
     "DaskExecutor",
+    "DaskStopFlag",
     "InlineExecutor",
     "LocalExecutor",
     "SweepExecutor",
@@ -85,6 +86,11 @@ class SweepExecutor(ABC):
     @abstractmethod
     def close(self) -> None:
         """Release workers (and any cluster this executor started)."""
+
+    def stop_flag(self) -> Callable[[], bool] | None:
+        """A flag the tasks ask between episodes, for executors that cannot kill a
+        running task (``None``: this executor stops its workers itself)."""
+        return None
 
     def runnable_controller(self, spec: str) -> str:
         """The controller spec as workers can load it (see :class:`DaskExecutor`)."""
@@ -203,6 +209,35 @@ def _is_controller_file(spec: str) -> tuple[Path, str] | None:
     return Path(module_part), attr
 
 
+class DaskStopFlag:
+    """Picklable "has the sweep been stopped?" flag backed by a named Dask ``Event``.
+
+    Dask cannot interrupt a task that is running, so a stopped sweep would leave every
+    busy worker on its batch until the batch ends. Each batch asks this flag before each
+    episode (:func:`~puckboard.sweep.worker.run_batch`), so a worker is free again one
+    episode after :meth:`DaskExecutor.cancel`. Asking costs one round trip to the
+    scheduler, small next to an episode.
+    """
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self._event: Any = None
+
+    def __call__(self) -> bool:
+        if self._event is None:
+            from distributed import Event
+
+            self._event = Event(self.name)  # on a worker: the worker's own client
+        return bool(self._event.is_set())
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"name": self.name}  # the Event holds a client: rebuild it where unpickled
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.name = state["name"]
+        self._event = None
+
+
 class DaskExecutor(SweepExecutor):
     """Run tasks on a Dask cluster: an existing one at ``scheduler``, or a local one.
 
@@ -263,6 +298,10 @@ class DaskExecutor(SweepExecutor):
         self.workers = max(1, sum(self.client.nthreads().values()))
         self._futures: list[Any] = []
         self._uploaded: dict[str, str] = {}
+        self._stop_name = _new_stop_name()
+
+    def stop_flag(self) -> DaskStopFlag:
+        return DaskStopFlag(self._stop_name)
 
     def runnable_controller(self, spec: str) -> str:
         found = _is_controller_file(spec)
@@ -303,7 +342,15 @@ class DaskExecutor(SweepExecutor):
             self._futures = []
 
     def cancel(self) -> None:
+        """Drop waiting batches and tell running ones to stop after their episode.
+
+        The flag is then renamed, so a later sweep on this executor starts unstopped.
+        """
         if self._futures:
+            from distributed import Event
+
+            Event(self._stop_name, client=self.client).set()
+            self._stop_name = _new_stop_name()
             self.client.cancel(self._futures)
             self._futures = []
 
@@ -320,3 +367,10 @@ class DaskExecutor(SweepExecutor):
             self._cluster.close()
             self._cluster = None
         self._dask_log.setLevel(self._dask_log_level)
+
+
+def _new_stop_name() -> str:
+    """A name no other sweep on the same Dask cluster uses."""
+    import uuid
+
+    return f"puckboard-sweep-stop-{uuid.uuid4().hex}"

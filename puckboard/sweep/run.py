@@ -196,8 +196,10 @@ def run_sweep(
             batches = make_batches(todo, executor.workers, batch_size)
             # per-episode warnings only when asked for more output (puckboard -v)
             level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
+            stop = executor.stop_flag()
             tasks = [
-                (scene, plan.scenario, batch, aliases, level, episode_timeout) for batch in batches
+                (scene, plan.scenario, batch, aliases, level, episode_timeout, stop)
+                for batch in batches
             ]
             for rows in executor.run(run_batch, tasks):
                 if store is not None:

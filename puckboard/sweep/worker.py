@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import logging
 import signal
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from .plan import SCENE_CONTROLLERS, EpisodeSpec
@@ -69,18 +69,29 @@ def run_batch(
     aliases: Mapping[str, str] | None = None,
     log_level: int = logging.ERROR,
     wall_limit: float | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> list[dict[str, Any]]:
     """Run ``specs`` one after the other in this process and return their rows.
 
     puckboard's own log messages below ``log_level`` are dropped while the batch runs:
     a warning a single run shows once (a clamped wheel command, say) would otherwise be
     printed by every episode of the sweep.
+
+    ``stop`` is asked before each episode; once it answers true the batch ends with the
+    rows it has. It is how a sweep stops work it cannot kill: a task already running on
+    a Dask worker cannot be interrupted, but it can decline to start its next episode.
     """
     logger = logging.getLogger("puckboard")
     previous = logger.level
     logger.setLevel(max(previous, log_level))
+    rows: list[dict[str, Any]] = []
     try:
-        return [run_spec(scene, scenario, spec, aliases, wall_limit) for spec in specs]
+        for spec in specs:
+            if stop is not None and stop():
+                log.info("batch stopped after %d of %d episodes", len(rows), len(specs))
+                break
+            rows.append(run_spec(scene, scenario, spec, aliases, wall_limit))
+        return rows
     finally:
         logger.setLevel(previous)
 

@@ -261,3 +261,64 @@ def test_a_controller_that_never_returns_is_stopped_by_the_episode_timeout(tmp_p
     assert all("wall-clock limit of 1 s" in e for e in result.errors)
     # the good controller's episodes ran normally after the runaway ones were stopped
     assert by_controller["improved"].failures.get("error") is None
+
+
+def test_a_batch_asks_its_stop_flag_before_each_episode(short_scene):
+    from puckboard.sweep.worker import run_batch
+
+    specs = list(small_plan(short_scene).episodes())[:5]
+    asked = []
+
+    def stop_after_two():
+        asked.append(True)
+        return len(asked) > 2
+
+    rows = run_batch(short_scene, short_scene.name, specs, stop=stop_after_two)
+    assert [r["key"] for r in rows] == [s.key(short_scene.name) for s in specs[:2]]
+    assert len(asked) == 3
+
+
+@pytest.mark.slow
+def test_a_stopped_dask_sweep_frees_its_workers_after_one_episode(short_scene):
+    """Dask cannot interrupt a running task; the batch sees the stop flag instead."""
+    pytest.importorskip("dask.distributed")
+    import logging
+
+    from distributed import Event
+
+    from puckboard.sweep.progress import NullProgress
+    from puckboard.sweep.worker import run_batch
+
+    specs = list(small_plan(short_scene).episodes())[:6]
+    with DaskExecutor(local_workers=1) as executor:
+        # the flag works on a worker: unset, the whole batch runs
+        unset = executor.client.submit(
+            run_batch, short_scene, short_scene.name, specs[:2], None, logging.ERROR, None,
+            executor.stop_flag(), pure=False,
+        )  # fmt: skip
+        assert len(unset.result(timeout=120)) == 2
+
+        # Ctrl-C during a sweep (here: raised by the progress display) sets the flag the
+        # running batches were given, and the next sweep gets a fresh one
+        class InterruptingProgress(NullProgress):
+            def advance(self, n: int) -> None:
+                raise KeyboardInterrupt
+
+        given = executor.stop_flag()
+        result = run_sweep(
+            small_plan(short_scene), short_scene, executor=executor, batch_size=1,
+            progress=InterruptingProgress(),
+        )  # fmt: skip
+        assert result.interrupted and result.ran == 1
+        assert Event(given.name, client=executor.client).is_set()
+        assert executor.stop_flag().name != given.name
+        assert not executor.stop_flag()()
+
+        # set while the batch is queued or on its first episode: at most one more runs
+        flag = executor.stop_flag()
+        stopped = executor.client.submit(
+            run_batch, short_scene, short_scene.name, specs, None, logging.ERROR, None, flag,
+            pure=False,
+        )  # fmt: skip
+        Event(flag.name, client=executor.client).set()
+        assert len(stopped.result(timeout=120)) <= 1
