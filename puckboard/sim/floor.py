@@ -157,6 +157,10 @@ class Floor:
             c *= self.line_brightness - self.floor_brightness
             c += self.floor_brightness
             return c
+        if near is not None and near.count == 0:
+            # no segment near any point: the distance is infinite and the reading is
+            # exactly the floor's, which the clamped line below would also give
+            return np.full(points.shape[0], self.floor_brightness)
         d = self.line_distance(points, near)
         d *= self._slope
         d += self._offset

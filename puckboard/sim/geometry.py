@@ -14,7 +14,14 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["cast_rays", "polygon_edges", "ray_hits", "segment_distance"]
+__all__ = [
+    "cast_rays",
+    "circle_hits",
+    "polygon_edges",
+    "ray_hits",
+    "segment_distance",
+    "segment_hits",
+]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -89,40 +96,83 @@ def ray_hits(
     n_circ = circle_centres.shape[0]
     candidates: list[FloatArray] = []
     if n_seg:
-        with np.errstate(divide="ignore", invalid="ignore"):  # parallel rays: 0/0
-            ex = seg_vector[:, 0]
-            ey = seg_vector[:, 1]
-            wx = seg_start[:, 0] - ox  # R×S
-            wy = seg_start[:, 1] - oy
-            den = dx * ey - dy * ex
-            t = (wx * ey - wy * ex) / den
-            u = (wx * dy - wy * dx) / den
-            ok = (t >= 0.0) & (u >= 0.0) & (u <= 1.0)
-            candidates.append(np.where(ok, t, np.inf))
+        candidates.append(
+            segment_hits(
+                ox, oy, dx, dy, seg_start[:, 0], seg_start[:, 1], seg_vector[:, 0], seg_vector[:, 1]
+            )
+        )
     if n_circ:
-        fx = ox - circle_centres[:, 0]  # R×C
-        fy = oy - circle_centres[:, 1]
-        b = fx * dx + fy * dy
         if circle_radii_sq is None:
             circle_radii_sq = circle_radii * circle_radii
-        c = fx * fx + fy * fy - circle_radii_sq
-        disc = b * b - c
-        ok = disc >= 0.0
-        # the root only where the ray meets the circle (no invalid-value warning to
-        # suppress; the other entries are masked out below)
-        root = np.sqrt(disc, out=disc, where=ok)
-        t = np.subtract(-b, root, out=root)
-        # inside the circle (c < 0): the surface is at distance 0 from the ray's start
-        t[c < 0.0] = 0.0
-        ok &= t >= 0.0
-        if visible is not None:
-            ok &= visible
-        elif ignore is not None:
-            ok &= ~ignore
-        candidates.append(np.where(ok, t, np.inf))
+        if visible is None and ignore is not None:
+            visible = ~ignore
+        candidates.append(
+            circle_hits(
+                ox, oy, dx, dy, circle_centres[:, 0], circle_centres[:, 1], circle_radii_sq, visible
+            )
+        )
     if not candidates:
         return None
     return candidates[0] if len(candidates) == 1 else np.concatenate(candidates, axis=1)
+
+
+def segment_hits(
+    ox: FloatArray,
+    oy: FloatArray,
+    dx: FloatArray,
+    dy: FloatArray,
+    ax: FloatArray,
+    ay: FloatArray,
+    ex: FloatArray,
+    ey: FloatArray,
+) -> FloatArray:
+    """Distance along rays to segments from (ax, ay) to (ax + ex, ay + ey), ``inf`` on a miss.
+
+    Every argument is an array and the result has their broadcast shape: rays as R×1
+    columns and segments as length-S rows give R×S (what :func:`ray_hits` does), rays
+    as length-R rows and segments as S×1 columns give S×R.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):  # parallel rays: 0/0
+        wx = ax - ox
+        wy = ay - oy
+        den = dx * ey - dy * ex
+        t = (wx * ey - wy * ex) / den
+        u = (wx * dy - wy * dx) / den
+        ok = (t >= 0.0) & (u >= 0.0) & (u <= 1.0)
+        return np.where(ok, t, np.inf)
+
+
+def circle_hits(
+    ox: FloatArray,
+    oy: FloatArray,
+    dx: FloatArray,
+    dy: FloatArray,
+    cx: FloatArray,
+    cy: FloatArray,
+    radii_sq: FloatArray,
+    visible: npt.NDArray[np.bool_] | None = None,
+) -> FloatArray:
+    """Distance along rays to circles centred at (cx, cy), ``inf`` on a miss; 0 from inside.
+
+    Shapes broadcast as in :func:`segment_hits`; ``radii_sq`` holds the squared radii and
+    ``visible`` (optional, the result's shape) masks out pairs a ray must not see.
+    """
+    fx = ox - cx
+    fy = oy - cy
+    b = fx * dx + fy * dy
+    c = fx * fx + fy * fy - radii_sq
+    disc = b * b - c
+    ok = disc >= 0.0
+    # the root only where the ray meets the circle (no invalid-value warning to
+    # suppress; the other entries are masked out below)
+    root = np.sqrt(disc, out=disc, where=ok)
+    t = np.subtract(-b, root, out=root)
+    # inside the circle (c < 0): the surface is at distance 0 from the ray's start
+    t[c < 0.0] = 0.0
+    ok &= t >= 0.0
+    if visible is not None:
+        ok &= visible
+    return np.where(ok, t, np.inf)
 
 
 def segment_distance(
