@@ -18,7 +18,7 @@ run is the same with or without them.
 
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
 ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
-``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
+``noise.gyro``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
 robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
 """
 
@@ -52,6 +52,7 @@ OVERRIDE_NAMES = (
     "noise.proximity",
     "noise.ground",
     "noise.start_jitter",
+    "noise.gyro",
     "dt",
     "duration",
     "layer.<LayerName>.<attribute>",

@@ -47,6 +47,7 @@ __all__ = [
     "PROX_NAMES",
     "VREP_ORDER",
     "Acceleration",
+    "AngularVelocity",
     "CameraImage",
     "Ground",
     "Light",
@@ -84,6 +85,7 @@ class Sensor(str, enum.Enum):
     GROUND = "ground"
     LIGHT = "light"
     ACCELERATION = "acceleration"
+    GYRO = "gyro"
     ENCODERS = "encoders"
     WHEEL_SPEEDS = "wheel_speeds"
     POSE = "pose"
@@ -228,6 +230,24 @@ class Acceleration:
 
 
 @dataclass(frozen=True)
+class AngularVelocity:
+    """Angular velocity in the robot frame (rad/s), as a gyroscope measures it.
+
+    Axes as for :class:`Acceleration`: x forward, y left, z up, so ``z`` is the yaw rate
+    and is positive when the robot turns counter-clockwise seen from above. Unlike a
+    turn rate computed from the wheels, it is what the body actually did: a wheel that
+    slips on the floor fools the encoders, not the gyro.
+    """
+
+    x: float
+    y: float
+    z: float
+
+    def __post_init__(self) -> None:
+        _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
+
+
+@dataclass(frozen=True)
 class WheelEncoders:
     """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
 
@@ -346,6 +366,7 @@ RECORD_TYPES: dict[Sensor, type] = {
     Sensor.GROUND: Ground,
     Sensor.LIGHT: Light,
     Sensor.ACCELERATION: Acceleration,
+    Sensor.GYRO: AngularVelocity,
     Sensor.ENCODERS: WheelEncoders,
     Sensor.WHEEL_SPEEDS: WheelSpeeds,
     Sensor.POSE: Pose,

@@ -135,6 +135,11 @@ class RobotAdapter(abc.ABC):
 
     #: Sensors this backend can deliver (subclasses narrow it).
     available_sensors: frozenset[Sensor] = frozenset(Sensor)
+    #: Sensors this backend has but reads only once asked (:meth:`enable`). The camera
+    #: is always among them (an image is its own, slow round trip); a backend adds a
+    #: sensor that would cost every cycle something few controllers need. Everything
+    #: else available is enabled when the adapter opens.
+    opt_in_sensors: frozenset[Sensor] = frozenset({Sensor.CAMERA})
     #: The backend's name as used by ``--backend``.
     backend_name: str = "abstract"
 
@@ -152,7 +157,7 @@ class RobotAdapter(abc.ABC):
         self.stepper = stepper
         self.command_timeout = command_timeout
         self.io_lock = threading.RLock()
-        self._enabled: set[Sensor] = set(self.available_sensors) - {Sensor.CAMERA}
+        self._enabled: set[Sensor] = set(self.available_sensors) - self.opt_in_sensors
         self._closed = False
         self._clamp_warned = False
         self._last_command_time: float | None = None
@@ -190,7 +195,8 @@ class RobotAdapter(abc.ABC):
 
     # -- sensors ---------------------------------------------------------------------------
     def enable(self, *sensors: Sensor | str) -> None:
-        """Enable sensors for ``sense_all`` and the sensing thread (the camera is opt-in)."""
+        """Enable sensors for ``sense_all`` and the sensing thread; the ones in
+        :attr:`opt_in_sensors` (the camera, and on some backends e.g. the gyro) start off."""
         for s in map(_as_sensor, sensors):
             if s not in self.available_sensors:
                 raise NotSupportedError(

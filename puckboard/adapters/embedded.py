@@ -27,6 +27,10 @@ class EmbeddedAdapter(RobotAdapter):
     backend_name = "embedded"
     #: No light sources are modelled, so there is no ambient-light sensor.
     available_sensors = frozenset(Sensor) - {Sensor.LIGHT}
+    #: The gyro is there (``adapter.enable("gyro")``) but off by default: no shipped
+    #: controller reads it, and a record per robot per cycle costs the simulator's speed
+    #: (docs/simulator.md gives the measured cost).
+    opt_in_sensors = frozenset({Sensor.CAMERA, Sensor.GYRO})
 
     def __init__(
         self,

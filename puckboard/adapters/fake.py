@@ -28,6 +28,7 @@ from ..records import (
     GROUND_NAMES,
     PROX_NAMES,
     Acceleration,
+    AngularVelocity,
     CameraImage,
     Ground,
     Light,
@@ -163,6 +164,9 @@ class FakeAdapter(RobotAdapter):
                 out[s] = Light(np.full(8, 3000.0))
             elif s is Sensor.ACCELERATION:
                 out[s] = Acceleration(0.0, 0.0, 9.81)
+            elif s is Sensor.GYRO:
+                # ideal kinematics: the body turns exactly as the wheels say, at once
+                out[s] = AngularVelocity(0.0, 0.0, self.profile.body_velocity(*self.wheels)[1])
             elif s is Sensor.ENCODERS:
                 out[s] = WheelEncoders(*self.encoders)
             elif s is Sensor.WHEEL_SPEEDS:

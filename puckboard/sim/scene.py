@@ -131,13 +131,15 @@ class Noise:
     ``wheel_speed``: relative σ of each wheel's actual speed against the command (Enki
     uses 5 %). ``proximity``: relative σ of the raw IR value. ``ground``: absolute σ of
     the 0..1 ground value. ``start_jitter``: σ of the start position (m) and heading
-    (rad), for robustness sweeps.
+    (rad), for robustness sweeps. ``gyro``: σ (rad/s) of white noise on each gyro
+    reading; at 0 the gyro draws nothing, so a scene without it runs as before.
     """
 
     wheel_speed: float = 0.0
     proximity: float = 0.0
     ground: float = 0.0
     start_jitter: float = 0.0
+    gyro: float = 0.0
 
 
 GOAL_KINDS = ("auto", "pass", "follow", "avoid")

@@ -570,6 +570,7 @@ def scene_from_dict(
             start_jitter=noise_reader.number(
                 "start_jitter", 0.0, unit="m and rad", low=0, high=0.5
             ),
+            gyro=noise_reader.number("gyro", 0.0, unit="rad/s σ", low=0, high=1),
         )
         noise_reader.finish()
 
@@ -621,6 +622,7 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
             "proximity": scene.noise.proximity,
             "ground": scene.noise.ground,
             "start_jitter": scene.noise.start_jitter,
+            "gyro": scene.noise.gyro,
         },
     }
     if scene.track is not None:

@@ -11,7 +11,7 @@ shares). Each :meth:`World.step`:
 3. computes every sensor of every robot in a few vectorised numpy calls: all IR rays of
    all robots near something in one cast (:mod:`.proximity`), all ground sensors in one
    query of the nearby track segments (:mod:`.floor`), accelerometers from the velocity
-   change.
+   change, gyros from the heading change.
 
 The results live in N×k arrays (``poses``, ``prox_distance``, ``ground`` ...); records
 are only created when an adapter calls :meth:`World.read`. The camera is rendered on
@@ -20,7 +20,8 @@ demand (:meth:`World.camera`) and is noise-free, so rendering never changes a ru
 Randomness: one ``np.random.Generator(PCG64(seed))`` per world draws the start-pose
 jitter at construction and then, each step, one block of normals for the wheels, the IR
 sensors and the ground sensors, always the same number whatever is read, so the same
-seed gives the same arrays with or without a viewer.
+seed gives the same arrays with or without a viewer. Gyro noise, when the scene sets
+some, is one more block of N normals per step after it.
 
 See docs/simulator.md for every model's source and the choices made.
 """
@@ -41,6 +42,7 @@ from ..adapters.base import Stepper
 from ..profile import RobotProfile, get_profile
 from ..records import (
     Acceleration,
+    AngularVelocity,
     CameraImage,
     Ground,
     Pose,
@@ -127,6 +129,7 @@ class World(Stepper):
         self._noise_prox = float(noise.proximity)
         self._noise_ground = float(noise.ground)
         self._noisy = self._noise_wheel > 0 or self._noise_prox > 0 or self._noise_ground > 0
+        self._noise_gyro = float(noise.gyro)
 
         # -- state ----------------------------------------------------------------------
         self._poses = np.array([[r.x, r.y, r.theta] for r in scene.robots], dtype=float)
@@ -139,6 +142,9 @@ class World(Stepper):
         self._encoders = np.zeros((n, 2))
         self._accel = np.zeros((n, 3))
         self._accel[:, 2] = GRAVITY
+        # gyro: a planar world turns only about z, so x and y stay zero
+        self._gyro = np.zeros((n, 3))
+        self._gyro_z = self._gyro[:, 2]
         self._collisions = np.zeros(n, dtype=np.int64)
         self._contacts = np.zeros(n, dtype=bool)
         # the step works on plain Python floats (cheaper than numpy for a few robots) and
@@ -150,6 +156,7 @@ class World(Stepper):
         self._pose_list: list[list[float]] = self._poses.tolist()
         self._velocity_list: list[tuple[float, float]] = [(0.0, 0.0)] * n
         self._accel_list: list[list[float]] = self._accel.tolist()
+        self._yaw_rate_list: list[float] = [0.0] * n
         self._encoder_list: list[list[float]] = self._encoders.tolist()
         self._contact_list: list[bool] = [False] * n
         self._wheel_list: list[list[float]] = [[0.0, 0.0] for _ in range(n)]
@@ -307,6 +314,7 @@ class World(Stepper):
             "collisions": ro(self._collisions),
             "contacts_now": ro(self._contacts),
             "accelerations": ro(self._accel),
+            "angular_velocities": ro(self._gyro),
         }
 
     def _resolve_start_contacts(self) -> None:
@@ -395,6 +403,12 @@ class World(Stepper):
         """N×3 accelerometer readings (robot frame, m/s², gravity on z)."""
         return self._views["accelerations"]
 
+    @property
+    def angular_velocities(self) -> FloatArray:
+        """N×3 gyro readings (robot frame, rad/s): the yaw rate over the last step on z
+        (counter-clockwise positive), zero on x and y."""
+        return self._views["angular_velocities"]
+
     def index(self, name: str) -> int:
         """The index of the robot called ``name``."""
         try:
@@ -420,6 +434,8 @@ class World(Stepper):
             self._pose_list[i] = pose
             self._poses[i] = pose
             self._velocity_list[i] = (0.0, 0.0)
+            self._yaw_rate_list[i] = 0.0
+            self._gyro_z[i] = 0.0
             self._sense(None)
 
     # -- the step ------------------------------------------------------------------------------
@@ -445,7 +461,7 @@ class World(Stepper):
                     -limit if right < -limit else limit if right > limit else right,
                 ]
         poses = self._pose_list
-        old = [(p[0], p[1]) for p in poses]
+        old = [(p[0], p[1], p[2]) for p in poses]
         forward = [0.0] * n
         turn = [0.0] * n
         for i in range(n):
@@ -463,9 +479,11 @@ class World(Stepper):
                 p[0], p[1], p[2] = arc(p[0], p[1], p[2], forward[i], turn[i], h)
             contact = self.statics.resolve(poses, self._radius_list)
             touched = [a or b for a, b in zip(touched, contact)]
-        # accelerometer: change of the actual (contact-limited) velocity, in the robot frame
+        # accelerometer: change of the actual (contact-limited) velocity, in the robot frame;
+        # gyro: change of the actual heading (exact while a step turns less than π)
         inv_dt = 1.0 / dt
         accel = self._accel_list
+        yaw_rate = [0.0] * n
         velocity = self._velocity_list
         encoders = self._encoder_list
         new_collision = False
@@ -478,6 +496,7 @@ class World(Stepper):
             velocity[i] = (vx, vy)
             c, s = math.cos(p[2]), math.sin(p[2])
             accel[i] = [ax * c + ay * s, -ax * s + ay * c, GRAVITY]
+            yaw_rate[i] = math.remainder(p[2] - old[i][2], math.tau) * inv_dt
             encoders[i][0] += stepped[i][0] * dt
             encoders[i][1] += stepped[i][1] * dt
             if touched[i] and not self._contact_list[i]:
@@ -490,6 +509,10 @@ class World(Stepper):
         self._wheel_list = stepped
         self._encoders[:] = encoders
         self._accel[:] = accel
+        if self._noise_gyro > 0:
+            yaw_rate = (self._noise_gyro * self.rng.standard_normal(n) + yaw_rate).tolist()
+        self._yaw_rate_list = yaw_rate
+        self._gyro_z[:] = yaw_rate
         if touched != self._contact_list:
             self._contacts[:] = touched
         self._contact_list = touched
@@ -579,6 +602,8 @@ class World(Stepper):
             elif sensor is Sensor.ACCELERATION:
                 ax, ay, az = self._accel_list[i]
                 out[sensor] = _unchecked(Acceleration, x=ax, y=ay, z=az)
+            elif sensor is Sensor.GYRO:
+                out[sensor] = _unchecked(AngularVelocity, x=0.0, y=0.0, z=self._yaw_rate_list[i])
             else:
                 raise ValueError(
                     f"the embedded simulator has no {Sensor(sensor).value} sensor in read(); "

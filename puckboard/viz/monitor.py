@@ -30,6 +30,7 @@ def format_value(value: Any) -> str:
     from ..records import (
         PROX_NAMES,
         Acceleration,
+        AngularVelocity,
         CameraImage,
         Ground,
         Light,
@@ -60,6 +61,8 @@ def format_value(value: Any) -> str:
         return f"L {value.left:+.1f}  R {value.right:+.1f} rad"
     if isinstance(value, Acceleration):
         return f"x {value.x:+.2f}  y {value.y:+.2f}  z {value.z:+.2f} m/s²"
+    if isinstance(value, AngularVelocity):
+        return f"x {value.x:+.2f}  y {value.y:+.2f}  z {value.z:+.2f} rad/s"
     if isinstance(value, Light):
         return "raw " + " ".join(f"{v:.0f}" for v in value.raw)
     if isinstance(value, CameraImage):
