@@ -51,27 +51,31 @@ class _Near:
 
     Points and segments are complex numbers (x + iy): the point–segment distance then
     takes half as many numpy calls, and at a few hundred elements the calls, not the
-    arithmetic, are what cost.
+    arithmetic, are what cost. Segments lie along the first axis (S×1 columns) and
+    points along the second, so each point's nearest segment is a minimum over the
+    first axis: an elementwise minimum of a few rows, cheaper than a minimum over a
+    short last axis.
     """
 
     __slots__ = ("count", "inv_len2", "start", "vector", "vector_conj")
 
     def __init__(self, seg_start: FloatArray, seg_vector: FloatArray) -> None:
         self.count = int(seg_start.shape[0])
-        self.start = (seg_start[:, 0] + 1j * seg_start[:, 1])[None, :]
-        self.vector = (seg_vector[:, 0] + 1j * seg_vector[:, 1])[None, :]
+        self.start = (seg_start[:, 0] + 1j * seg_start[:, 1])[:, None]
+        self.vector = (seg_vector[:, 0] + 1j * seg_vector[:, 1])[:, None]
         self.vector_conj = self.vector.conj()
         len2 = (self.vector * self.vector_conj).real
         self.inv_len2 = 1.0 / np.where(len2 > 0.0, len2, 1.0)
 
-    @classmethod
-    def join(cls, parts: list[_Near]) -> _Near:
-        """All segments of ``parts`` in one set (duplicates do no harm to a minimum)."""
-        joined = object.__new__(cls)
-        joined.count = sum(p.count for p in parts)
-        for name in ("start", "vector", "vector_conj", "inv_len2"):
-            setattr(joined, name, np.concatenate([getattr(p, name) for p in parts], axis=1))
-        return joined
+    def take(self, index: npt.NDArray[np.intp]) -> _Near:
+        """The segments at ``index`` (repeats do no harm to a minimum), values unchanged."""
+        subset = object.__new__(_Near)
+        subset.count = int(index.shape[0])
+        subset.start = self.start[index]
+        subset.vector = self.vector[index]
+        subset.vector_conj = self.vector_conj[index]
+        subset.inv_len2 = self.inv_len2[index]
+        return subset
 
 
 class Floor:
@@ -100,10 +104,8 @@ class Floor:
         self._raster: npt.NDArray[np.bool_] | None = None  # built when a camera first needs it
         self._origin = np.zeros(2)
         self._all = _Near(self.seg_start, self.seg_vector)
-        self._empty = _Near(np.zeros((0, 2)), np.zeros((0, 2)))
         self._grid_reach = -1.0
-        self._grid: dict[tuple[int, int], npt.NDArray[np.intp]] = {}
-        self._cell_near: dict[tuple[int, int], _Near] = {}
+        self._grid: dict[tuple[int, int], list[int]] = {}
         self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
         # brightness = offset + slope·d between the line's and the floor's brightness
         contrast = self.floor_brightness - self.line_brightness
@@ -126,13 +128,14 @@ class Floor:
             points = points[:, 0] + 1j * points[:, 1]
         if near.count == 0:
             return np.full(points.shape[0], np.inf)
-        w = points[:, None] - near.start  # P×S
+        w = points[None, :] - near.start  # S×P
         t = (w * near.vector_conj).real
         t *= near.inv_len2
         np.maximum(t, 0.0, out=t)  # two ufuncs: cheaper than np.clip's wrapper
         np.minimum(t, 1.0, out=t)
         w -= t * near.vector
-        return np.abs(w).min(axis=1)  # type: ignore[no-any-return]
+        d = np.abs(w)
+        return d[0] if near.count == 1 else d.min(axis=0)  # type: ignore[no-any-return]
 
     def coverage(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
         """Fraction (0..1) of each sensor footprint centred at ``points`` on the line."""
@@ -187,18 +190,14 @@ class Floor:
         joined = self._joined.get(key)
         if joined is not None:
             return joined
-        cells = self._cell_near
-        found: list[_Near] = []
+        # every cell's segments, picked from the whole track's prepared arrays in one
+        # fancy index per array (the values are those of the track, so a reading does
+        # not depend on which cells were joined)
+        grid = self._grid
+        index: list[int] = []
         for cell in key:
-            near = cells.get(cell)
-            if near is None:
-                idx = self._grid.get(cell)
-                near = (
-                    self._empty if idx is None else _Near(self.seg_start[idx], self.seg_vector[idx])
-                )
-                cells[cell] = near
-            found.append(near)
-        joined = found[0] if len(found) == 1 else _Near.join(found)
+            index += grid.get(cell, ())
+        joined = self._all.take(np.array(index, dtype=np.intp))
         if len(self._joined) > 4096:
             self._joined.clear()
         self._joined[key] = joined
@@ -215,8 +214,7 @@ class Floor:
             for i in range(i0, i1 + 1):
                 for j in range(j0, j1 + 1):
                     grid.setdefault((i, j), []).append(k)
-        self._grid = {cell: np.array(idx, dtype=np.intp) for cell, idx in grid.items()}
-        self._cell_near = {}
+        self._grid = grid
         self._joined = {}
         self._grid_reach = reach
 
