@@ -12,6 +12,8 @@ uses to read them (in the opposite direction):
 * ground: 0..1023 (0 black, 1023 white);
 * step counters: int16 that wrap every 65536 steps;
 * accelerometer: ≈768 counts per g, gravity on z;
+* gyro: the simulated yaw rate at 131 counts per °/s (the chip's axes, as the robot
+  sends them);
 * camera: the world's camera renderer at the size asked (160×120 for Wi-Fi, 40×40 for
   sercom ``-'I'``), RGB565 on the wire.
 
@@ -32,6 +34,7 @@ import numpy.typing as npt
 from ..adapters.real.blocks import ActuatorBlock, SensorBlock
 from ..adapters.real.units import (
     acceleration_to_raw,
+    angular_velocity_to_raw,
     clamp_int16,
     prox_value_from_distance,
     wrap_int16,
@@ -149,6 +152,11 @@ class EmulatedRobot:
             raw = acceleration_to_raw((float(a[0]), float(a[1]), float(a[2])))
             return (clamp_int16(raw[0]), clamp_int16(raw[1]), clamp_int16(raw[2]))
 
+    def gyro(self) -> tuple[int, int, int]:
+        with self.lock:
+            w = self.world.angular_velocities[self.index]
+            return angular_velocity_to_raw((float(w[0]), float(w[1]), float(w[2])))
+
     def sensor_block(self) -> SensorBlock:
         """Every sensor as the e-puck2 encodes it (Wi-Fi 0x02 / sercom 0x08)."""
         with self.lock:
@@ -162,6 +170,7 @@ class EmulatedRobot:
                 acceleration=magnitude,
                 orientation=0.0,
                 inclination=0.0,
+                gyro=self.gyro(),
                 proximity=self.proximity(),
                 ambient=(_AMBIENT,) * 8,
                 tof_mm=tof,

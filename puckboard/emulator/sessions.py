@@ -107,6 +107,8 @@ class SercomSession:
                 out += sc.encode_int16s(r.speeds)
             elif cmd == sc.GET_ACCELEROMETER:
                 out += sc.encode_int16s(r.accelerometer())
+            elif cmd == sc.GET_GYRO:
+                out += sc.encode_int16s(r.gyro())
             elif cmd == sc.GET_IMAGE:
                 w, h = self.camera_size
                 out += sc.encode_camera(r.camera(w, h))

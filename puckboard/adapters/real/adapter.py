@@ -13,6 +13,9 @@ What differs from a simulator, on purpose:
 * ``pose`` is dead reckoning from the step counters (``ground_truth=False``), starting at
   the scene's start pose: a real robot has no ground truth;
 * ``wheel_speeds`` are the commanded speeds (the robot does not measure them);
+* ``gyro`` exists on the e-puck2 only (Wi-Fi, and sercom's all-sensors block); an
+  e-puck1 link does not offer it, and enabling it there is a
+  :class:`~puckboard.errors.NotSupportedError`;
 * a lost link is final: every later call raises
   :class:`~puckboard.errors.ConnectionLostError` at once, and the adapter tries to stop
   the wheels on any error it sees. ``command_timeout`` (default 1 s) stops the wheels
@@ -33,6 +36,7 @@ from ...errors import NotSupportedError
 from ...profile import EPUCK2, RobotProfile
 from ...records import (
     Acceleration,
+    AngularVelocity,
     CameraImage,
     Ground,
     Light,
@@ -48,6 +52,7 @@ from .link import Link
 from .units import (
     StepCounterUnwrapper,
     acceleration_from_raw,
+    angular_velocity_from_raw,
     clamp_int16,
     ground_value_from_raw,
     prox_distance_from_value,
@@ -76,6 +81,7 @@ class EPuckReal(RobotAdapter):
             Sensor.GROUND,
             Sensor.LIGHT,
             Sensor.ACCELERATION,
+            Sensor.GYRO,
             Sensor.ENCODERS,
             Sensor.WHEEL_SPEEDS,
             Sensor.POSE,
@@ -98,6 +104,10 @@ class EPuckReal(RobotAdapter):
         self.link = link
         self.image_rotation = int(image_rotation) % 4
         self.backend_name = link.backend_name
+        # the gyro is the e-puck2's: a link says whether its robot sends one
+        self._has_gyro = bool(getattr(link, "has_gyro", False))
+        if not self._has_gyro:
+            self.available_sensors = type(self).available_sensors - {Sensor.GYRO}
         super().__init__(
             name, profile=profile, blackboard=blackboard, command_timeout=command_timeout
         )
@@ -217,6 +227,8 @@ class EPuckReal(RobotAdapter):
         counts, offset = self.link.acc_scale
         ax, ay, az = acceleration_from_raw(block.acc, counts, offset)
         out[Sensor.ACCELERATION] = Acceleration(ax, ay, az)
+        if self._has_gyro:
+            out[Sensor.GYRO] = AngularVelocity(*angular_velocity_from_raw(block.gyro))
         steps = self._unwrap.update(*block.steps)
         out[Sensor.ENCODERS] = WheelEncoders(p.steps_to_rad(steps[0]), p.steps_to_rad(steps[1]))
         out[Sensor.WHEEL_SPEEDS] = WheelSpeeds(*self._commanded)

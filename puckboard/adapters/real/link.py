@@ -42,6 +42,8 @@ class Link(Protocol):
     description: str
     #: Accelerometer convention of this robot/protocol: (counts per g, zero offset).
     acc_scale: tuple[float, float]
+    #: Whether the sensor blocks carry a gyro reading (the e-puck2's do).
+    has_gyro: bool
 
     def exchange(self, actuators: ActuatorBlock, *, sensors: bool, image: bool) -> Reply: ...
 

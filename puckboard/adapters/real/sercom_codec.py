@@ -22,6 +22,7 @@ command     byte   parameters            reply
 ``-'Q'``    0xAF   —                     2 × int16 step counters
 ``-'E'``    0xBB   —                     2 × int16 speeds
 ``-'a'``    0x9F   —                     3 × int16 accelerometer
+``-'g'``    0x99   —                     3 × int16 gyro (e-puck2; 131 counts per °/s)
 ``-'I'``    0xB7   —                     mode, width, height, then the pixels
 ``-0x08``   0xF8   —                     e-puck2: all sensors, 103 bytes
 ``-0x09``   0xF7   19-byte actuator blk  e-puck2: set all actuators
@@ -80,6 +81,7 @@ GET_GROUND = binary("M")
 GET_STEPS = binary("Q")
 GET_SPEED = binary("E")
 GET_ACCELEROMETER = binary("a")
+GET_GYRO = binary("g")
 GET_IMAGE = binary("I")
 ALL_SENSORS = binary(0x08)
 ALL_ACTUATORS = binary(0x09)
@@ -113,6 +115,7 @@ def reply_size(command: int, *, prox_count: int = 8, ground_count: int = 3) -> i
         GET_STEPS: 4,
         GET_SPEED: 4,
         GET_ACCELEROMETER: 6,
+        GET_GYRO: 6,
         ALL_SENSORS: SENSOR_BLOCK_SERIAL_SIZE,
     }
     if command == GET_IMAGE:

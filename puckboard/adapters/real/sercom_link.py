@@ -59,6 +59,8 @@ class SercomLink(LinkBase):
         self.prox_count = prox_count
         self.ground_count = ground_count
         self.acc_scale = (ACC_COUNTS_PER_G, 0.0) if model == "e-puck2" else _EPUCK1_ACC
+        # the all-sensors block carries the e-puck2's gyro; the e-puck1 commands read none
+        self.has_gyro = model == "e-puck2"
         # Whatever the robot printed before binary mode (its welcome banner) is noise to us.
         transport.drain()
 

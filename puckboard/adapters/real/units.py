@@ -1,7 +1,7 @@
 """Unit conversions at the real robot's boundary: what the e-puck says ↔ SI.
 
 The robot speaks motor steps, 12-bit ADC counts, 10-bit ground readings, raw
-accelerometer counts, int16 step counters that wrap, and RGB565 images. Everything here
+accelerometer and gyro counts, int16 step counters that wrap, and RGB565 images. Everything here
 is a pure function (or, for the step counters, a tiny stateful unwrapper), so both the
 adapter and the emulator use the very same conversions in opposite directions and the
 tests can check that they are inverses.
@@ -37,11 +37,14 @@ from ...profile import RobotProfile
 __all__ = [
     "ACC_COUNTS_PER_G",
     "GRAVITY",
+    "GYRO_COUNTS_PER_DPS",
     "PROX_CURVE_DISTANCE",
     "PROX_CURVE_VALUE",
     "StepCounterUnwrapper",
     "acceleration_from_raw",
     "acceleration_to_raw",
+    "angular_velocity_from_raw",
+    "angular_velocity_to_raw",
     "clamp_int16",
     "ground_value_from_raw",
     "prox_distance_from_value",
@@ -63,6 +66,17 @@ The firmware reduces the IMU's 16-bit reading (16384 counts/g at ±2 g) by
 ``(v >> 4) − (v >> 6)`` = 3/64 to mimic the e-puck1 (≈800 counts/g), which gives 768;
 the Wi-Fi documentation's "±1500 for ±2 g" agrees. The e-puck1 reports ≈800 counts/g
 around an offset of 2048; :func:`acceleration_from_raw` takes both as parameters.
+"""
+
+GYRO_COUNTS_PER_DPS = 131.0
+"""e-puck2 gyro counts per °/s in the all-sensors block and the Wi-Fi packet.
+
+The IMU (MPU-9250, or ICM-20948 on newer robots) runs at its ±250 °/s full scale, where
+the MPU-9250 datasheet gives 131 LSB/(°/s) (32768 / 250 = 131.07, rounded); the e-puck2
+firmware converts with the same 131 (``gyro_res`` in e-puck2_main-processor
+``src/sensors/mpu9250.c``). The block carries the int16 reading minus the offset the
+firmware measured at start-up (``getAllAxesGyro`` in ``src/epuck1x/acc_gyro/e_lsm330.c``),
+so a robot standing still reads about 0.
 """
 
 # Webots E-puckDistanceSensor lookup table (distance m → value), minus its 7 cm baseline.
@@ -172,6 +186,27 @@ def acceleration_to_raw(
     k = counts_per_g / GRAVITY
     out = [int(round(a * k + offset)) for a in acc]
     return (out[0], out[1], out[2])
+
+
+def angular_velocity_from_raw(raw: tuple[int, int, int]) -> tuple[float, float, float]:
+    """Raw e-puck2 gyro counts (IMU axes) → angular velocity (rad/s) in the robot frame.
+
+    The axis mapping is inferred, not measured on a robot: the firmware's axis drawing
+    for the e-puck2 IMU (``e_lsm330.c``) has the chip's -y pointing forward and -x to the
+    right, so robot x (forward) = -y, robot y (left) = x, and z (up, right-handed) is the
+    chip's z: a counter-clockwise turn seen from above gives z > 0. The yaw rate z is all
+    the odometry uses; check its sign on your robot by turning it by hand.
+    """
+    k = math.radians(1.0) / GYRO_COUNTS_PER_DPS
+    return (-raw[1] * k, raw[0] * k, raw[2] * k)
+
+
+def angular_velocity_to_raw(rate: tuple[float, float, float]) -> tuple[int, int, int]:
+    """Angular velocity (rad/s, robot frame) → raw gyro counts, saturated at ±250 °/s:
+    the inverse of :func:`angular_velocity_from_raw`."""
+    k = GYRO_COUNTS_PER_DPS / math.radians(1.0)
+    x, y, z = rate
+    return (clamp_int16(y * k), clamp_int16(-x * k), clamp_int16(z * k))
 
 
 # -- camera ------------------------------------------------------------------------------

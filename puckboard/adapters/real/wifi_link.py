@@ -25,6 +25,7 @@ class WifiLink(LinkBase):
 
     backend_name = "epuck2-wifi"
     acc_scale = (ACC_COUNTS_PER_G, 0.0)
+    has_gyro = True  # Wi-Fi is the e-puck2's: its sensor packet carries the gyro
 
     def __init__(self, transport: Transport, *, timeout: float = 1.0, retries: int = 2) -> None:
         super().__init__(transport, timeout=timeout, retries=retries)
