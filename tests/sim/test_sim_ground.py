@@ -91,3 +91,19 @@ def test_fast_brightness_agrees_with_the_footprint_coverage(width):
         floor.line_brightness - floor.floor_brightness
     )
     assert floor.brightness(points) == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("width", [0.002, 0.015])
+def test_brightness_as_floats_is_exactly_the_array_brightness(width):
+    # the world reads its ground sensors through brightness_values (plain floats); it
+    # must give bit for bit what brightness gives, near the line, on it and far from it
+    track = loop_track(0.4, 0.25, n=200, width=width)
+    floor = Floor(empty_scene(track=track))
+    rng = np.random.default_rng(2)
+    for _ in range(100):
+        angle = rng.uniform(0, 2 * math.pi)
+        centre = (0.4 * math.cos(angle) + rng.normal(0, 0.03), 0.25 * math.sin(angle))
+        points = np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
+        points = points[:, 0] + 1j * points[:, 1]
+        near = floor.segments_near([centre], 0.0142)
+        assert floor.brightness_values(points, near) == floor.brightness(points, near).tolist()
