@@ -18,7 +18,7 @@ run is the same with or without them.
 
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
 ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
-``noise.gyro``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
+``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
 robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
 """
 
@@ -53,6 +53,7 @@ OVERRIDE_NAMES = (
     "noise.ground",
     "noise.start_jitter",
     "noise.gyro",
+    "noise.gyro_bias",
     "dt",
     "duration",
     "layer.<LayerName>.<attribute>",
@@ -125,7 +126,10 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
                 raise ValueError(
                     f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
                 )
-            noise_changes[key] = _non_negative(name, value)
+            if key == "gyro_bias" and isinstance(value, (int, float)) and value < 0:
+                noise_changes[key] = -_non_negative(name, -value)  # an offset: either sign
+            else:
+                noise_changes[key] = _non_negative(name, value)
         elif name in ("dt", "duration"):
             number = _non_negative(name, value)
             if number <= 0:

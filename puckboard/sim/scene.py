@@ -133,6 +133,8 @@ class Noise:
     the 0..1 ground value. ``start_jitter``: σ of the start position (m) and heading
     (rad), for robustness sweeps. ``gyro``: σ (rad/s) of white noise on each gyro
     reading; at 0 the gyro draws nothing, so a scene without it runs as before.
+    ``gyro_bias``: a constant offset (rad/s) on every gyro reading, what is left of the
+    zero-rate error after the robot's start-up calibration (no draw either).
     """
 
     wheel_speed: float = 0.0
@@ -140,6 +142,7 @@ class Noise:
     ground: float = 0.0
     start_jitter: float = 0.0
     gyro: float = 0.0
+    gyro_bias: float = 0.0
 
 
 GOAL_KINDS = ("auto", "pass", "follow", "avoid")

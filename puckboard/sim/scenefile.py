@@ -571,6 +571,7 @@ def scene_from_dict(
                 "start_jitter", 0.0, unit="m and rad", low=0, high=0.5
             ),
             gyro=noise_reader.number("gyro", 0.0, unit="rad/s σ", low=0, high=1),
+            gyro_bias=noise_reader.number("gyro_bias", 0.0, unit="rad/s", low=-1, high=1),
         )
         noise_reader.finish()
 
@@ -623,6 +624,7 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
             "ground": scene.noise.ground,
             "start_jitter": scene.noise.start_jitter,
             "gyro": scene.noise.gyro,
+            "gyro_bias": scene.noise.gyro_bias,
         },
     }
     if scene.track is not None:

@@ -130,6 +130,7 @@ class World(Stepper):
         self._noise_ground = float(noise.ground)
         self._noisy = self._noise_wheel > 0 or self._noise_prox > 0 or self._noise_ground > 0
         self._noise_gyro = float(noise.gyro)
+        self._gyro_bias = float(noise.gyro_bias)
 
         # -- state ----------------------------------------------------------------------
         self._poses = np.array([[r.x, r.y, r.theta] for r in scene.robots], dtype=float)
@@ -511,6 +512,8 @@ class World(Stepper):
         self._accel[:] = accel
         if self._noise_gyro > 0:
             yaw_rate = (self._noise_gyro * self.rng.standard_normal(n) + yaw_rate).tolist()
+        if self._gyro_bias != 0.0:
+            yaw_rate = [w + self._gyro_bias for w in yaw_rate]
         self._yaw_rate_list = yaw_rate
         self._gyro_z[:] = yaw_rate
         if touched != self._contact_list:

@@ -40,6 +40,7 @@ PARAMETERS: dict[str, str] = {
     "noise.ground": "absolute σ of the 0..1 ground sensor values",
     "noise.start_jitter": "σ of the start position (m) and heading (rad)",
     "noise.gyro": "σ of the gyro's yaw rate (rad/s)",
+    "noise.gyro_bias": "constant offset of the gyro's yaw rate (rad/s)",
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
 }

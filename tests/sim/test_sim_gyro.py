@@ -137,3 +137,17 @@ def test_embedded_robot_has_the_gyro_off_until_enabled() -> None:
             adapter.enable(Sensor.LIGHT)
     finally:
         conn.close()
+
+
+def test_gyro_bias_offsets_every_reading_without_a_draw() -> None:
+    from puckboard.episode import apply_scene_overrides
+
+    scene = apply_scene_overrides(empty_scene(robot()), {"noise.gyro_bias": -0.01})
+    assert scene.noise.gyro_bias == -0.01
+    biased, clean = World(scene, seed=2), World(empty_scene(robot()), seed=2)
+    for world in (biased, clean):
+        world.set_wheel_speeds(0, 1.0, 2.0)
+        world.step(5)
+    assert biased.angular_velocities[0, 2] == pytest.approx(clean.angular_velocities[0, 2] - 0.01)
+    assert np.array_equal(biased.poses, clean.poses)
+    assert biased.rng.bit_generator.state == clean.rng.bit_generator.state
