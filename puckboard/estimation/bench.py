@@ -15,6 +15,11 @@ side by side on the very same simulation:
     moves differs by the wheels' slip on the floor (the scene's wheel-speed noise) and by
     contacts (a robot pushed along a wall or an obstacle while its wheels turn). Neither
     is visible to odometry: this is the drift students meet on a real robot.
+``encoders + gyro``
+    the same source fused with the simulated gyro (the e-puck2's), which measures how
+    fast the body actually turned: slip and contacts that fool the counters do not fool
+    it. The gyro is ideal unless ``gyro_noise`` (σ, rad/s) or ``gyro_bias`` (rad/s) is
+    given; the filter does not estimate a bias, so a bias goes straight into the heading.
 ``axle +1 mm``
     the encoder filter with an axle 1 mm longer than the simulated robot's (54 instead
     of 53 mm; published values range from 51 to 56.5 mm): an uncalibrated robot.
@@ -44,7 +49,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..blackboard import Snapshot
 from ..profile import RobotProfile
+from ..records import Sensor
 from .odometry import OdometryFilter, wrap_angle
 from .proximity import ProximityFilter
 from .sources import OdometrySource
@@ -57,7 +64,7 @@ SEEDS: tuple[int, ...] = (1, 2, 3)
 WHEEL_NOISE: tuple[float, ...] = (0.0, 0.03)  # 0.03: the shipped scenes' setting
 LAPS = 3.0
 CHI2_95_2DOF = 5.991  # position error inside the 95 % ellipse when d² is below this
-VARIANTS = ("encoders", "axle +1 mm")
+VARIANTS = ("encoders", "encoders + gyro", "axle +1 mm")
 #: (scene, laps or None for the whole scene, controller or None for the scene's).
 #: The stock controller makes the two robots collide: the case odometry cannot see.
 CASES: tuple[tuple[str, float | None, str | None], ...] = (
@@ -65,6 +72,7 @@ CASES: tuple[tuple[str, float | None, str | None], ...] = (
     ("two-robot-pass", None, "stock"),
     ("line-follow", LAPS, None),
 )
+LINE_FOLLOW_CASES = tuple(case for case in CASES if case[0] == "line-follow")
 
 
 @dataclass
@@ -110,6 +118,17 @@ class Trace:
         }
 
 
+class _GyroOdometrySource(OdometrySource):
+    """:class:`OdometrySource` fused with the gyro, writing under ``estimate/gyro/`` so it
+    runs next to the encoder-only one on the same blackboard."""
+
+    writes = ("estimate/gyro/pose", "estimate/gyro/pose_cov", "estimate/gyro/slip")
+
+    def compute(self, inputs: Snapshot) -> dict[str, Any]:
+        out = super().compute(inputs) or {}
+        return {"estimate/gyro/" + k.removeprefix("estimate/"): v for k, v in out.items()}
+
+
 def run_case(
     scene_name: str,
     wheel_noise: float,
@@ -118,6 +137,8 @@ def run_case(
     steps: int | None = None,
     laps: float | None = None,
     controller: Any = None,
+    gyro_noise: float = 0.0,
+    gyro_bias: float = 0.0,
 ) -> tuple[dict[str, Any], list[Trace]]:
     """One simulation with the three estimates of the module docstring running side by side.
 
@@ -125,13 +146,18 @@ def run_case(
     (a lap of a closed loop track); otherwise the run lasts the scene's whole duration
     (for the two-robot pass: meeting, passing, both obstacles and back on the line).
     ``steps`` caps the control cycles; ``controller`` replaces every robot's controller
-    (default: the scene's). Returns the per-robot metrics and the traces.
+    (default: the scene's). ``gyro_noise`` and ``gyro_bias`` are the simulated gyro's σ
+    and offset (rad/s; at 0 the run is the same as without a gyro). Returns the
+    per-robot metrics and the traces.
     """
     from ..episode import Episode
 
-    episode = Episode(
-        scene_name, seed=seed, controller=controller, overrides={"noise.wheel_speed": wheel_noise}
-    )
+    overrides = {
+        "noise.wheel_speed": wheel_noise,
+        "noise.gyro": gyro_noise,
+        "noise.gyro_bias": gyro_bias,
+    }
+    episode = Episode(scene_name, seed=seed, controller=controller, overrides=overrides)
     world = episode.world
     if world is None:  # pragma: no cover - the embedded backend always has one
         raise RuntimeError("the estimation benchmark needs the embedded simulator")
@@ -139,6 +165,7 @@ def run_case(
     loop = episode.loop
     dt = loop.period
     sources: dict[str, OdometrySource] = {}
+    gyro_sources: dict[str, OdometrySource] = {}
     shadows: dict[str, dict[str, OdometryFilter]] = {}
     last_enc: dict[str, tuple[float, float]] = {}
     turned = dict.fromkeys(names, 0.0)
@@ -150,7 +177,9 @@ def run_case(
         profile: RobotProfile = adapter.profile
         x0, y0, theta0 = (float(v) for v in world.poses[i])
         start = (x0, y0, theta0)
-        sources[name] = OdometrySource(initial=start).attach(loop, name)
+        adapter.enable(Sensor.GYRO)  # off by default in the simulator; no effect on the run
+        sources[name] = OdometrySource(initial=start, use_gyro=False).attach(loop, name)
+        gyro_sources[name] = _GyroOdometrySource(initial=start).attach(loop, name)
         wrong = dataclasses.replace(profile, axle_length=profile.axle_length + 0.001)
         shadows[name] = {"axle +1 mm": OdometryFilter(wrong, initial=start)}
         last_theta[name] = start[2]
@@ -164,6 +193,10 @@ def run_case(
             cov = ns.value("estimate/pose_cov")
             t = est_rec.stamp
             traces[(name, "encoders")].add(t, _xyt(est_rec.value), _xyt(truth), cov)
+            gyro_rec = ns.get("estimate/gyro/pose")
+            traces[(name, "encoders + gyro")].add(
+                t, _xyt(gyro_rec.value), _xyt(truth), ns.value("estimate/gyro/pose_cov")
+            )
             slips[name] += bool(ns.value("estimate/slip"))
             # (2) the same encoders, miscalibrated filter
             enc = ns.get("encoders").value
@@ -201,7 +234,7 @@ def run_case(
             "laps_turned": round(abs(turned[name]) / math.tau, 3),
             "collisions": int(world.collisions[i]),
             "slip_flagged_s": round(slips[name] * dt, 3),
-            "source_failures": sources[name].failures,
+            "source_failures": sources[name].failures + gyro_sources[name].failures,
         }
         for variant in VARIANTS:
             row[variant] = {k: _round(v) for k, v in traces[(name, variant)].metrics().items()}
@@ -209,6 +242,8 @@ def run_case(
     info = {
         "scene": scene_name if controller is None else f"{scene_name} ({controller})",
         "wheel_noise": wheel_noise,
+        "gyro_noise": gyro_noise,
+        "gyro_bias": gyro_bias,
         "seed": seed,
         "sim_time_s": round(loop.time, 3),
         "judge": "success" if episode.judge.success else f"failure: {episode.judge.failure}",
@@ -354,23 +389,40 @@ class _VectorisedCV:
 
 
 # -- the suite -----------------------------------------------------------------------------
-def run_suite(steps: int | None = None, seeds: Sequence[int] = SEEDS) -> dict[str, Any]:
+def run_suite(
+    steps: int | None = None,
+    seeds: Sequence[int] = SEEDS,
+    *,
+    gyro_noise: float = 0.0,
+    gyro_bias: float = 0.0,
+    cases: Sequence[tuple[str, float | None, str | None]] = CASES,
+) -> dict[str, Any]:
     """The ``estimation`` benchmark suite (see the module docstring).
 
     ``steps`` caps each run's control cycles (a quick smoke run); ``None`` runs the two-robot
-    pass to its verdict and line-follow for three laps.
+    pass to its verdict and line-follow for three laps. ``gyro_noise``, ``gyro_bias``: the
+    simulated gyro's σ and offset (rad/s). ``cases``: which of :data:`CASES` to run.
     """
     runs = []
-    for scene_name, laps, controller in CASES:
+    for scene_name, laps, controller in cases:
         for noise in WHEEL_NOISE:
             for seed in seeds:
                 info, _ = run_case(
-                    scene_name, noise, seed, steps=steps, laps=laps, controller=controller
+                    scene_name,
+                    noise,
+                    seed,
+                    steps=steps,
+                    laps=laps,
+                    controller=controller,
+                    gyro_noise=gyro_noise,
+                    gyro_bias=gyro_bias,
                 )
                 runs.append(info)
     return {
         "seeds": list(seeds),
         "wheel_noise": list(WHEEL_NOISE),
+        "gyro_noise": gyro_noise,
+        "gyro_bias": gyro_bias,
         "variants": list(VARIANTS),
         "summary": summarise(runs),
         "proximity": measure_proximity(),
@@ -496,13 +548,35 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     parser.add_argument("--steps", type=int, default=None, help="cap control cycles per run")
     parser.add_argument("--seeds", type=int, nargs="+", default=list(SEEDS))
+    parser.add_argument(
+        "--gyro-noise", type=float, default=0.0, help="σ of the simulated gyro (rad/s)"
+    )
+    parser.add_argument(
+        "--gyro-bias", type=float, default=0.0, help="offset of the simulated gyro (rad/s)"
+    )
+    parser.add_argument(
+        "--cases",
+        choices=("all", "line-follow"),
+        default="all",
+        help="line-follow: only its three laps (a quicker comparison of the estimates)",
+    )
     parser.add_argument("--json", type=Path, help="write the full results to this file")
     parser.add_argument("--plot", type=Path, help="draw line-follow (seed = first seed) here")
     parser.add_argument(
         "--plot-contact", type=Path, help="draw the stock two-robot pass (a collision) here"
     )
     args = parser.parse_args(argv)
-    result = run_suite(args.steps, seeds=args.seeds)
+    if not 0.0 <= args.gyro_noise <= 1.0:
+        parser.error(f"--gyro-noise is a σ in rad/s between 0 and 1, got {args.gyro_noise}")
+    if not -1.0 <= args.gyro_bias <= 1.0:
+        parser.error(f"--gyro-bias is in rad/s between -1 and 1, got {args.gyro_bias}")
+    result = run_suite(
+        args.steps,
+        seeds=args.seeds,
+        gyro_noise=args.gyro_noise,
+        gyro_bias=args.gyro_bias,
+        cases=CASES if args.cases == "all" else LINE_FOLLOW_CASES,
+    )
     if args.json:
         args.json.write_text(json.dumps(result, indent=1))
     shown = {k: result[k] for k in ("summary", "proximity", "costs")}

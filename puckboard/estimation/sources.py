@@ -35,9 +35,10 @@ from .proximity import ProximityFilter
 __all__ = ["GYRO_KEY", "OdometrySource", "ProximitySource"]
 
 GYRO_KEY = "gyro"
-"""Key of a yaw-rate reading (rad/s, counter-clockwise; a number, or a record with a
-``z`` attribute). No shipped backend writes it yet; an e-puck2 adapter that reads the
-gyro should, and the odometry filter then fuses it."""
+"""Key of a yaw-rate reading (rad/s, counter-clockwise): the
+:class:`~puckboard.records.AngularVelocity` record adapters write under
+``Sensor.GYRO`` (its ``z``), or a plain number on a board of your own. EPuckReal writes
+it on an e-puck2; the embedded simulator once enabled (``robot.enable("gyro")``)."""
 
 
 class OdometrySource(KnowledgeSource):
