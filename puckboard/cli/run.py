@@ -70,7 +70,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default=[],
         metavar="NAME=VALUE",
         help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
-        "noise.start_jitter, dt, duration or layer.<LayerName>.<attribute> (repeatable)",
+        "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration or "
+        "layer.<LayerName>.<attribute> (repeatable)",
     )
     parser.add_argument("--view", action="store_true", help="show a live view of the run")
     parser.add_argument(

@@ -29,7 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         ),
         epilog=(
             "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
-            "noise.start_jitter, dt, duration, layer.<LayerName>.<attribute>. Example: "
+            "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
+            "layer.<LayerName>.<attribute>. Example: "
             "puckboard sweep two-robot-pass --controller stock --controller improved "
             "--seeds 0:50 --set noise.proximity=0,0.05,0.1 --out runs.csv"
         ),
