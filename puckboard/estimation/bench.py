@@ -139,6 +139,7 @@ def run_case(
     controller: Any = None,
     gyro_noise: float = 0.0,
     gyro_bias: float = 0.0,
+    settle: float = 0.0,
 ) -> tuple[dict[str, Any], list[Trace]]:
     """One simulation with the three estimates of the module docstring running side by side.
 
@@ -147,7 +148,9 @@ def run_case(
     (for the two-robot pass: meeting, passing, both obstacles and back on the line).
     ``steps`` caps the control cycles; ``controller`` replaces every robot's controller
     (default: the scene's). ``gyro_noise`` and ``gyro_bias`` are the simulated gyro's σ
-    and offset (rad/s; at 0 the run is the same as without a gyro). Returns the
+    and offset (rad/s; at 0 the run is the same as without a gyro). ``settle`` (s): the
+    robots first stand still that long with the estimates running, as a robot waits on
+    the table before it starts; that is when the gyro's offset is learned. Returns the
     per-robot metrics and the traces.
     """
     from ..episode import Episode
@@ -215,6 +218,14 @@ def run_case(
         return laps is not None and all(abs(v) >= laps * math.tau for v in turned.values())
 
     t0 = time.perf_counter()
+    if settle > 0:  # standing still: sense and estimate, command nothing, step
+        all_sources = [*sources.values(), *gyro_sources.values()]
+        for _ in range(round(settle / dt)):
+            for name in names:
+                episode.connection.adapters[name].sense_all()
+            for source in all_sources:
+                source.step()
+            world.step()
     duration = episode.scene.duration * (2.0 if laps is not None else 1.0)
     until = done if laps is not None else None
     try:
@@ -244,6 +255,8 @@ def run_case(
         "wheel_noise": wheel_noise,
         "gyro_noise": gyro_noise,
         "gyro_bias": gyro_bias,
+        "gyro_bias_learned": {n: _round(gyro_sources[n].gyro_bias) for n in names},
+        "settle_s": settle,
         "seed": seed,
         "sim_time_s": round(loop.time, 3),
         "judge": "success" if episode.judge.success else f"failure: {episode.judge.failure}",
@@ -395,13 +408,15 @@ def run_suite(
     *,
     gyro_noise: float = 0.0,
     gyro_bias: float = 0.0,
+    settle: float = 0.0,
     cases: Sequence[tuple[str, float | None, str | None]] = CASES,
 ) -> dict[str, Any]:
     """The ``estimation`` benchmark suite (see the module docstring).
 
     ``steps`` caps each run's control cycles (a quick smoke run); ``None`` runs the two-robot
     pass to its verdict and line-follow for three laps. ``gyro_noise``, ``gyro_bias``: the
-    simulated gyro's σ and offset (rad/s). ``cases``: which of :data:`CASES` to run.
+    simulated gyro's σ and offset (rad/s); ``settle`` (s) of standing still first (see
+    :func:`run_case`). ``cases``: which of :data:`CASES` to run.
     """
     runs = []
     for scene_name, laps, controller in cases:
@@ -416,6 +431,7 @@ def run_suite(
                     controller=controller,
                     gyro_noise=gyro_noise,
                     gyro_bias=gyro_bias,
+                    settle=settle,
                 )
                 runs.append(info)
     return {
@@ -423,6 +439,7 @@ def run_suite(
         "wheel_noise": list(WHEEL_NOISE),
         "gyro_noise": gyro_noise,
         "gyro_bias": gyro_bias,
+        "settle_s": settle,
         "variants": list(VARIANTS),
         "summary": summarise(runs),
         "proximity": measure_proximity(),
@@ -555,6 +572,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         "--gyro-bias", type=float, default=0.0, help="offset of the simulated gyro (rad/s)"
     )
     parser.add_argument(
+        "--settle",
+        type=float,
+        default=0.0,
+        help="seconds the robots stand still first (the gyro's offset is learned then)",
+    )
+    parser.add_argument(
         "--cases",
         choices=("all", "line-follow"),
         default="all",
@@ -568,6 +591,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if not 0.0 <= args.gyro_noise <= 1.0:
         parser.error(f"--gyro-noise is a σ in rad/s between 0 and 1, got {args.gyro_noise}")
+    if not 0.0 <= args.settle <= 60.0:
+        parser.error(f"--settle is 0 to 60 s, got {args.settle}")
     if not -1.0 <= args.gyro_bias <= 1.0:
         parser.error(f"--gyro-bias is in rad/s between -1 and 1, got {args.gyro_bias}")
     result = run_suite(
@@ -575,6 +600,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         seeds=args.seeds,
         gyro_noise=args.gyro_noise,
         gyro_bias=args.gyro_bias,
+        settle=args.settle,
         cases=CASES if args.cases == "all" else LINE_FOLLOW_CASES,
     )
     if args.json:

@@ -48,6 +48,19 @@ class OdometrySource(KnowledgeSource):
     e-puck2). ``initial`` is the pose at the first encoder reading (default: the
     origin, so the estimate is relative to the start); ``initial_cov`` its covariance.
     ``use_accelerometer`` / ``use_gyro`` switch those fusions off for comparison.
+
+    A gyro's offset is learned while the robot stands still: when the step counters have
+    not moved, the body is not turning, so the gyro's reading is its offset plus noise.
+    Readings within ``bias_gate`` (rad/s) of the running mean are averaged (over the last
+    ``bias_window`` of them). The mean is subtracted from every reading as
+    :attr:`gyro_bias` only once it differs from zero by more than three standard errors:
+    the mean of a few noisy readings has an error of its own, σ/√n, which the heading
+    would integrate as surely as an offset, so an offset too small to tell from the noise
+    is left alone. The gate keeps a robot turned by hand from being learned as an offset
+    (and assumes, as the e-puck2's start-up calibration makes true, an offset below it);
+    a robot that never stops keeps that calibration alone. ``bias_window=0`` switches
+    the learning off.
+
     ``encoders_key`` names the key holding the accumulated wheel angles, should they live
     elsewhere than ``encoders`` (a second, independent estimate, say).
     """
@@ -65,6 +78,8 @@ class OdometrySource(KnowledgeSource):
         initial_cov: Any = None,
         use_accelerometer: bool = True,
         use_gyro: bool = True,
+        bias_window: int = 100,
+        bias_gate: float = 0.05,
         encoders_key: str = "encoders",
         name: str | None = None,
         strict: bool = False,
@@ -76,6 +91,18 @@ class OdometrySource(KnowledgeSource):
         self.initial_cov = initial_cov
         self.use_accelerometer = use_accelerometer
         self.use_gyro = use_gyro
+        if bias_window < 0 or not bias_gate > 0:
+            raise ValueError(
+                f"bias_window must be >= 0 readings and bias_gate > 0 rad/s, got "
+                f"{bias_window} and {bias_gate}"
+            )
+        self.bias_window = int(bias_window)
+        self.bias_gate = float(bias_gate)
+        #: The gyro offset (rad/s) learned at standstill, subtracted from each reading.
+        self.gyro_bias = 0.0
+        self._bias_samples = 0
+        self._bias_mean = 0.0
+        self._bias_var = 0.0
         self.filter = OdometryFilter(
             self.profile, self.noise, initial=initial, initial_cov=initial_cov
         )
@@ -97,6 +124,10 @@ class OdometrySource(KnowledgeSource):
         )
         self._last = None
         self._last_speed = None
+        self.gyro_bias = 0.0
+        self._bias_samples = 0
+        self._bias_mean = 0.0
+        self._bias_var = 0.0
 
     def compute(self, inputs: Snapshot) -> Mapping[str, Any] | None:
         enc_rec = inputs.record(self.reads[0])
@@ -108,6 +139,10 @@ class OdometrySource(KnowledgeSource):
             dt = stamp - last_stamp
             d_left, d_right = enc.left - last_left, enc.right - last_right
             gyro = _yaw_rate(inputs.value(GYRO_KEY)) if self.use_gyro else None
+            if gyro is not None:
+                if d_left == 0.0 and d_right == 0.0:
+                    self._learn_bias(gyro)
+                gyro -= self.gyro_bias
             if self.use_accelerometer and dt > 0:
                 self._check_slip(inputs, d_left, d_right, dt, stamp)
             flt.predict(d_left, d_right, gyro_rate=gyro, dt=dt)
@@ -117,6 +152,22 @@ class OdometrySource(KnowledgeSource):
             "estimate/pose_cov": flt.cov,
             "estimate/slip": flt.slipping,
         }
+
+    def _learn_bias(self, rate: float) -> None:
+        """Fold a standstill reading into the offset's mean and variance (running, then
+        exponential after ``bias_window`` readings); update :attr:`gyro_bias`."""
+        if self.bias_window == 0:
+            return
+        delta = rate - self._bias_mean
+        if abs(delta) > self.bias_gate:
+            return  # turning although the wheels stand: pushed or carried, not an offset
+        n = self._bias_samples = min(self._bias_samples + 1, self.bias_window)
+        alpha = 1.0 / n
+        self._bias_mean += alpha * delta
+        self._bias_var = (1.0 - alpha) * (self._bias_var + alpha * delta * delta)
+        if n >= 2:  # three standard errors of the mean (sample variance of n readings)
+            significant = self._bias_mean**2 > 9.0 * self._bias_var / (n - 1)
+            self.gyro_bias = self._bias_mean if significant else 0.0
 
     def _check_slip(
         self, inputs: Snapshot, d_left: float, d_right: float, dt: float, now: float
