@@ -5,12 +5,11 @@ from __future__ import annotations
 import dataclasses
 import math
 import struct
-import threading
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager
 
 import pytest
+from emulation_helpers import running_emulation
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -82,19 +81,8 @@ def test_emulated_robot_encodes_the_simulated_yaw_rate() -> None:
     assert z > 0.5
 
 
-@contextmanager
-def _emulated(protocol: str, serial: str | None) -> Iterator[Emulation]:
-    em = Emulation(
-        SCENE, protocol=protocol, serial=serial, seed=1, until_client_leaves=False,
-        idle_timeout=None,
-    )  # fmt: skip
-    thread = threading.Thread(target=em.run, args=(30.0,), daemon=True)
-    thread.start()
-    try:
-        yield em
-    finally:
-        em.stop()
-        thread.join(5)
+def _emulated(protocol: str, serial: str | None) -> AbstractContextManager[Emulation]:
+    return running_emulation(SCENE, protocol, serial, seed=1, seconds=30.0)
 
 
 @pytest.mark.network

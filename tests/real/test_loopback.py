@@ -11,11 +11,12 @@ import dataclasses
 import socket
 import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from typing import Any
 
 import pytest
+from emulation_helpers import running_emulation
 
 from puckboard.adapters.real import EPuckReal, open_sercom, open_wifi
 from puckboard.emulator import Emulation, pty_available
@@ -42,25 +43,8 @@ CARRIERS = [
 ]
 
 
-@contextmanager
-def emulated(protocol: str, serial: str | None) -> Iterator[Emulation]:
-    # these tests are about the client: keep the robot up whatever the client does
-    em = Emulation(
-        SCENE,
-        protocol=protocol,
-        serial=serial,
-        seed=3,
-        until_client_leaves=False,
-        idle_timeout=None,
-    )
-    thread = threading.Thread(target=em.run, args=(60.0,), daemon=True)
-    thread.start()
-    try:
-        yield em
-    finally:
-        em.stop()
-        thread.join(5)
-        assert not thread.is_alive(), "the emulator did not stop"
+def emulated(protocol: str, serial: str | None) -> AbstractContextManager[Emulation]:
+    return running_emulation(SCENE, protocol, serial, seed=3, seconds=60.0)
 
 
 def connect(em: Emulation, model: str | None, **kw: Any) -> Any:
