@@ -10,13 +10,14 @@ fixes it) rather than the exact outcome of each seed.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
 import pytest
 
 from puckboard.behaviours import load_controller
-from puckboard.episode import run_episode
+from puckboard.episode import Episode, run_episode
 from puckboard.sim.judge import FAILURES
 
 TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
@@ -143,3 +144,30 @@ def test_either_controller_alone_follows_the_line_for_several_laps(controller):
     assert robot.progress_laps >= 2.5
     assert robot.on_line_fraction > 0.95
     assert robot.collisions == 0
+
+
+@pytest.mark.slow
+def test_stock_robots_meeting_in_a_bend_drive_off_side_by_side():
+    """The thesis's Figure 4.6: met at an angle, the stock robots turn the same way and
+    drive on side by side, heading the same way, off the line (measured: all of seeds
+    0..39 at 20 s; docs/controllers.md)."""
+    side_by_side = 0
+    for seed in range(5):
+        episode = Episode("two-robot-pass-bend", controller="stock", seed=seed)
+        result = episode.run(duration=20.0, stop_early=False)
+        assert not any(m.passed_other for m in result.robots), seed
+        (x0, y0, th0), (x1, y1, th1) = episode.world.poses.tolist()
+        close = math.hypot(x1 - x0, y1 - y0) < 0.12
+        same_way = abs(math.remainder(th1 - th0, math.tau)) < math.radians(45)
+        # heading away from the loop (the east bend's centre is at x = 0.4)
+        outward = min(x0, x1) > 0.65 + 0.05 and math.cos(th0) > 0.5 and math.cos(th1) > 0.5
+        side_by_side += close and same_way and outward
+    assert side_by_side >= 4
+
+
+@pytest.mark.slow
+def test_improved_robots_meeting_in_a_bend_pass_each_other():
+    for seed in range(5):
+        result = run_episode("two-robot-pass-bend", controller="improved", seed=seed)
+        assert all(m.passed_other for m in result.robots), (seed, result.failure, result.events)
+        assert result.failure not in MEETING_FAILURES, (seed, result.failure)
