@@ -52,7 +52,8 @@ class Transport(Protocol):
 
 
 class _ByteStream:
-    """What both transports share: reading exactly ``n`` bytes before a deadline.
+    """What both transports share: reading exactly ``n`` bytes before a deadline, and
+    dropping whatever arrives until the line goes quiet.
 
     Subclasses provide ``_recv(n, timeout)``, which returns what arrived (possibly
     nothing) within ``timeout`` and raises :class:`ConnectionLostError` when the link is
@@ -81,6 +82,19 @@ class _ByteStream:
                 )
             buf += self._recv(n - len(buf), remaining)
         return bytes(buf)
+
+    def drain(self, quiet: float = 0.05) -> int:
+        """Read and drop bytes until none arrive for ``quiet`` seconds (giving up after
+        ``_MAX_DRAIN_S``, for a robot that never stops talking); return how many."""
+        self._check_open()
+        dropped = 0
+        end = time.monotonic() + _MAX_DRAIN_S
+        while time.monotonic() < end:
+            chunk = self._recv(65536, quiet)
+            if not chunk:
+                break
+            dropped += len(chunk)
+        return dropped
 
 
 class TcpTransport(_ByteStream):
@@ -121,25 +135,6 @@ class TcpTransport(_ByteStream):
         if not chunk:
             raise ConnectionLostError(f"the robot at {self.description} closed the connection")
         return chunk
-
-    def drain(self, quiet: float = 0.05) -> int:
-        self._check_open()
-        dropped = 0
-        end = time.monotonic() + _MAX_DRAIN_S
-        while time.monotonic() < end:
-            self._sock.settimeout(quiet)
-            try:
-                chunk = self._sock.recv(65536)
-            except TimeoutError:
-                break
-            except OSError as exc:
-                raise ConnectionLostError(
-                    f"connection to the robot at {self.description} failed: {exc}"
-                ) from exc
-            if not chunk:
-                raise ConnectionLostError(f"the robot at {self.description} closed the connection")
-            dropped += len(chunk)
-        return dropped
 
     def discard_pending(self) -> int:
         """Discard bytes that have already arrived, without waiting; return how many."""
@@ -213,21 +208,6 @@ class SerialTransport(_ByteStream):
             raise ConnectionLostError(
                 f"reading from {self.description} failed (robot off or out of range?): {exc}"
             ) from exc
-
-    def drain(self, quiet: float = 0.05) -> int:
-        self._check_open()
-        dropped = 0
-        end = time.monotonic() + _MAX_DRAIN_S
-        try:
-            self._port.timeout = quiet
-            while time.monotonic() < end:
-                chunk = self._port.read(65536)
-                if not chunk:
-                    break
-                dropped += len(chunk)
-        except self._errors as exc:
-            raise ConnectionLostError(f"reading from {self.description} failed: {exc}") from exc
-        return dropped
 
     def discard_pending(self) -> int:
         """Discard bytes that have already arrived, without waiting; return how many."""
