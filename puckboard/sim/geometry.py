@@ -2,9 +2,10 @@
 
 Both the IR sensors and the camera are rays; casting them one by one from Python costs
 tens of microseconds each, while numpy's cost is per *call*, not per element (a 16-ray
-and a 96-ray cast differ by less than 2×). So every ray of every robot goes through one
-call of :func:`cast_rays` per step, against every circle (round obstacles, robots) and
-every segment (polygon edges, arena walls) at once.
+and a 96-ray cast differ by less than 2×). So all rays are tested against every circle
+(round obstacles, robots) and every segment (polygon edges, arena walls) at once: the
+camera through :func:`cast_rays`, the IR sensors through its two kernels,
+:func:`segment_hits` and :func:`circle_hits`, laid out objects-first.
 
 All functions take plain arrays (SI metres) and allocate only their results.
 """
@@ -80,17 +81,12 @@ def ray_hits(
     circle_centres: FloatArray,
     circle_radii: FloatArray,
     ignore: npt.NDArray[np.bool_] | None = None,
-    *,
-    visible: npt.NDArray[np.bool_] | None = None,
-    circle_radii_sq: FloatArray | None = None,
 ) -> FloatArray | None:
     """The distance along each ray to every object (R×(S+C), ``inf`` where it misses).
 
     The kernel behind :func:`cast_rays`, for callers that only need the nearest
     distance (``.min(axis=1)``) and already hold the rays as R×1 coordinate columns.
-    Returns None when there is nothing to hit. A caller casting against the same
-    objects many times may pass ``visible`` (``~ignore``) and ``circle_radii_sq``
-    (``circle_radii²``) precomputed, saving two numpy calls per cast.
+    Returns None when there is nothing to hit.
     """
     n_seg = seg_start.shape[0]
     n_circ = circle_centres.shape[0]
@@ -102,13 +98,17 @@ def ray_hits(
             )
         )
     if n_circ:
-        if circle_radii_sq is None:
-            circle_radii_sq = circle_radii * circle_radii
-        if visible is None and ignore is not None:
-            visible = ~ignore
+        visible = None if ignore is None else ~ignore
         candidates.append(
             circle_hits(
-                ox, oy, dx, dy, circle_centres[:, 0], circle_centres[:, 1], circle_radii_sq, visible
+                ox,
+                oy,
+                dx,
+                dy,
+                circle_centres[:, 0],
+                circle_centres[:, 1],
+                circle_radii * circle_radii,
+                visible,
             )
         )
     if not candidates:
