@@ -126,12 +126,9 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
                 raise ValueError(
                     f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
                 )
-            if key == "gyro_bias" and isinstance(value, (int, float)) and value < 0:
-                noise_changes[key] = -_non_negative(name, -value)  # an offset: either sign
-            else:
-                noise_changes[key] = _non_negative(name, value)
+            noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
         elif name in ("dt", "duration"):
-            number = _non_negative(name, value)
+            number = _number(name, value)
             if number <= 0:
                 raise ValueError(f"override {name} must be positive seconds, got {value!r}")
             scene_changes[name] = number
@@ -142,11 +139,17 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     return dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
 
 
-def _non_negative(name: str, value: Any) -> float:
+#: Noise fields that are offsets rather than spreads, so either sign means something.
+_SIGNED_NOISE = frozenset({"gyro_bias"})
+
+
+def _number(name: str, value: Any, *, signed: bool = False) -> float:
+    """``value`` as a float: a finite number, and unless ``signed`` not negative."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"override {name} needs a number, got {value!r}")
-    if not np.isfinite(value) or value < 0:
-        raise ValueError(f"override {name} must be a finite number >= 0, got {value!r}")
+    if not np.isfinite(value) or (value < 0 and not signed):
+        bound = "" if signed else " >= 0"
+        raise ValueError(f"override {name} must be a finite number{bound}, got {value!r}")
     return float(value)
 
 
