@@ -19,7 +19,8 @@ side by side on the very same simulation:
     the same source fused with the simulated gyro (the e-puck2's), which measures how
     fast the body actually turned: slip and contacts that fool the counters do not fool
     it. The gyro is ideal unless ``gyro_noise`` (σ, rad/s) or ``gyro_bias`` (rad/s) is
-    given; the filter does not estimate a bias, so a bias goes straight into the heading.
+    given; the source learns a bias only while the wheels stand still (``settle``), so
+    without a standstill a bias goes straight into the heading.
 ``axle +1 mm``
     the encoder filter with an axle 1 mm longer than the simulated robot's (54 instead
     of 53 mm; published values range from 51 to 56.5 mm): an uncalibrated robot.
