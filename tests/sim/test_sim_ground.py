@@ -66,14 +66,20 @@ def test_ground_noise_is_added_and_clipped():
     assert (seen >= 0).all() and (seen <= 1).all()
 
 
+def sensor_triples_near_the_loop(seed: int, count: int, spread: float):
+    """``count`` (centre, 3×2 points) pairs scattered around the 0.4 × 0.25 m loop:
+    three ground sensors within a centimetre of a centre ``spread`` off the line."""
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        angle = rng.uniform(0, 2 * math.pi)
+        centre = (0.4 * math.cos(angle) + rng.normal(0, spread), 0.25 * math.sin(angle))
+        yield centre, np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
+
+
 def test_nearby_segment_search_gives_the_same_readings_as_testing_every_segment():
     track = loop_track(0.4, 0.25, n=300, width=0.02)
     floor = Floor(empty_scene(track=track))
-    rng = np.random.default_rng(0)
-    for _ in range(50):
-        angle = rng.uniform(0, 2 * math.pi)
-        centre = (0.4 * math.cos(angle) + rng.normal(0, 0.02), 0.25 * math.sin(angle))
-        points = np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
+    for centre, points in sensor_triples_near_the_loop(0, 50, 0.02):
         near = floor.segments_near([centre], 0.0142)
         assert floor.brightness(points, near) == pytest.approx(floor.brightness(points))
 
@@ -99,11 +105,7 @@ def test_brightness_as_floats_is_exactly_the_array_brightness(width):
     # must give bit for bit what brightness gives, near the line, on it and far from it
     track = loop_track(0.4, 0.25, n=200, width=width)
     floor = Floor(empty_scene(track=track))
-    rng = np.random.default_rng(2)
-    for _ in range(100):
-        angle = rng.uniform(0, 2 * math.pi)
-        centre = (0.4 * math.cos(angle) + rng.normal(0, 0.03), 0.25 * math.sin(angle))
-        points = np.array(centre) + rng.uniform(-0.01, 0.01, size=(3, 2))
-        points = points[:, 0] + 1j * points[:, 1]
+    for centre, xy in sensor_triples_near_the_loop(2, 100, 0.03):
+        points = xy[:, 0] + 1j * xy[:, 1]
         near = floor.segments_near([centre], 0.0142)
         assert floor.brightness_values(points, near) == floor.brightness(points, near).tolist()
