@@ -497,7 +497,7 @@ def tutorial_controller() -> Controller:
 
 def fig_two_robot_pass() -> None:
     """Trajectories of the two-robot pass: stock, improved, and the tutorial's controller."""
-    from puckboard.episode import Episode
+    from puckboard.control.episode import Episode
     from puckboard.viz.scene_art import draw_scene, scene_bounds
 
     runs = [

@@ -8,7 +8,7 @@ other modules pick it up. Nobody calls anybody: modules only meet on the blackbo
 puckboard's robot adapters write sensor records (``ground``, ``encoders`` …) to the
 blackboard. This example adds three modules:
 
-* ``LinePosition`` (a :class:`~puckboard.knowledge.KnowledgeSource`) is interested in
+* ``LinePosition`` (a :class:`~puckboard.estimation.knowledge.KnowledgeSource`) is interested in
   ``ground`` and writes ``percept/line_seen`` and ``percept/line_position``;
 * ``Odometer`` (another knowledge source) is interested in ``encoders`` and writes
   ``estimate/distance_m``;
@@ -36,8 +36,8 @@ from typing import Any
 
 from puckboard.behaviours import Controller, Cruise, Frame, Layer
 from puckboard.blackboard import Record, Snapshot
-from puckboard.episode import Episode
-from puckboard.knowledge import KnowledgeSource
+from puckboard.control.episode import Episode
+from puckboard.estimation.knowledge import KnowledgeSource
 from puckboard.profile import EPUCK2
 from puckboard.records import WheelCommand
 

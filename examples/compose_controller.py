@@ -37,7 +37,7 @@ from puckboard.behaviours import (
     LineFollow,
     SideWallKeep,
 )
-from puckboard.episode import run_episode
+from puckboard.control.episode import run_episode
 
 
 def composed(inner_factor: float = 0.20) -> Controller:

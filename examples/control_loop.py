@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from puckboard.adapters.embedded import open_embedded
 from puckboard.records import Sensor
-from puckboard.sim.judge import Judge
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.judge import Judge
+from puckboard.scenario.scenefile import load_scene
 
 SPEED = 2.0  # rad/s of wheel rotation (≈ 4 cm/s)
 INNER = 0.3  # the inner wheel's fraction of SPEED while turning back onto the line

@@ -30,7 +30,7 @@ from typing import Any
 
 from puckboard.adapters import FakeAdapter
 from puckboard.behaviours import Controller, Cruise, Frame, Layer
-from puckboard.episode import run_episode
+from puckboard.control.episode import run_episode
 from puckboard.records import WheelCommand
 
 

@@ -26,7 +26,7 @@ import math
 from typing import Any
 
 from puckboard.behaviours import Controller, Cruise, GoHome, LineFollow
-from puckboard.episode import Episode
+from puckboard.control.episode import Episode
 from puckboard.estimation import OdometrySource
 
 

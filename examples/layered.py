@@ -33,7 +33,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 from puckboard.behaviours import Controller, Frame, Layer
-from puckboard.episode import Episode
+from puckboard.control.episode import Episode
 from puckboard.profile import EPUCK2
 from puckboard.records import Ground, WheelCommand
 

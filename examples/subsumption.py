@@ -48,7 +48,7 @@ from puckboard.behaviours import (
     SideWallKeep,
 )
 from puckboard.behaviours.obstacle import obstacle_in_front
-from puckboard.episode import Episode
+from puckboard.control.episode import Episode
 
 HOLD = 0.3  # s of suppression after the obstacle has left the front sensors
 AVOID = "FrontObstacleLeftTurn"

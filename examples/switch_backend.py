@@ -38,7 +38,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from puckboard.episode import run_episode
+from puckboard.control.episode import run_episode
 
 BACKEND: str
 OPTIONS: dict[str, Any]

@@ -39,7 +39,7 @@ import py_trees
 from py_trees.common import Status
 
 from puckboard.behaviours import Controller, Cruise, Frame, Layer, LineFollow
-from puckboard.episode import Episode
+from puckboard.control.episode import Episode
 from puckboard.profile import EPUCK2
 from puckboard.records import WheelCommand, WheelEncoders
 

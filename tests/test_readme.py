@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from puckboard.episode import run_episode
+from puckboard.control.episode import run_episode
 
 README = Path(__file__).resolve().parent.parent / "README.md"
 

@@ -15,7 +15,7 @@ from ..records import CameraImage, Sensor
 from .base import Connection, RobotAdapter
 
 if TYPE_CHECKING:
-    from ..sim.scene import Scene
+    from ..scenario.scene import Scene
     from ..sim.world import World
 
 __all__ = ["EmbeddedAdapter", "open_embedded"]
@@ -83,7 +83,7 @@ def open_embedded(
     from ..sim.world import World
 
     if isinstance(scene, str):
-        from ..sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)
     world = World(scene, seed=seed, **world_options)

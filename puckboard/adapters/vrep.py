@@ -56,7 +56,7 @@ from ..records import (
 from .base import Connection, RobotAdapter, Stepper
 
 if TYPE_CHECKING:
-    from ..sim.scene import Scene
+    from ..scenario.scene import Scene
 
 __all__ = [
     "DEFAULT_PORT",
@@ -697,7 +697,7 @@ def open_coppeliasim(
     others share the simulation.
     """
     if isinstance(scene, str):
-        from ..sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)
     names = [r.name for r in scene.robots]

@@ -5,12 +5,12 @@ neither :mod:`puckboard.adapters` nor :mod:`puckboard.sim`.
 """
 
 from .controller import NO_LAYER, Controller
-from .controllers import CONTROLLERS, improved, load_controller, stock
 from .cruise import DEFAULT_SPEED, Cruise
 from .go_home import GoHome
 from .layer import Frame, Layer
 from .line_follow import LineFollow
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
+from .presets import CONTROLLERS, improved, load_controller, stock
 from .suppression import HoldFor
 from .wall_keep import SideWallKeep
 

@@ -50,7 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..episode import Episode
+    from ..control.episode import Episode
     from ..errors import PuckboardError
     from ..viz.monitor import SensorMonitor
 

@@ -59,9 +59,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..recording import load_recording
     from ..viz.animation import VideoSupportError, check_animation_path, render_animation
     from ..viz.plots import save_plots
+    from ..viz.recording import load_recording
 
     try:
         rec = load_recording(args.recording)

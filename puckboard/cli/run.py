@@ -2,7 +2,7 @@
 
 ``puckboard run`` with no arguments runs the thesis's two-robot pass with the improved
 controller in the embedded simulator. ``--json`` prints exactly one JSON object on
-stdout (the fields of :meth:`puckboard.episode.EpisodeResult.to_dict`) and nothing else,
+stdout (the fields of :meth:`puckboard.control.episode.EpisodeResult.to_dict`) and nothing else,
 so scripts can pipe it. The exit status is 0 whenever the run completed, whatever its
 outcome; bad input (unknown scenario, unreadable scene, bad controller, bad ``--set``)
 exits with 2 and one line on stderr.
@@ -114,7 +114,7 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..episode import Episode
+    from ..control.episode import Episode
     from ..errors import PuckboardError
 
     overrides = parse_overrides(args.overrides)
@@ -131,7 +131,7 @@ def main(args: argparse.Namespace) -> int:
         flags = ", ".join(f"--{k}" for k in backend_options)
         raise CliError(f"{flags} do not apply to the embedded simulator; use them with --backend")
     try:
-        from ..sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         scene = load_scene(args.scenario)
     except PuckboardError as exc:
@@ -189,7 +189,7 @@ def _first_line(exc: BaseException) -> str:
 
 
 def format_summary(result: Any) -> str:
-    """A readable summary of an :class:`~puckboard.episode.EpisodeResult`."""
+    """A readable summary of an :class:`~puckboard.control.episode.EpisodeResult`."""
     d = result.to_dict()
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
@@ -209,7 +209,7 @@ def format_summary(result: Any) -> str:
     if d["success"]:
         lines.append("outcome: SUCCESS")
     else:
-        from ..sim.judge import FAILURES
+        from ..scenario.judge import FAILURES
 
         lines.append(f"outcome: FAILED ({d['failure']}: {FAILURES.get(d['failure'], '')})")
     if d["events"]:

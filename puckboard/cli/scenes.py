@@ -24,7 +24,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def main(args: argparse.Namespace) -> int:
     from ..errors import SceneError
-    from ..sim.scenefile import load_scene, scene_names, scene_path
+    from ..scenario.scenefile import load_scene, scene_names, scene_path
 
     if args.action == "show":
         if not args.name:

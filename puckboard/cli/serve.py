@@ -65,7 +65,7 @@ def main(args: argparse.Namespace) -> int:
 
     from ..errors import SceneError
     from ..remote.server import RemoteApiServer
-    from ..sim.scenefile import load_scene
+    from ..scenario.scenefile import load_scene
 
     if not 0 <= args.port <= 65535:
         raise CliError(f"--port must be 0..65535, got {args.port}")

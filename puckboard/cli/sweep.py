@@ -122,7 +122,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def _scene(ref: str):  # type: ignore[no-untyped-def]
-    from ..sim.scenefile import load_scene
+    from ..scenario.scenefile import load_scene
 
     try:
         return load_scene(ref)

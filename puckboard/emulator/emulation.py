@@ -5,7 +5,7 @@ first robot over the e-puck2 Wi-Fi protocol (TCP) or advanced sercom (a pseudo-t
 on POSIX, or TCP for pyserial's ``socket://`` URLs), and steps the world in real time
 like a robot: one step of ``dt`` per ``dt`` of wall-clock time, the wheels turning at the
 last commanded speeds. The judge watches the ground-truth poses, and :meth:`run` returns
-its verdict as an :class:`~puckboard.episode.EpisodeResult`, the same fields as
+its verdict as an :class:`~puckboard.control.episode.EpisodeResult`, the same fields as
 ``puckboard run --json``.
 
 The clock starts with the first command a client sends (the moment a real robot would
@@ -25,8 +25,8 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from ..sim.judge import Judge
-from ..sim.scene import Scene
+from ..scenario.judge import Judge
+from ..scenario.scene import Scene
 from .robot import EmulatedRobot
 from .servers import PtyServer, TcpServer, _ServerBase, pty_available
 from .sessions import SercomSession, WifiSession
@@ -85,7 +85,7 @@ class Emulation:
         if realtime <= 0:
             raise ValueError(f"realtime factor must be positive, got {realtime}")
         if isinstance(scene, str):
-            from ..sim.scenefile import load_scene
+            from ..scenario.scenefile import load_scene
 
             scene = load_scene(scene)
         self.scene = scene
@@ -173,7 +173,7 @@ class Emulation:
         """Serve and step in real time for at most ``duration`` s of robot time, counted
         from the first command (default: the scene's duration plus :data:`START_SLACK`, as a
         client's own run starts a moment after its first command); returns the judge's
-        verdict as an :class:`~puckboard.episode.EpisodeResult`. Returns early when the
+        verdict as an :class:`~puckboard.control.episode.EpisodeResult`. Returns early when the
         client is done (see the module docstring), after :meth:`stop`, or when no client
         sent a command within ``wait_for_client`` seconds."""
         duration = self.scene.duration + START_SLACK if duration is None else float(duration)
@@ -229,8 +229,8 @@ class Emulation:
             ) from self.server.error
 
     def result(self) -> Any:
-        """The judge's verdict so far, as an :class:`~puckboard.episode.EpisodeResult`."""
-        from ..episode import EpisodeResult
+        """The judge's verdict so far, as an :class:`~puckboard.control.episode.EpisodeResult`."""
+        from ..control.episode import EpisodeResult
 
         with self._lock:
             self.judge.finish()

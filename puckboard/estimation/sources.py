@@ -26,9 +26,9 @@ from typing import Any
 import numpy as np
 
 from ..blackboard import Snapshot
-from ..knowledge import KnowledgeSource
 from ..profile import EPUCK2, RobotProfile, get_profile
 from ..records import Pose, Proximity
+from .knowledge import KnowledgeSource
 from .odometry import OdometryFilter, OdometryNoise
 from .proximity import ProximityFilter
 

@@ -40,7 +40,7 @@ from .codec import (
 from .simapi import STEP_PENDING, ApiError, SimApi
 
 if TYPE_CHECKING:
-    from ..sim.scene import Scene
+    from ..scenario.scene import Scene
 
 __all__ = ["DEFAULT_PORT", "RemoteApiServer", "serve_scene"]
 
@@ -355,7 +355,7 @@ def serve_scene(
 ) -> RemoteApiServer:  # fmt: skip
     """Load ``scene`` (a Scene, shipped name or file) and serve it in a background thread."""
     if isinstance(scene, str):
-        from ..sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)
     return RemoteApiServer(scene, host=host, port=port, seed=seed, **options).start()

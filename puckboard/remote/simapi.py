@@ -56,7 +56,7 @@ from .objects import (
 )
 
 if TYPE_CHECKING:
-    from ..sim.scene import Scene
+    from ..scenario.scene import Scene
     from ..sim.world import World
 
 __all__ = ["CONSTANTS", "ApiError", "SimApi", "StepPending"]

@@ -3,7 +3,16 @@
 The simulator knows no controller: it takes wheel speeds and gives sensor readings.
 """
 
-from .scene import Arena, CircleObstacle, Goal, Noise, PolygonObstacle, RobotSpec, Scene, Track
+from ..scenario.scene import (
+    Arena,
+    CircleObstacle,
+    Goal,
+    Noise,
+    PolygonObstacle,
+    RobotSpec,
+    Scene,
+    Track,
+)
 
 __all__ = [
     "Arena",

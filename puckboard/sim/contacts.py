@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .scene import Arena, CircleObstacle, PolygonObstacle
+from ..scenario.scene import Arena, CircleObstacle, PolygonObstacle
 
 __all__ = ["CONTACT_SLOP", "Statics"]
 

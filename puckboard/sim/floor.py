@@ -26,7 +26,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from .scene import Colour, Scene
+from ..scenario.scene import Colour, Scene
 
 __all__ = ["Floor", "luminance"]
 

@@ -1,6 +1,6 @@
 """The embedded simulator's world: robots, floor, obstacles, walls, sensors, one clock.
 
-A :class:`World` is built from a :class:`~puckboard.sim.scene.Scene` and stepped
+A :class:`World` is built from a :class:`~puckboard.scenario.scene.Scene` and stepped
 synchronously (it is the :class:`~puckboard.adapters.base.Stepper` every embedded robot
 shares). Each :meth:`World.step`:
 
@@ -52,13 +52,13 @@ from ..records import (
     WheelSpeeds,
     _unchecked,
 )
+from ..scenario.scene import CircleObstacle, PolygonObstacle, Scene
 from .camera import CameraRenderer
 from .contacts import Statics
 from .floor import Floor
 from .geometry import polygon_edges
 from .kinematics import arc
 from .proximity import PolygonBound, ProximitySensors, WallSegment
-from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["GRAVITY", "IR_RAYS", "OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "World"]
 

@@ -157,7 +157,7 @@ def run_sweep(
 ) -> SweepResult:
     """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
 
-    ``scene`` is a :class:`~puckboard.sim.scene.Scene`, a shipped scene name or a scene
+    ``scene`` is a :class:`~puckboard.scenario.scene.Scene`, a shipped scene name or a scene
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
     need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
     (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
@@ -167,7 +167,7 @@ def run_sweep(
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
     if not hasattr(scene, "robots"):
-        from ..sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)
     if scene.name != plan.scenario:

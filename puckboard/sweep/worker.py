@@ -38,7 +38,7 @@ def run_spec(
     ``wall_limit`` (s of wall-clock time) stops an episode that runs away; it becomes an
     ``error`` row like any other exception.
     """
-    from ..episode import run_episode
+    from ..control.episode import run_episode
 
     overrides = spec.param_dict
     duration = overrides.pop("duration", None)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from puckboard.estimation.bench import (
+from puckboard.bench.estimation import (
     VARIANTS,
     measure_proximity,
     plot_traces,

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from puckboard.adapters.embedded import open_embedded
+from puckboard.bench.estimation import run_case
 from puckboard.blackboard import Blackboard
 from puckboard.estimation import GYRO_KEY, OdometrySource
-from puckboard.estimation.bench import run_case
 from puckboard.records import AngularVelocity, Sensor, WheelEncoders
-from puckboard.sim.scene import Noise, RobotSpec, Scene
+from puckboard.scenario.scene import Noise, RobotSpec, Scene
 
 
 def _heading_errors(use_gyro: bool, *, seed: int = 5) -> tuple[float, int]:

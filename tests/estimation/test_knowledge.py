@@ -11,7 +11,7 @@ from puckboard.adapters.fake import FakeAdapter, FakeClock
 from puckboard.behaviours import Controller, Cruise, Frame, Layer
 from puckboard.blackboard import Blackboard
 from puckboard.control.loop import ControlLoop
-from puckboard.knowledge import KnowledgeSource
+from puckboard.estimation.knowledge import KnowledgeSource
 from puckboard.records import WheelCommand, WheelEncoders
 
 
@@ -118,7 +118,7 @@ def test_failing_source_is_reported_not_fatal(caplog):
     loop, board = _loop()
     broken = Broken().attach(loop)
     good = MeanWheelAngle().attach(loop)
-    with caplog.at_level(logging.ERROR, logger="puckboard.knowledge"):
+    with caplog.at_level(logging.ERROR, logger="puckboard.estimation.knowledge"):
         loop.run(cycles=4)
     assert broken.failures == 4
     assert isinstance(broken.last_error, ZeroDivisionError)

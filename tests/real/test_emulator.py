@@ -13,7 +13,7 @@ from puckboard.adapters.real.blocks import ActuatorBlock, SensorBlock
 from puckboard.adapters.real.units import prox_distance_from_value
 from puckboard.adapters.real.wifi_codec import WifiCommand
 from puckboard.emulator import EmulatedRobot, Emulation, WifiSession
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scenefile import load_scene
 from puckboard.sim.world import World
 
 

@@ -9,9 +9,9 @@ import threading
 
 import pytest
 
+from puckboard.control.episode import Episode
 from puckboard.emulator import Emulation
-from puckboard.episode import Episode
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scenefile import load_scene
 
 pytestmark = [pytest.mark.network, pytest.mark.slow]
 

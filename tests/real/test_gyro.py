@@ -24,8 +24,8 @@ from puckboard.adapters.real.units import (
 from puckboard.emulator import EmulatedRobot, Emulation
 from puckboard.errors import NotSupportedError
 from puckboard.records import AngularVelocity, Sensor
-from puckboard.sim.scene import Noise
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scene import Noise
+from puckboard.scenario.scenefile import load_scene
 from puckboard.sim.world import World
 
 SCENE = dataclasses.replace(load_scene("line-follow"), noise=Noise())

@@ -22,8 +22,8 @@ from puckboard.adapters.real import EPuckReal, open_sercom, open_wifi
 from puckboard.emulator import Emulation, pty_available
 from puckboard.errors import ConnectionLostError, NotSupportedError
 from puckboard.records import Ground, Proximity, Sensor
-from puckboard.sim.scene import Noise
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scene import Noise
+from puckboard.scenario.scenefile import load_scene
 
 pytestmark = pytest.mark.network
 

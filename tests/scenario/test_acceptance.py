@@ -17,8 +17,8 @@ from pathlib import Path
 import pytest
 
 from puckboard.behaviours import load_controller
-from puckboard.episode import Episode, run_episode
-from puckboard.sim.judge import FAILURES
+from puckboard.control.episode import Episode, run_episode
+from puckboard.scenario.judge import FAILURES
 
 TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from puckboard.episode import Episode, run_episode
+from puckboard.control.episode import Episode, run_episode
 
 FIELDS = {
     "scenario", "controller", "seed", "dt_s", "steps", "sim_time_s", "wall_s",

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from puckboard.errors import SceneError
-from puckboard.sim.scene import CircleObstacle
-from puckboard.sim.scenefile import (
+from puckboard.scenario.scene import CircleObstacle
+from puckboard.scenario.scenefile import (
     load_scene,
     parse_scene_text,
     scene_from_dict,

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from puckboard.sim.scene import (
+from puckboard.scenario.scene import (
     Arena,
     CircleObstacle,
     Noise,

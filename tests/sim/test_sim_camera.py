@@ -7,8 +7,8 @@ import math
 import numpy as np
 from simworld_helpers import empty_scene, robot
 
+from puckboard.scenario.scene import CircleObstacle, Track
 from puckboard.sim.camera import BACKGROUND
-from puckboard.sim.scene import CircleObstacle, Track
 from puckboard.sim.world import World
 
 RED = (220, 30, 30)

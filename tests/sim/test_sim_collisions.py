@@ -9,7 +9,7 @@ import pytest
 from simworld_helpers import empty_scene, robot
 
 from puckboard.profile import EPUCK2
-from puckboard.sim.scene import Arena, CircleObstacle, PolygonObstacle
+from puckboard.scenario.scene import Arena, CircleObstacle, PolygonObstacle
 from puckboard.sim.world import World
 
 R = EPUCK2.body_radius

@@ -6,7 +6,7 @@ import numpy as np
 from simworld_helpers import noisy, pass_scene
 
 from puckboard.records import Sensor
-from puckboard.sim.scene import Noise
+from puckboard.scenario.scene import Noise
 from puckboard.sim.world import World
 
 ALL = frozenset(Sensor) - {Sensor.LIGHT, Sensor.CAMERA}

@@ -9,8 +9,8 @@ import pytest
 from simworld_helpers import empty_scene, loop_track, robot
 
 from puckboard.records import Sensor
+from puckboard.scenario.scene import Noise, Track
 from puckboard.sim.floor import Floor, luminance
-from puckboard.sim.scene import Noise, Track
 from puckboard.sim.world import World
 
 STRAIGHT = Track([[-1.0, 0.0], [1.0, 0.0]], width=0.012, closed=False)

@@ -12,7 +12,7 @@ from puckboard.adapters.embedded import EmbeddedAdapter, open_embedded
 from puckboard.errors import NotSupportedError
 from puckboard.profile import EPUCK2
 from puckboard.records import AngularVelocity, Sensor
-from puckboard.sim.scene import Arena, Noise
+from puckboard.scenario.scene import Arena, Noise
 from puckboard.sim.world import World
 
 SPIN = (-3.0, 3.0)  # rad/s, left/right: a counter-clockwise turn on the spot
@@ -140,7 +140,7 @@ def test_embedded_robot_has_the_gyro_off_until_enabled() -> None:
 
 
 def test_gyro_bias_offsets_every_reading_without_a_draw() -> None:
-    from puckboard.episode import apply_scene_overrides
+    from puckboard.control.episode import apply_scene_overrides
 
     scene = apply_scene_overrides(empty_scene(robot()), {"noise.gyro_bias": -0.01})
     assert scene.noise.gyro_bias == -0.01

@@ -10,8 +10,8 @@ from simworld_helpers import empty_scene, robot
 
 from puckboard.profile import EPUCK2
 from puckboard.records import PROX_NAMES, Sensor
+from puckboard.scenario.scene import CircleObstacle, Noise, PolygonObstacle
 from puckboard.sim.ir import TABLE, raw_from_distance
-from puckboard.sim.scene import CircleObstacle, Noise, PolygonObstacle
 from puckboard.sim.world import World
 
 PS7 = PROX_NAMES.index("front_left")
@@ -117,7 +117,7 @@ def test_proximity_noise_perturbs_raw_values_but_not_an_empty_reading():
 
 
 def test_arena_walls_are_seen_along_the_closest_ray_of_the_aperture():
-    from puckboard.sim.scene import Arena
+    from puckboard.scenario.scene import Arena
 
     arena = Arena(-0.5, -0.5, 0.5, 0.5)
     pose = EPUCK2.prox_poses[PS7]

@@ -17,7 +17,7 @@ DURATION = 3.0
 @pytest.fixture(scope="session")
 def short_scene():
     """The shipped line-follow scene, cut to a few seconds so sweeps stay quick."""
-    from puckboard.sim.scenefile import load_scene
+    from puckboard.scenario.scenefile import load_scene
 
     return dataclasses.replace(load_scene("line-follow"), duration=DURATION)
 

@@ -1,4 +1,4 @@
-"""A small stand-in for :class:`puckboard.episode.Episode` built on the fake adapter.
+"""A small stand-in for :class:`puckboard.control.episode.Episode` built on the fake adapter.
 
 It has the attributes the visual tools use (``scene``, ``blackboard``, ``controllers``,
 ``connection.adapters``, ``loop``, ``world``, observers) and nothing else, so the tools
@@ -15,7 +15,7 @@ from puckboard.behaviours import load_controller
 from puckboard.blackboard import Blackboard
 from puckboard.control.loop import ControlLoop
 from puckboard.records import Sensor
-from puckboard.sim.scene import Arena, CircleObstacle, RobotSpec, Scene, Track
+from puckboard.scenario.scene import Arena, CircleObstacle, RobotSpec, Scene, Track
 
 
 def stand_in_scene() -> Scene:

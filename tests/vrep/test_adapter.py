@@ -269,7 +269,7 @@ def test_killed_serve_process_gives_connection_lost(tmp_path):
 
 
 def test_short_two_robot_pass_matches_the_embedded_run(server):
-    from puckboard.episode import run_episode
+    from puckboard.control.episode import run_episode
 
     kwargs = {"controller": "improved", "duration": 6.0}
     remote = run_episode(SCENE, backend="coppeliasim", port=server.port, **kwargs).to_dict()
@@ -286,7 +286,7 @@ def test_short_two_robot_pass_matches_the_embedded_run(server):
 
 @pytest.mark.slow
 def test_full_two_robot_pass_has_the_embedded_outcome(server):
-    from puckboard.episode import run_episode
+    from puckboard.control.episode import run_episode
 
     remote = run_episode(SCENE, controller="improved", backend="coppeliasim", port=server.port)
     local = run_episode(SCENE, controller="improved")

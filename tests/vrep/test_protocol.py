@@ -15,7 +15,7 @@ from vrep_support import start_server, stop_server
 from puckboard.profile import EPUCK2
 from puckboard.records import VREP_ORDER
 from puckboard.remote.objects import SceneObjects
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scenefile import load_scene
 from puckboard.sim.world import World
 
 pytestmark = pytest.mark.network

@@ -6,7 +6,7 @@ import socket
 from typing import Any
 
 from puckboard.remote.server import RemoteApiServer
-from puckboard.sim.scenefile import load_scene
+from puckboard.scenario.scenefile import load_scene
 
 
 def start_server(scene: str = "two-robot-pass", **options: Any) -> RemoteApiServer:

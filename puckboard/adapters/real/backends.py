@@ -157,7 +157,7 @@ def _connect(
 def _as_scene(scene: Any) -> Any:
     """A Scene passes through; a shipped name or file path is loaded."""
     if isinstance(scene, (str, Path)):
-        from ...sim.scenefile import load_scene
+        from ...scenario.scenefile import load_scene
 
         return load_scene(str(scene))
     return scene

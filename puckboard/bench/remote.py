@@ -24,7 +24,7 @@ once. Two more rows give the headline: a **full control cycle** — every sensor
 wheels, one step — with sense-all, and the same with one call per sensor object (the
 naive path: 8 IR sensors, the light sensor, 4 joint reads, the pose).
 
-Run it with ``puckboard bench --suite coppeliasim`` or ``python -m puckboard.remote.perf``.
+Run it with ``puckboard bench --suite coppeliasim`` or ``python -m puckboard.bench.remote``.
 It is a benchmark, never a test: the figures depend on the machine and its load.
 """
 
@@ -217,8 +217,8 @@ def _row_name(key: str) -> str:
 
 def _start_server(mode: str) -> tuple[int, Callable[[], None]]:
     if mode == "thread":
-        from ..sim.scenefile import load_scene
-        from .server import RemoteApiServer
+        from ..remote.server import RemoteApiServer
+        from ..scenario.scenefile import load_scene
 
         srv = RemoteApiServer(load_scene("line-follow"), host="127.0.0.1", port=0).start()
         return srv.port, srv.close

@@ -53,7 +53,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ._version import __version__
+from .._version import __version__
 
 __all__ = [
     "FORMAT_VERSION",
@@ -175,7 +175,7 @@ class Recording:
 
     @property
     def scene(self) -> Any:
-        """The recorded :class:`~puckboard.sim.scene.Scene` (``None`` if none was recorded)."""
+        """The recorded :class:`~puckboard.scenario.scene.Scene` (``None`` if none was recorded)."""
         if self._scene is _UNSET:
             data = self.meta.get("scene")
             self._scene = None if data is None else scene_from_json(data)
@@ -523,12 +523,12 @@ def scene_to_json(scene: Any) -> dict[str, Any]:
 
 
 def scene_from_json(data: Mapping[str, Any]) -> Any:
-    """Rebuild a :class:`~puckboard.sim.scene.Scene` from :func:`scene_to_json` data.
+    """Rebuild a :class:`~puckboard.scenario.scene.Scene` from :func:`scene_to_json` data.
 
     Fields this version does not know are ignored, so an older puckboard can still draw
     a newer recording's floor.
     """
-    from .sim import scene as scene_module
+    from ..scenario import scene as scene_module
 
     def decode(value: Any) -> Any:
         if isinstance(value, dict) and "type" in value:

@@ -12,7 +12,7 @@ socket, and over a pseudo-terminal where there is one), the median time of:
 Loopback figures are an upper bound: they show what the library and the emulator cost,
 not what a radio link delivers (a real e-puck2 over Wi-Fi was measured at 2-7 frames/s
 by others; Bluetooth carries ≈1 frame/s). Run alone with
-``python -m puckboard.emulator.bench``.
+``python -m puckboard.bench.emulator``.
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def _median_ms(fn: Callable[[], Any], calls: int) -> float:
 
 
 def _carriers() -> list[tuple[str, str | None]]:
-    from .servers import pty_available
+    from ..emulator.servers import pty_available
 
     out: list[tuple[str, str | None]] = [("wifi", None), ("sercom", "tcp")]
     if pty_available():
@@ -55,7 +55,7 @@ def _carriers() -> list[tuple[str, str | None]]:
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """Exchange times per protocol and carrier (median of 5 repeats, ms per call)."""
     from ..adapters.real import open_sercom, open_wifi
-    from .emulation import Emulation
+    from ..emulator.emulation import Emulation
 
     calls = steps or 200
     out: dict[str, Any] = {"calls_per_repeat": calls, "repeats": REPEATS, "unit": "ms per call"}
@@ -90,7 +90,7 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    from ..bench import machine
+    from . import machine
 
     result = {
         "machine": machine(),

@@ -1,6 +1,6 @@
 """A scene as plain, validated data: floor, track, obstacles, walls, robots, noise.
 
-Scenes are loaded from TOML or JSON files (see :mod:`puckboard.sim.scenefile`) into
+Scenes are loaded from TOML or JSON files (see :mod:`puckboard.scenario.scenefile`) into
 these frozen dataclasses; the simulator, the judge, the viewers and ``puckboard serve``
 all read the same objects. Units are SI; colours are 0..255 RGB triples.
 
@@ -146,7 +146,7 @@ class Noise:
 
 
 GOAL_KINDS = ("auto", "pass", "follow", "avoid")
-"""What a scene asks of its robots; the judge (:mod:`puckboard.sim.judge`) scores it.
+"""What a scene asks of its robots; the judge (:mod:`puckboard.scenario.judge`) scores it.
 
 ``pass``: robots on a line meet, pass each other and every obstacle on the line, and
 go on following the line. ``follow``: follow the line for ``laps`` laps. ``avoid``:

@@ -57,7 +57,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..profile import get_profile
-from .geometry import polygon_edges
+from ..sim.geometry import polygon_edges
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["FAILURES", "Event", "Judge", "JudgeRules", "RobotMetrics"]

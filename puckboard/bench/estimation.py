@@ -28,7 +28,7 @@ side by side on the very same simulation:
 Every estimate starts at the true start pose (the start jitter is not counted as
 odometry error) and is compared with the ground truth of the same instant.
 
-Run it alone with ``python -m puckboard.estimation.bench`` (``--plot FILE`` also
+Run it alone with ``python -m puckboard.bench.estimation`` (``--plot FILE`` also
 draws the estimate against the truth with covariance ellipses).
 """
 
@@ -51,11 +51,11 @@ import numpy as np
 import numpy.typing as npt
 
 from ..blackboard import Snapshot
+from ..estimation.odometry import OdometryFilter, wrap_angle
+from ..estimation.proximity import ProximityFilter
+from ..estimation.sources import OdometrySource
 from ..profile import RobotProfile
 from ..records import Sensor
-from .odometry import OdometryFilter, wrap_angle
-from .proximity import ProximityFilter
-from .sources import OdometrySource
 
 __all__ = ["SEEDS", "Trace", "plot_traces", "run_case", "run_suite"]
 
@@ -154,7 +154,7 @@ def run_case(
     the table before it starts; that is when the gyro's offset is learned. Returns the
     per-robot metrics and the traces.
     """
-    from ..episode import Episode
+    from ..control.episode import Episode
 
     overrides = {
         "noise.wheel_speed": wheel_noise,
@@ -291,7 +291,7 @@ def measure_proximity(
     ``noise`` gives ``steps`` noisy readings. Reported: σ and bias (m) of the raw and the
     filtered readings (after a 20-step warm-up), and the variance ratio.
     """
-    from ..sim.scene import Arena, Noise, RobotSpec, Scene
+    from ..scenario.scene import Arena, Noise, RobotSpec, Scene
     from ..sim.world import World
 
     rows = []
@@ -562,7 +562,7 @@ def plot_traces(
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="python -m puckboard.estimation.bench", description=__doc__.splitlines()[0]
+        prog="python -m puckboard.bench.estimation", description=__doc__.splitlines()[0]
     )
     parser.add_argument("--steps", type=int, default=None, help="cap control cycles per run")
     parser.add_argument("--seeds", type=int, nargs="+", default=list(SEEDS))

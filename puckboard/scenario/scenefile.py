@@ -1,4 +1,4 @@
-"""Scene files: TOML or JSON in, a validated :class:`~puckboard.sim.scene.Scene` out.
+"""Scene files: TOML or JSON in, a validated :class:`~puckboard.scenario.scene.Scene` out.
 
 A scene file is data a student edits by hand, so every mistake gets an error that names
 the file, the field path and what was expected::
@@ -11,7 +11,7 @@ here, and robots and obstacles may be placed *on the track* by a fraction of the
 (``track_position = 0.25``) instead of by coordinates. Everything is stored in SI units
 and radians; :func:`scene_to_dict` writes the explicit form back out.
 
-Shipped scenes live in ``puckboard/sim/scenes/`` and are found by name
+Shipped scenes live in ``puckboard/scenario/scenes/`` and are found by name
 (:func:`scene_names`, :func:`load_scene`). The schema is documented in
 ``docs/scenarios.md``.
 """
@@ -65,7 +65,7 @@ _OBSTACLE_SHAPES = ("circle", "box", "polygon")
 
 # -- finding and reading files -----------------------------------------------------------------
 def _scenes_dir() -> Any:
-    return resources.files("puckboard.sim").joinpath("scenes")
+    return resources.files("puckboard.scenario").joinpath("scenes")
 
 
 def scene_names() -> list[str]:

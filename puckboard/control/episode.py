@@ -2,7 +2,7 @@
 
 This is what ``puckboard run`` does, as a library call::
 
-    from puckboard.episode import run_episode
+    from puckboard.control.episode import run_episode
     result = run_episode("two-robot-pass", controller="stock", seed=3)
     print(result.success, result.failure)        # False parallel_driving
     print(result.to_dict())                      # the `puckboard run --json` object
@@ -10,7 +10,7 @@ This is what ``puckboard run`` does, as a library call::
 An :class:`Episode` opens the backend (``open_backend(backend, scene, seed=...)``), builds
 one fresh controller per robot from the scene's ``RobotSpec.controller`` (or the
 ``controller`` given), binds them in a :class:`~puckboard.control.loop.ControlLoop` and
-feeds a :class:`~puckboard.sim.judge.Judge` after every cycle: from the embedded world's
+feeds a :class:`~puckboard.scenario.judge.Judge` after every cycle: from the embedded world's
 ground truth (poses and the simulator's collision counts) when there is one, else from
 each robot's ``pose`` blackboard key. Viewers and recorders hook in with
 :meth:`Episode.add_observer` and :meth:`Episode.add_close_observer`; they only read, so a
@@ -34,14 +34,14 @@ from typing import Any
 
 import numpy as np
 
-from .adapters.registry import open_backend
-from .behaviours.controller import Controller
-from .behaviours.controllers import load_controller
-from .behaviours.layer import Layer
-from .control.loop import ControlLoop
-from .errors import SceneError
-from .sim.judge import Event, Judge, RobotMetrics
-from .sim.scene import Scene
+from ..adapters.registry import open_backend
+from ..behaviours.controller import Controller
+from ..behaviours.layer import Layer
+from ..behaviours.presets import load_controller
+from ..errors import SceneError
+from ..scenario.judge import Event, Judge, RobotMetrics
+from ..scenario.scene import Scene
+from .loop import ControlLoop
 
 __all__ = ["OVERRIDE_NAMES", "Episode", "EpisodeResult", "apply_scene_overrides", "run_episode"]
 
@@ -106,7 +106,7 @@ class EpisodeResult:
 def _resolve_scene(scene: Scene | str | Path) -> Scene:
     if isinstance(scene, Scene):
         return scene
-    from .sim.scenefile import load_scene
+    from ..scenario.scenefile import load_scene
 
     return load_scene(scene)
 

@@ -27,9 +27,9 @@ import statistics
 import time
 from typing import Any
 
-from .executors import DaskExecutor, InlineExecutor, LocalExecutor, SweepExecutor
-from .plan import SweepPlan
-from .run import run_sweep
+from ..sweep.executors import DaskExecutor, InlineExecutor, LocalExecutor, SweepExecutor
+from ..sweep.plan import SweepPlan
+from ..sweep.run import run_sweep
 
 __all__ = ["run_suite"]
 
@@ -56,7 +56,7 @@ def _rate(executor: SweepExecutor, scene: Any, plan: SweepPlan) -> float:
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """Episodes per second per executor; see the module docstring."""
-    from ..sim.scenefile import load_scene
+    from ..scenario.scenefile import load_scene
 
     scene = load_scene("two-robot-pass")
     n_steps = steps or DEFAULT_STEPS

@@ -32,9 +32,9 @@ log = logging.getLogger(__name__)
 SUITES: dict[str, str] = {
     "core": "puckboard.bench:core_suite",
     "sim": "puckboard.bench:sim_suite",
-    "coppeliasim": "puckboard.remote.perf:run_suite",
-    "sweep": "puckboard.sweep.bench:run_suite",
-    "estimation": "puckboard.estimation.bench:run_suite",
+    "coppeliasim": "puckboard.bench.remote:run_suite",
+    "sweep": "puckboard.bench.sweep:run_suite",
+    "estimation": "puckboard.bench.estimation:run_suite",
 }
 
 #: Suites run when none is named.
@@ -103,10 +103,10 @@ def core_suite(steps: int | None = None) -> dict[str, Any]:
     import numpy as np
     import py_trees
 
-    from .adapters.base import declare_robot_keys
-    from .behaviours import load_controller
-    from .blackboard import Blackboard
-    from .records import Ground, Pose, Proximity, Sensor
+    from ..adapters.base import declare_robot_keys
+    from ..behaviours import load_controller
+    from ..blackboard import Blackboard
+    from ..records import Ground, Pose, Proximity, Sensor
 
     calls = steps or 5000
     out: dict[str, Any] = {"calls_per_repeat": calls, "repeats": REPEATS}
@@ -189,14 +189,14 @@ def core_suite(steps: int | None = None) -> dict[str, Any]:
 # -- sim: the two-robot pass with the full stack --------------------------------------------
 def _bench_scene() -> Any:
     try:
-        from .sim.scenefile import load_scene
+        from ..scenario.scenefile import load_scene
 
         return load_scene("two-robot-pass")
     except (ImportError, ValueError, OSError) as exc:
         log.warning("two-robot-pass not available (%s); using a small built-in scene", exc)
     import numpy as np
 
-    from .sim.scene import CircleObstacle, RobotSpec, Scene, Track
+    from ..scenario.scene import CircleObstacle, RobotSpec, Scene, Track
 
     a = np.linspace(0.0, 2 * math.pi, 120, endpoint=False)
     track = Track(np.column_stack([0.6 * np.cos(a), 0.35 * np.sin(a)]), width=0.02)
@@ -212,11 +212,11 @@ def _bench_scene() -> Any:
 
 
 def _build_stack(scene: Any, seed: int = 0) -> tuple[Any, Any]:
-    from .adapters.embedded import EmbeddedAdapter
-    from .behaviours import load_controller
-    from .blackboard import Blackboard
-    from .control.loop import ControlLoop
-    from .sim.world import World
+    from ..adapters.embedded import EmbeddedAdapter
+    from ..behaviours import load_controller
+    from ..blackboard import Blackboard
+    from ..control.loop import ControlLoop
+    from ..sim.world import World
 
     world = World(scene, seed=seed)
     board = Blackboard(clock=lambda: world.time)

@@ -66,7 +66,7 @@ import threading
 from collections.abc import Callable, Mapping
 from typing import Any, ClassVar, Protocol, TypeVar
 
-from .blackboard import Blackboard, Namespace, Record, Snapshot
+from ..blackboard import Blackboard, Namespace, Record, Snapshot
 
 __all__ = ["KnowledgeSource"]
 

@@ -1,0 +1,24 @@
+"""Scenarios: what the robots face and how they are judged.
+
+A :class:`Scene` is plain validated data (floor, track, obstacles, walls, robots, noise,
+goal) read from a scene file (:mod:`.scenefile`, TOML or JSON; the shipped ones live in
+``scenes/``). The engine (:mod:`puckboard.sim`) builds a world from it, and the
+:class:`~.judge.Judge` scores the robots' trajectories against the scene's goal. Nothing
+here knows the engine, an adapter or a controller.
+"""
+
+from .scene import Arena, CircleObstacle, Goal, Noise, PolygonObstacle, RobotSpec, Scene, Track
+from .scenefile import load_scene, scene_names
+
+__all__ = [
+    "Arena",
+    "CircleObstacle",
+    "Goal",
+    "Noise",
+    "PolygonObstacle",
+    "RobotSpec",
+    "Scene",
+    "Track",
+    "load_scene",
+    "scene_names",
+]
