@@ -43,6 +43,7 @@ import numpy.typing as npt
 _R = TypeVar("_R")
 
 __all__ = [
+    "GRAVITY",
     "GROUND_NAMES",
     "PROX_NAMES",
     "VREP_ORDER",
@@ -73,6 +74,10 @@ PROX_NAMES: tuple[str, ...] = (
 
 VREP_ORDER: tuple[int, ...] = (5, 6, 7, 0, 1, 2, 3, 4)
 """``VREP_ORDER[k]`` is the ps index of V-REP's ``ePuck_proxSensor{k+1}``."""
+
+#: Standard gravity (m/s², the CGPM's conventional value rounded as the e-puck firmware
+#: and the simulator use it): what a resting accelerometer reads along z.
+GRAVITY = 9.81
 
 GROUND_NAMES: tuple[str, ...] = ("left", "centre", "right")
 """Names of the 3 ground sensors, gs0..gs2."""

@@ -31,7 +31,7 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 from ..blackboard import Blackboard, InstanceOf, Namespace
 from ..errors import AdapterClosedError, NotSupportedError
@@ -46,34 +46,36 @@ SensorObserver = Callable[["RobotAdapter", frozenset[Sensor]], None]
 CameraObserver = Callable[["RobotAdapter", CameraImage], None]
 
 
-class Stepper(abc.ABC):
+@runtime_checkable
+class Stepper(Protocol):
     """A synchronously stepped simulation shared by all robots in it.
 
     One stepper per world: with two robots in one simulation, the control loop steps the
-    world once per cycle, not once per robot.
+    world once per cycle, not once per robot. A protocol rather than a base class, so the
+    embedded engine satisfies it without importing anything of the adapters.
     """
 
     @property
-    @abc.abstractmethod
     def dt(self) -> float:
         """Length of one simulation step (s)."""
+        ...
 
     @property
-    @abc.abstractmethod
     def time(self) -> float:
         """Current simulation time (s)."""
+        ...
 
-    @abc.abstractmethod
     def start(self) -> None:
         """Start (or resume) the simulation in stepping mode."""
+        ...
 
-    @abc.abstractmethod
     def step(self, n: int = 1) -> None:
         """Advance ``n`` steps and return when they are done."""
+        ...
 
-    @abc.abstractmethod
     def stop(self) -> None:
         """Stop the simulation."""
+        ...
 
 
 @dataclass

@@ -25,6 +25,7 @@ import numpy as np
 from ..blackboard import Blackboard, Namespace
 from ..profile import EPUCK2, RobotProfile
 from ..records import (
+    GRAVITY,
     GROUND_NAMES,
     PROX_NAMES,
     Acceleration,
@@ -163,7 +164,7 @@ class FakeAdapter(RobotAdapter):
             elif s is Sensor.LIGHT:
                 out[s] = Light(np.full(8, 3000.0))
             elif s is Sensor.ACCELERATION:
-                out[s] = Acceleration(0.0, 0.0, 9.81)
+                out[s] = Acceleration(0.0, 0.0, GRAVITY)
             elif s is Sensor.GYRO:
                 # ideal kinematics: the body turns exactly as the wheels say, at once
                 out[s] = AngularVelocity(0.0, 0.0, self.profile.body_velocity(*self.wheels)[1])

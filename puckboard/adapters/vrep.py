@@ -581,7 +581,7 @@ class EPuckVRep(RobotAdapter):
         if raw_vrep is not None:
             raw = raw_vrep[_VREP_FROM_PS]
         else:
-            from ..sim.ir import raw_from_distance
+            from ..ir_response import raw_from_distance
 
             raw = raw_from_distance(np.where(distance < rng, distance, np.inf))
         return Proximity(distance, raw, rng)

@@ -57,7 +57,6 @@ import numpy as np
 import numpy.typing as npt
 
 from ..profile import get_profile
-from ..sim.geometry import polygon_edges
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["FAILURES", "Event", "Judge", "JudgeRules", "RobotMetrics"]
@@ -245,7 +244,7 @@ class Judge:
                 assert isinstance(ob, PolygonObstacle)
                 centre = ob.vertices.mean(axis=0)
                 size = float(np.max(np.linalg.norm(ob.vertices - centre, axis=1)))
-                start, vec = polygon_edges(ob.vertices)
+                start, vec = ob.edges()
                 self._edges.append((label, start, vec, ob.vertices))
             if self.projector is not None:
                 arc, dist, _ = self.projector.project(centre[None, :])

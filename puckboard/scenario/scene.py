@@ -95,6 +95,10 @@ class PolygonObstacle:
         v.setflags(write=False)
         object.__setattr__(self, "vertices", v)
 
+    def edges(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The closed outline's edges as (start points, edge vectors), K×2 each."""
+        return self.vertices.copy(), np.roll(self.vertices, -1, axis=0) - self.vertices
+
 
 @dataclass(frozen=True)
 class Arena:

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from ..ir_response import _D, _RAW, _SIGMA, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 from ..profile import RobotProfile
 from .geometry import circle_hits, segment_hits
-from .ir import _D, _RAW, _SIGMA, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 
 __all__ = ["PolygonBound", "ProximitySensors", "WallSegment"]
 

@@ -1,7 +1,7 @@
 """The embedded simulator's world: robots, floor, obstacles, walls, sensors, one clock.
 
 A :class:`World` is built from a :class:`~puckboard.scenario.scene.Scene` and stepped
-synchronously (it is the :class:`~puckboard.adapters.base.Stepper` every embedded robot
+synchronously (it satisfies the stepping protocol, :class:`~puckboard.adapters.base.Stepper`, every embedded robot
 shares). Each :meth:`World.step`:
 
 1. turns each robot's wheel command into actual wheel speeds (clamped to the profile's
@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..adapters.base import Stepper
 from ..profile import RobotProfile, get_profile
 from ..records import (
+    GRAVITY,
     Acceleration,
     AngularVelocity,
     CameraImage,
@@ -60,13 +60,12 @@ from .geometry import polygon_edges
 from .kinematics import arc
 from .proximity import PolygonBound, ProximitySensors, WallSegment
 
-__all__ = ["GRAVITY", "IR_RAYS", "OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "World"]
+__all__ = ["IR_RAYS", "OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "World"]
 
 log = logging.getLogger(__name__)
 
 FloatArray = npt.NDArray[np.float64]
 
-GRAVITY = 9.81
 #: Rays cast per IR sensor, spread evenly across the sensor's aperture.
 IR_RAYS = 5
 #: Heights (m) used by the camera: scenes are 2D, the camera needs a third dimension.
@@ -78,7 +77,7 @@ WALL_HEIGHT = 0.08
 MAX_SUBSTEP_FRACTION = 0.25
 
 
-class World(Stepper):
+class World:
     """A simulated scene; see the module docstring.
 
     ``ir_rays`` rays per IR sensor (odd, so one looks straight ahead) and
@@ -215,7 +214,7 @@ class World(Stepper):
         circle_colours: list[tuple[int, int, int]] = []
         for ob in scene.obstacles:
             if isinstance(ob, PolygonObstacle):
-                a, e = polygon_edges(ob.vertices)
+                a, e = ob.edges()
                 starts.append(a)
                 vectors.append(e)
                 seg_colours += [ob.colour] * len(a)

@@ -45,7 +45,29 @@ def files_of(subpackage: str) -> list[Path]:
     [
         ("blackboard", ("puckboard.",)),  # imports nothing else of puckboard
         ("behaviours", ("puckboard.adapters", "puckboard.sim", "puckboard.cli")),
-        ("sim", ("puckboard.behaviours", "puckboard.control", "puckboard.cli")),
+        (
+            "sim",
+            (
+                "puckboard.behaviours",
+                "puckboard.control",
+                "puckboard.cli",
+                "puckboard.adapters",
+                "puckboard.remote",
+                "puckboard.emulator",
+            ),
+        ),
+        (
+            "scenario",
+            (
+                "puckboard.sim",
+                "puckboard.adapters",
+                "puckboard.remote",
+                "puckboard.emulator",
+                "puckboard.behaviours",
+                "puckboard.control",
+                "puckboard.cli",
+            ),
+        ),
         ("adapters", ("puckboard.cli", "puckboard.behaviours")),
         ("control", ("puckboard.cli",)),
         ("records", ("puckboard.cli", "puckboard.adapters", "puckboard.sim")),
@@ -64,6 +86,21 @@ def test_dependencies_point_one_way(subpackage, forbidden):
                 for f in forbidden
             ):
                 offenders.append(f"{path.relative_to(PKG.parent)} imports {name}")
+    assert offenders == []
+
+
+@pytest.mark.parametrize(
+    "subpackage", ["adapters", "remote", "emulator", "control", "viz", "sweep"]
+)
+def test_backends_use_the_engine_only_through_its_world(subpackage):
+    """Outside the engine, only ``World`` is imported: the rest of sim/ is its internals."""
+    allowed = {"puckboard.sim.world", "puckboard.sim.world.World"}
+    offenders = [
+        f"{p.relative_to(PKG.parent)} imports {n}"
+        for p in files_of(subpackage)
+        for n in imported_puckboard_modules(p)
+        if (n == "puckboard.sim" or n.startswith("puckboard.sim.")) and n not in allowed
+    ]
     assert offenders == []
 
 

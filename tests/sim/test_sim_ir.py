@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from simworld_helpers import empty_scene, robot
 
+from puckboard.ir_response import TABLE, raw_from_distance
 from puckboard.profile import EPUCK2
 from puckboard.records import PROX_NAMES, Sensor
 from puckboard.scenario.scene import CircleObstacle, Noise, PolygonObstacle
-from puckboard.sim.ir import TABLE, raw_from_distance
 from puckboard.sim.world import World
 
 PS7 = PROX_NAMES.index("front_left")

@@ -32,7 +32,9 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+from ...ir_response import TABLE as IR_TABLE
 from ...profile import RobotProfile
+from ...records import GRAVITY
 
 __all__ = [
     "ACC_COUNTS_PER_G",
@@ -56,7 +58,6 @@ __all__ = [
     "wrap_int16",
 ]
 
-GRAVITY = 9.81
 """Standard gravity (m/s²) used to convert accelerometer counts."""
 
 ACC_COUNTS_PER_G = 768.0
@@ -79,15 +80,11 @@ firmware measured at start-up (``getAllAxesGyro`` in ``src/epuck1x/acc_gyro/e_ls
 so a robot standing still reads about 0.
 """
 
-# Webots E-puckDistanceSensor lookup table (distance m → value), minus its 7 cm baseline.
-_WEBOTS_FAR_BASELINE = 67.19
-PROX_CURVE_DISTANCE: npt.NDArray[np.float64] = np.array(
-    [0.0, 0.005, 0.01, 0.015, 0.02, 0.03, 0.04, 0.05], dtype=np.float64
-)
-PROX_CURVE_VALUE: npt.NDArray[np.float64] = (
-    np.array([4095.0, 2133.33, 1465.73, 601.46, 383.84, 234.93, 158.03, 120.0])
-    - _WEBOTS_FAR_BASELINE
-)
+# The Webots E-puckDistanceSensor table (puckboard.ir_response, the one copy) up to the
+# 5 cm the controllers use, minus its 7 cm far baseline, so "nothing seen" reads 0.
+_WITHIN_5CM = IR_TABLE[:, 0] <= 0.05 + 1e-12
+PROX_CURVE_DISTANCE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 0].copy()
+PROX_CURVE_VALUE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 1] - IR_TABLE[-1, 1]
 PROX_CURVE_DISTANCE.setflags(write=False)
 PROX_CURVE_VALUE.setflags(write=False)
 
