@@ -12,16 +12,18 @@ compared honestly. Benchmarks are never pass/fail tests.
 
 from __future__ import annotations
 
-import importlib
+import inspect
 import logging
 import math
 import os
+import pkgutil
 import platform
 import statistics
-import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
+
+from .timing import REPEATS, seconds_per_call
 
 __all__ = ["SUITES", "machine", "run_suites", "sim_suite"]
 
@@ -35,12 +37,11 @@ SUITES: dict[str, str] = {
     "coppeliasim": "puckboard.bench.remote:run_suite",
     "sweep": "puckboard.bench.sweep:run_suite",
     "estimation": "puckboard.bench.estimation:run_suite",
+    "emulator": "puckboard.bench.emulator:run_suite",
 }
 
 #: Suites run when none is named.
 DEFAULT_SUITES: tuple[str, ...] = ("core", "sim")
-
-REPEATS = 5
 
 
 def machine() -> dict[str, Any]:
@@ -56,19 +57,33 @@ def machine() -> dict[str, Any]:
     }
 
 
-def resolve_suite(name: str) -> Callable[[int | None], dict[str, Any]]:
+def resolve_suite(name: str) -> Callable[..., dict[str, Any]]:
     """The function behind suite ``name``; ImportError if its module is missing."""
     try:
         target = SUITES[name]
     except KeyError:
         raise KeyError(f"unknown benchmark suite {name!r}; suites: {', '.join(SUITES)}") from None
-    module_name, _, attr = target.partition(":")
-    module = importlib.import_module(module_name)
-    return getattr(module, attr)  # type: ignore[no-any-return]
+    return pkgutil.resolve_name(target)  # type: ignore[no-any-return]
 
 
-def run_suites(names: list[str], steps: int | None = None) -> dict[str, Any]:
-    """Run the named suites; a suite whose module is absent gets ``{"skipped": reason}``."""
+def suite_options(name: str) -> set[str]:
+    """The keyword options suite ``name`` accepts beyond ``steps`` (empty if not importable)."""
+    try:
+        fn = resolve_suite(name)
+    except (ImportError, AttributeError):
+        return set()
+    params = inspect.signature(fn).parameters.values()
+    return {p.name for p in params if p.name != "steps" and p.kind is not p.VAR_KEYWORD}
+
+
+def run_suites(
+    names: list[str], steps: int | None = None, options: Mapping[str, Any] | None = None
+) -> dict[str, Any]:
+    """Run the named suites; a suite whose module is absent gets ``{"skipped": reason}``.
+
+    ``options`` are keyword arguments for the suites (e.g. ``seeds`` for ``estimation``);
+    each suite receives those it accepts, so one command line can serve several suites.
+    """
     results: dict[str, Any] = {"machine": machine(), "suites": {}}
     for name in names:
         try:
@@ -79,22 +94,14 @@ def run_suites(names: list[str], steps: int | None = None) -> dict[str, Any]:
         except AttributeError as exc:
             results["suites"][name] = {"skipped": f"suite function not available ({exc})"}
             continue
-        results["suites"][name] = fn(steps)
+        accepted = suite_options(name)
+        kwargs = {k: v for k, v in (options or {}).items() if k in accepted}
+        results["suites"][name] = fn(steps, **kwargs)
     return results
 
 
-# -- timing helpers ------------------------------------------------------------------------
-def _median_us(fn: Callable[[], Any], calls: int, repeats: int = REPEATS) -> float:
-    """Median over ``repeats`` of the mean time per call (µs) of ``calls`` calls."""
-    for _ in range(min(calls, 200)):  # warm-up
-        fn()
-    per_call = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        per_call.append((time.perf_counter() - t0) / calls * 1e6)
-    return statistics.median(per_call)
+def _median_us(fn: Callable[[], Any], calls: int) -> float:
+    return seconds_per_call(fn, calls) * 1e6
 
 
 # -- core: blackboard and arbiter next to py_trees ------------------------------------------
@@ -381,8 +388,3 @@ def _fmt(value: Any) -> str:
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_fmt(v) for v in value) + "]"
     return str(value)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    logging.basicConfig(level=logging.INFO)
-    sys.stdout.write(format_results(run_suites(list(DEFAULT_SUITES))) + "\n")

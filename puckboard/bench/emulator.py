@@ -11,36 +11,24 @@ socket, and over a pseudo-terminal where there is one), the median time of:
 
 Loopback figures are an upper bound: they show what the library and the emulator cost,
 not what a radio link delivers (a real e-puck2 over Wi-Fi was measured at 2-7 frames/s
-by others; Bluetooth carries ≈1 frame/s). Run alone with
-``python -m puckboard.bench.emulator``.
+by others; Bluetooth carries ≈1 frame/s). Run it with
+``puckboard bench --suite emulator``.
 """
 
 from __future__ import annotations
 
 import functools
-import json
-import statistics
-import sys
 import threading
-import time
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["run_suite"]
+from .timing import REPEATS, seconds_per_call
 
-REPEATS = 5
+__all__ = ["run_suite"]
 
 
 def _median_ms(fn: Callable[[], Any], calls: int) -> float:
-    for _ in range(min(calls, 20)):
-        fn()
-    per_call = []
-    for _ in range(REPEATS):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        per_call.append((time.perf_counter() - t0) / calls * 1e3)
-    return statistics.median(per_call)
+    return seconds_per_call(fn, calls) * 1e3
 
 
 def _carriers() -> list[tuple[str, str | None]]:
@@ -87,13 +75,3 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
             em.stop()
             thread.join(5)
     return out
-
-
-if __name__ == "__main__":  # pragma: no cover
-    from . import machine
-
-    result = {
-        "machine": machine(),
-        "real": run_suite(int(sys.argv[1]) if len(sys.argv) > 1 else None),
-    }
-    sys.stdout.write(json.dumps(result, indent=2) + "\n")

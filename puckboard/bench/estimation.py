@@ -28,19 +28,17 @@ side by side on the very same simulation:
 Every estimate starts at the true start pose (the start jitter is not counted as
 odometry error) and is compared with the ground truth of the same instant.
 
-Run it alone with ``python -m puckboard.bench.estimation`` (``--plot FILE`` also
-draws the estimate against the truth with covariance ellipses).
+Run it with ``puckboard bench --suite estimation`` (``--plot FILE`` also draws the
+estimate against the truth with covariance ellipses; ``puckboard bench --help`` lists the
+suite's other options).
 """
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import json
 import logging
 import math
 import statistics
-import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -56,6 +54,7 @@ from ..estimation.proximity import ProximityFilter
 from ..estimation.sources import OdometrySource
 from ..profile import RobotProfile
 from ..records import Sensor
+from .timing import seconds_per_call
 
 __all__ = ["SEEDS", "Trace", "plot_traces", "run_case", "run_suite"]
 
@@ -332,14 +331,8 @@ def measure_proximity(
 
 
 # -- costs ---------------------------------------------------------------------------------
-def _median_us(fn: Any, calls: int = 2000, repeats: int = 5) -> float:
-    runs = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        runs.append((time.perf_counter() - t0) / calls * 1e6)
-    return statistics.median(runs)
+def _median_us(fn: Any, calls: int = 2000) -> float:
+    return seconds_per_call(fn, calls) * 1e6
 
 
 def measure_costs() -> dict[str, float]:
@@ -410,15 +403,32 @@ def run_suite(
     gyro_noise: float = 0.0,
     gyro_bias: float = 0.0,
     settle: float = 0.0,
-    cases: Sequence[tuple[str, float | None, str | None]] = CASES,
+    cases: str | Sequence[tuple[str, float | None, str | None]] = CASES,
+    plot: Path | None = None,
+    plot_contact: Path | None = None,
 ) -> dict[str, Any]:
     """The ``estimation`` benchmark suite (see the module docstring).
 
     ``steps`` caps each run's control cycles (a quick smoke run); ``None`` runs the two-robot
     pass to its verdict and line-follow for three laps. ``gyro_noise``, ``gyro_bias``: the
     simulated gyro's σ and offset (rad/s); ``settle`` (s) of standing still first (see
-    :func:`run_case`). ``cases``: which of :data:`CASES` to run.
+    :func:`run_case`). ``cases``: which of :data:`CASES` to run, or ``"all"`` /
+    ``"line-follow"`` (its three laps only: a quicker comparison of the estimates).
+    ``plot`` draws line-follow (first seed) against the truth there; ``plot_contact`` draws
+    the stock two-robot pass (a collision, last seed).
     """
+    for name, value, low, high in (
+        ("gyro_noise", gyro_noise, 0.0, 1.0),
+        ("gyro_bias", gyro_bias, -1.0, 1.0),
+        ("settle", settle, 0.0, 60.0),
+    ):
+        if not low <= value <= high:
+            raise ValueError(f"{name} must lie in [{low}, {high}], got {value}")
+    if isinstance(cases, str):
+        named = {"all": CASES, "line-follow": LINE_FOLLOW_CASES}
+        if cases not in named:
+            raise ValueError(f"cases must be one of {sorted(named)}, got {cases!r}")
+        cases = named[cases]
     runs = []
     for scene_name, laps, controller in cases:
         for noise in WHEEL_NOISE:
@@ -446,7 +456,36 @@ def run_suite(
         "proximity": measure_proximity(),
         "costs": measure_costs(),
         "runs": runs,
+        "plots": _draw_plots(seeds, steps, plot, plot_contact),
     }
+
+
+def _draw_plots(
+    seeds: Sequence[int], steps: int | None, plot: Path | None, plot_contact: Path | None
+) -> list[str]:
+    written = []
+    if plot is not None:
+        _, traces = run_case("line-follow", 0.03, seeds[0], steps=steps, laps=LAPS)
+        keep = [t for t in traces if t.variant in VARIANTS]
+        title = f"line-follow, 3 laps, wheel noise 3 %, seed {seeds[0]}"
+        written.append(str(plot_traces(keep, plot, title=title)))
+    if plot_contact is not None:
+        seed = seeds[-1]
+        _, traces = run_case("two-robot-pass", 0.03, seed, steps=steps, controller="stock")
+        written.append(
+            str(
+                plot_traces(
+                    [t for t in traces if t.variant == "encoders"],
+                    plot_contact,
+                    every=20.0,
+                    title=(
+                        f"two-robot pass, stock controllers (they collide), wheel noise 3 %, "
+                        f"seed {seed}"
+                    ),
+                )
+            )
+        )
+    return written
 
 
 def summarise(runs: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -558,78 +597,3 @@ def plot_traces(
     fig.savefig(out, dpi=100)
     plt.close(fig)
     return out
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m puckboard.bench.estimation", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--steps", type=int, default=None, help="cap control cycles per run")
-    parser.add_argument("--seeds", type=int, nargs="+", default=list(SEEDS))
-    parser.add_argument(
-        "--gyro-noise", type=float, default=0.0, help="σ of the simulated gyro (rad/s)"
-    )
-    parser.add_argument(
-        "--gyro-bias", type=float, default=0.0, help="offset of the simulated gyro (rad/s)"
-    )
-    parser.add_argument(
-        "--settle",
-        type=float,
-        default=0.0,
-        help="seconds the robots stand still first (the gyro's offset is learned then)",
-    )
-    parser.add_argument(
-        "--cases",
-        choices=("all", "line-follow"),
-        default="all",
-        help="line-follow: only its three laps (a quicker comparison of the estimates)",
-    )
-    parser.add_argument("--json", type=Path, help="write the full results to this file")
-    parser.add_argument("--plot", type=Path, help="draw line-follow (seed = first seed) here")
-    parser.add_argument(
-        "--plot-contact", type=Path, help="draw the stock two-robot pass (a collision) here"
-    )
-    args = parser.parse_args(argv)
-    if not 0.0 <= args.gyro_noise <= 1.0:
-        parser.error(f"--gyro-noise is a σ in rad/s between 0 and 1, got {args.gyro_noise}")
-    if not 0.0 <= args.settle <= 60.0:
-        parser.error(f"--settle is 0 to 60 s, got {args.settle}")
-    if not -1.0 <= args.gyro_bias <= 1.0:
-        parser.error(f"--gyro-bias is in rad/s between -1 and 1, got {args.gyro_bias}")
-    result = run_suite(
-        args.steps,
-        seeds=args.seeds,
-        gyro_noise=args.gyro_noise,
-        gyro_bias=args.gyro_bias,
-        settle=args.settle,
-        cases=CASES if args.cases == "all" else LINE_FOLLOW_CASES,
-    )
-    if args.json:
-        args.json.write_text(json.dumps(result, indent=1))
-    shown = {k: result[k] for k in ("summary", "proximity", "costs")}
-    sys.stdout.write(json.dumps(shown, indent=1))
-    sys.stdout.write("\n")
-    if args.plot:
-        _, traces = run_case("line-follow", 0.03, args.seeds[0], steps=args.steps, laps=LAPS)
-        keep = [t for t in traces if t.variant in VARIANTS]
-        plot_traces(
-            keep,
-            args.plot,
-            title=f"line-follow, 3 laps, wheel noise 3 %, seed {args.seeds[0]}",
-        )
-        sys.stdout.write(f"plot written to {args.plot}\n")
-    if args.plot_contact:
-        seed = args.seeds[-1]
-        _, traces = run_case("two-robot-pass", 0.03, seed, steps=args.steps, controller="stock")
-        plot_traces(
-            [t for t in traces if t.variant == "encoders"],
-            args.plot_contact,
-            every=20.0,
-            title=f"two-robot pass, stock controllers (they collide), wheel noise 3 %, seed {seed}",
-        )
-        sys.stdout.write(f"plot written to {args.plot_contact}\n")
-    return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())

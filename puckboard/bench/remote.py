@@ -31,12 +31,13 @@ It is a benchmark, never a test: the figures depend on the machine and its load.
 from __future__ import annotations
 
 import logging
-import statistics
 import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
+
+from .timing import median_seconds
 
 __all__ = ["THESIS", "format_table", "run_suite"]
 
@@ -169,7 +170,7 @@ def _run_test(test: _Test, port: int, cycles: int) -> dict[str, Any]:
 
 
 def _median_ms(values: list[float]) -> float:
-    return round(statistics.median(values) * 1e3, 4)
+    return round(median_seconds(values) * 1e3, 4)
 
 
 def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, Any]:
@@ -279,23 +280,3 @@ def format_table(results: dict[str, Any]) -> str:
         "Medians of per-call timings; sense/camera/wheels/step are the medians of those calls."
     )
     return "\n".join(lines)
-
-
-def main(argv: list[str] | None = None) -> int:  # pragma: no cover - a benchmark
-    import argparse
-
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--cycles", type=int, default=300)
-    parser.add_argument(
-        "--server", choices=("thread", "process"), default="thread",
-        help="serve from a thread of this process (default) or a separate process",
-    )  # fmt: skip
-    args = parser.parse_args(argv)
-    results = run_suite(args.cycles, server=args.server)
-    sys.stdout.write(results["setup"] + "\n\n" + format_table(results) + "\n")
-    return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    logging.basicConfig(level=logging.WARNING)
-    sys.exit(main())

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from . import CliError
 
@@ -33,11 +34,41 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="N",
         help="steps (or calls) per repeat; fewer is quicker but noisier",
     )
+    parser.add_argument("--out", type=Path, metavar="FILE", help="also write all results as JSON")
+    suite = parser.add_argument_group(
+        "suite options", "passed to the suites that take them (an error if none selected does)"
+    )
+    suite.add_argument("--seeds", type=int, nargs="+", metavar="N", help="estimation: seeds")
+    suite.add_argument("--gyro-noise", type=float, help="estimation: simulated gyro σ (rad/s)")
+    suite.add_argument("--gyro-bias", type=float, help="estimation: simulated gyro offset (rad/s)")
+    suite.add_argument(
+        "--settle", type=float, help="estimation: seconds standing still first (gyro offset)"
+    )
+    suite.add_argument(
+        "--cases",
+        choices=("all", "line-follow"),
+        help="estimation: line-follow runs only its three laps (quicker)",
+    )
+    suite.add_argument("--plot", type=Path, help="estimation: draw line-follow here")
+    suite.add_argument(
+        "--plot-contact", type=Path, help="estimation: draw the stock two-robot pass here"
+    )
+    suite.add_argument(
+        "--server",
+        choices=("thread", "process"),
+        help="coppeliasim: serve from a thread of this process or a separate process",
+    )
     parser.set_defaults(func=main)
 
 
+#: Suite options on the command line (argparse dest == the suite's keyword argument).
+SUITE_OPTIONS = (
+    "seeds", "gyro_noise", "gyro_bias", "settle", "cases", "plot", "plot_contact", "server"
+)  # fmt: skip
+
+
 def main(args: argparse.Namespace) -> int:
-    from ..bench import DEFAULT_SUITES, SUITES, format_results, run_suites
+    from ..bench import DEFAULT_SUITES, SUITES, format_results, run_suites, suite_options
 
     if args.list:
         for name, target in SUITES.items():
@@ -49,9 +80,24 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(f"unknown suite {unknown[0]!r}; suites: {', '.join(SUITES)} (see --list)")
     if args.steps is not None and args.steps < 1:
         raise CliError(f"--steps must be a positive number, got {args.steps}")
+    options = {k: getattr(args, k) for k in SUITE_OPTIONS if getattr(args, k) is not None}
+    taken = set().union(*(suite_options(n) for n in names))
+    for key in options:
+        if key not in taken:
+            flag = "--" + key.replace("_", "-")
+            wanting = [n for n in SUITES if key in suite_options(n)]
+            raise CliError(
+                f"{flag} is an option of suite {', '.join(wanting) or '(none)'}, "
+                f"not of {', '.join(names)}; add --suite {wanting[0] if wanting else 'NAME'}"
+            )
     if not args.json:
         print(f"running {', '.join(names)} ...", file=sys.stderr, flush=True)
-    results = run_suites(names, args.steps)
+    try:
+        results = run_suites(names, args.steps, options)
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+    if args.out is not None:
+        args.out.write_text(json.dumps(results, indent=1, default=str), encoding="utf-8")
     if args.json:
         print(json.dumps(results, indent=None, default=str))
     else:

@@ -13,7 +13,7 @@ from puckboard.cli import main
 def test_list_names_every_registered_suite(capsys):
     assert main(["bench", "--list"]) == 0
     out = capsys.readouterr().out
-    for name in ("core", "sim", "coppeliasim", "sweep", "estimation"):
+    for name in ("core", "sim", "coppeliasim", "sweep", "estimation", "emulator"):
         assert name in out
 
 
@@ -65,3 +65,45 @@ def test_table_shows_records_one_block_each_and_cuts_long_lists():
     assert f"rows: {len(rows)} records" in text
     assert "final_m" in text and "{" not in text
     assert "3 more (see --json)" in text
+
+
+def test_suite_options_reach_only_the_suites_that_take_them(monkeypatch):
+    seen = {}
+
+    def takes_seeds(steps, *, seeds=(0,)):
+        seen["seeds"] = seeds
+        return {"n": len(seeds)}
+
+    def takes_nothing(steps):
+        return {"steps": steps}
+
+    monkeypatch.setitem(bench.SUITES, "a", f"{__name__}:_suite_a")
+    monkeypatch.setitem(bench.SUITES, "b", f"{__name__}:_suite_b")
+    monkeypatch.setitem(globals(), "_suite_a", takes_seeds)
+    monkeypatch.setitem(globals(), "_suite_b", takes_nothing)
+    result = bench.run_suites(["a", "b"], steps=3, options={"seeds": [4, 5]})
+    assert seen["seeds"] == [4, 5]
+    assert result["suites"] == {"a": {"n": 2}, "b": {"steps": 3}}
+
+
+def test_an_option_no_selected_suite_takes_is_a_clear_error(capsys):
+    assert main(["bench", "--suite", "core", "--seeds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "--seeds is an option of suite estimation" in err and "--suite estimation" in err
+
+
+def test_a_bad_suite_option_value_is_reported_not_raised(capsys):
+    assert main(["bench", "--suite", "estimation", "--gyro-noise", "5", "--steps", "1"]) == 2
+    assert "gyro_noise must lie in [0.0, 1.0], got 5.0" in capsys.readouterr().err
+
+
+def test_timing_helper_takes_the_median_of_repeats(monkeypatch):
+    from puckboard.bench import timing
+
+    clock = iter([0.0, 1.0, 0.0, 5.0, 0.0, 2.0])  # three repeats of one call: 1 s, 5 s, 2 s
+    monkeypatch.setattr(timing.time, "perf_counter", lambda: next(clock))
+    assert timing.seconds_per_call(lambda: None, 1, repeats=3) == 2.0
+    with pytest.raises(ValueError, match="calls and repeats must be at least 1"):
+        timing.seconds_per_call(lambda: None, 0)
+    with pytest.raises(ValueError, match="no timing samples"):
+        timing.median_seconds([])
