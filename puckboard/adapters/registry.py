@@ -8,7 +8,7 @@ says which extra to install.
 
 from __future__ import annotations
 
-import importlib
+import pkgutil
 from collections.abc import Callable
 from typing import Any
 
@@ -37,13 +37,11 @@ def resolve_backend(name: str) -> Callable[..., Any]:
     except KeyError:
         known = ", ".join(sorted(BACKENDS))
         raise ValueError(f"unknown backend {name!r}; known backends: {known}") from None
-    module_name, _, attr = target.partition(":")
     try:
-        module = importlib.import_module(module_name)
+        return pkgutil.resolve_name(target)  # type: ignore[no-any-return]
     except ImportError as exc:
         hint = f" (install it with: pip install 'puckboard[{extra}]')" if extra else ""
         raise ImportError(f"backend {name!r} needs a missing package: {exc.name}{hint}") from exc
-    return getattr(module, attr)  # type: ignore[no-any-return]
 
 
 def open_backend(name: str, *args: Any, **options: Any) -> Any:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import pkgutil
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -95,6 +96,18 @@ def load_controller(spec: str | ControllerFactory, **params: Any) -> Controller:
     )
 
 
+def split_file_spec(spec: str) -> tuple[Path, str] | None:
+    """``(path, factory)`` when ``spec`` names a Python file (``path/to/file.py:make``).
+
+    A spec is a file when its module part ends in ``.py`` or contains a path separator;
+    anything else is a dotted module name.
+    """
+    module_part, sep, attr = spec.rpartition(":")
+    if not sep or not (module_part.endswith(".py") or "/" in module_part or "\\" in module_part):
+        return None
+    return Path(module_part), attr
+
+
 def resolve_factory(spec: str | ControllerFactory) -> ControllerFactory:
     """Turn a controller spec into its factory, with errors that say how to fix the spec."""
     if callable(spec):
@@ -110,8 +123,9 @@ def resolve_factory(spec: str | ControllerFactory) -> ControllerFactory:
     module_part, _, attr = spec.rpartition(":")
     if not attr:
         raise ValueError(f"controller spec {spec!r} has no factory name after ':'")
-    if module_part.endswith(".py") or "/" in module_part or "\\" in module_part:
-        path = Path(module_part)
+    file_spec = split_file_spec(spec)
+    if file_spec is not None:
+        path = file_spec[0]
         if not path.is_file():
             raise ValueError(f"controller file {str(path)!r} does not exist")
         mod_name = f"puckboard_user_{path.stem}_{abs(hash(path.resolve()))}"
@@ -121,12 +135,14 @@ def resolve_factory(spec: str | ControllerFactory) -> ControllerFactory:
         module = importlib.util.module_from_spec(module_spec)
         sys.modules[mod_name] = module
         module_spec.loader.exec_module(module)
+        factory = getattr(module, attr, None)
     else:
         try:
-            module = importlib.import_module(module_part)
+            factory = pkgutil.resolve_name(spec)
         except ImportError as exc:
             raise ValueError(f"cannot import controller module {module_part!r}: {exc}") from exc
-    factory = getattr(module, attr, None)
+        except AttributeError:
+            factory = None
     if factory is None or not callable(factory):
         raise ValueError(f"controller module {module_part!r} has no callable {attr!r}")
     return factory  # type: ignore[no-any-return]

@@ -25,7 +25,6 @@ import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
-from pathlib import Path
 from typing import Any
 
 from .worker import ignore_interrupts
@@ -202,13 +201,6 @@ def _wait_exited(processes: Sequence[Any], timeout: float) -> None:
         pending -= set(wait(list(pending), timeout=left))
 
 
-def _is_controller_file(spec: str) -> tuple[Path, str] | None:
-    module_part, sep, attr = spec.rpartition(":")
-    if not sep or not (module_part.endswith(".py") or "/" in module_part or "\\" in module_part):
-        return None
-    return Path(module_part), attr
-
-
 class DaskStopFlag:
     """Picklable "has the sweep been stopped?" flag backed by a named Dask ``Event``.
 
@@ -304,7 +296,9 @@ class DaskExecutor(SweepExecutor):
         return DaskStopFlag(self._stop_name)
 
     def runnable_controller(self, spec: str) -> str:
-        found = _is_controller_file(spec)
+        from ..behaviours.presets import split_file_spec
+
+        found = split_file_spec(spec)
         if found is None or self._cluster is not None:
             return spec
         if spec not in self._uploaded:

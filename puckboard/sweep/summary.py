@@ -138,14 +138,16 @@ def controller_labels(specs: Iterable[str]) -> dict[str, str]:
     the ``--controllers-dir`` convention ``make_controller``), unless that would make two
     controllers look alike; other specs are shown as given.
     """
+    from ..behaviours.presets import split_file_spec
     from .discover import FACTORY_NAME
 
     specs = list(dict.fromkeys(specs))
     short: dict[str, str] = {}
     for spec in specs:
-        module, sep, factory = spec.rpartition(":")
-        if sep and (module.endswith(".py") or "/" in module or "\\" in module):
-            stem = module.replace("\\", "/").rsplit("/", 1)[-1].removesuffix(".py")
+        file_spec = split_file_spec(spec)
+        if file_spec is not None:
+            path, factory = file_spec
+            stem = path.name.removesuffix(".py")
             short[spec] = stem if factory == FACTORY_NAME else f"{stem}:{factory}"
         else:
             short[spec] = spec
