@@ -1,5 +1,17 @@
 """puckboard: behaviour-based control of the e-puck robot.
 
+A first session needs nothing deeper than this package::
+
+    import puckboard
+
+    result = puckboard.run_episode("two-robot-pass", controller="improved", seed=3)
+    print(result.success, result.failure)
+
+    scene = puckboard.load_scene("line-follow")
+    with puckboard.open_embedded(scene) as robots:      # or open_backend("fake", scene)
+        ...
+
+
 A thread-safe blackboard holds timestamped sensor records written by a robot adapter;
 subsumption layers on py_trees read them and are arbitrated by priority into wheel
 commands; the same controller runs on the embedded simulator, in CoppeliaSim or on a
@@ -26,6 +38,10 @@ __all__ = [
     "__version__",
     "improved",
     "load_controller",
+    "load_scene",
+    "open_backend",
+    "open_embedded",
+    "run_episode",
     "stock",
 ]
 
@@ -40,14 +56,22 @@ _LAZY = {
     "FakeAdapter": "puckboard.adapters",
     "RobotAdapter": "puckboard.adapters",
     "WheelCommand": "puckboard.records",
+    "load_scene": "puckboard.scenario",
+    "open_backend": "puckboard.adapters.registry",
+    "open_embedded": "puckboard.adapters.embedded",
+    "run_episode": "puckboard.control.episode",
 }
 
 if TYPE_CHECKING:  # pragma: no cover
     from .adapters import FakeAdapter, RobotAdapter
+    from .adapters.embedded import open_embedded
+    from .adapters.registry import open_backend
     from .behaviours import Controller, Layer, improved, load_controller, stock
     from .blackboard import Blackboard
     from .control import ControlLoop
+    from .control.episode import run_episode
     from .records import WheelCommand
+    from .scenario import load_scene
 
 
 def __getattr__(name: str) -> Any:

@@ -222,3 +222,25 @@ def test_switch_backend_coppeliasim_line_drives_a_served_simulation() -> None:
     robot = result.robots[0]
     assert robot.on_line_fraction > 0.9
     assert robot.distance_m > 0.1  # it drove through the remote API
+
+
+# -- installed with the package -----------------------------------------------------------
+def test_examples_are_installed_as_a_package_and_listed_by_the_cli(capsys) -> None:
+    import puckboard.examples
+    from puckboard.cli import main
+
+    assert Path(puckboard.examples.__file__).resolve().parent == EXAMPLES
+    assert main(["examples"]) == 0
+    listed = {line.split()[0] for line in capsys.readouterr().out.splitlines()}
+    assert listed == {p.stem for p in EXAMPLES.glob("*.py") if not p.stem.startswith("_")}
+
+
+def test_examples_show_prints_the_source_and_run_runs_it(capsys) -> None:
+    from puckboard.cli import main
+
+    assert main(["examples", "show", "first_layer"]) == 0
+    assert capsys.readouterr().out == (EXAMPLES / "first_layer.py").read_text(encoding="utf-8")
+    assert main(["examples", "run", "go_home", "--duration", "4", "--after", "2"]) == 0
+    assert "home" in capsys.readouterr().out.lower()
+    assert main(["examples", "run", "nope"]) == 2
+    assert "no example 'nope'; examples: blackboard" in capsys.readouterr().err

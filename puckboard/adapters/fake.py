@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -39,9 +39,12 @@ from ..records import (
     WheelEncoders,
     WheelSpeeds,
 )
-from .base import RobotAdapter, Stepper
+from .base import Connection, RobotAdapter, Stepper
 
-__all__ = ["FakeAdapter", "FakeClock"]
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+
+__all__ = ["FakeAdapter", "FakeClock", "open_fake"]
 
 
 class FakeClock(Stepper):
@@ -182,3 +185,40 @@ class FakeAdapter(RobotAdapter):
 
     def _read_camera(self) -> CameraImage:
         return self._image
+
+
+def open_fake(
+    scene: Scene | str,
+    *,
+    seed: int = 0,
+    blackboard: Blackboard | None = None,
+    command_timeout: float | None = None,
+) -> Connection:
+    """The ``fake`` backend: one :class:`FakeAdapter` per robot of ``scene``, at its start.
+
+    Nothing is simulated but the robots' own wheels (ideal kinematics, no obstacles, no
+    contacts); sensors read what a test sets. ``seed`` is accepted for the common factory
+    signature and unused: the fake robot draws no random numbers. Select it like any other
+    backend (``--backend fake``, ``open_backend("fake", ...)``, or the
+    ``PUCKBOARD_BACKEND`` environment variable).
+    """
+    from ..profile import get_profile
+    from ..scenario.scenefile import load_scene
+
+    if isinstance(scene, str):
+        scene = load_scene(scene)
+    clock = FakeClock(scene.dt)
+    board = blackboard if blackboard is not None else Blackboard(clock=lambda: clock.time)
+    adapters: dict[str, RobotAdapter] = {
+        spec.name: FakeAdapter(
+            spec.name,
+            profile=get_profile(spec.profile),
+            blackboard=board,
+            clock=clock,
+            pose=(spec.x, spec.y, spec.theta),
+            command_timeout=command_timeout,
+        )
+        for spec in scene.robots
+    }
+    clock.start()
+    return Connection(adapters=adapters, blackboard=board, stepper=clock)

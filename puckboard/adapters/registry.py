@@ -8,11 +8,12 @@ says which extra to install.
 
 from __future__ import annotations
 
+import os
 import pkgutil
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["BACKENDS", "open_backend", "register_backend"]
+__all__ = ["BACKENDS", "BACKEND_ENV", "default_backend", "open_backend", "register_backend"]
 
 BACKENDS: dict[str, tuple[str, str | None]] = {
     # name: ("module:factory", extra that provides its dependencies)
@@ -20,7 +21,15 @@ BACKENDS: dict[str, tuple[str, str | None]] = {
     "coppeliasim": ("puckboard.adapters.vrep:open_coppeliasim", "coppeliasim"),
     "epuck2-wifi": ("puckboard.adapters.real:open_wifi", None),
     "sercom": ("puckboard.adapters.real:open_sercom", "real"),
+    "fake": ("puckboard.adapters.fake:open_fake", None),
 }
+
+#: Environment variable naming the backend used when none is given (as gpiozero's
+#: ``GPIOZERO_PIN_FACTORY`` picks its pin factory): ``PUCKBOARD_BACKEND=fake pytest``
+#: runs a student's tests against the fake robot without changing a line.
+BACKEND_ENV = "PUCKBOARD_BACKEND"
+#: The backend used when neither the caller nor the environment names one.
+DEFAULT_BACKEND = "embedded"
 
 
 def register_backend(name: str, target: str, extra: str | None = None) -> None:
@@ -44,6 +53,15 @@ def resolve_backend(name: str) -> Callable[..., Any]:
         raise ImportError(f"backend {name!r} needs a missing package: {exc.name}{hint}") from exc
 
 
-def open_backend(name: str, *args: Any, **options: Any) -> Any:
-    """Open backend ``name`` with the factory's own arguments."""
-    return resolve_backend(name)(*args, **options)
+def default_backend() -> str:
+    """The backend named by ``$PUCKBOARD_BACKEND``, else ``"embedded"``; checked by name."""
+    name = os.environ.get(BACKEND_ENV, "").strip() or DEFAULT_BACKEND
+    if name not in BACKENDS:
+        known = ", ".join(sorted(BACKENDS))
+        raise ValueError(f"{BACKEND_ENV}={name!r} names no backend; use one of {known} or unset it")
+    return name
+
+
+def open_backend(name: str | None, *args: Any, **options: Any) -> Any:
+    """Open backend ``name`` (``None``: :func:`default_backend`) with its factory's arguments."""
+    return resolve_backend(name if name is not None else default_backend())(*args, **options)

@@ -57,8 +57,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="run the whole duration even after the outcome is decided",
     )  # fmt: skip
     parser.add_argument(
-        "--backend", default="embedded",
-        help="embedded (default), coppeliasim, epuck2-wifi or sercom",
+        "--backend", default=None,
+        help="embedded, coppeliasim, epuck2-wifi, sercom or fake "
+        "(default: $PUCKBOARD_BACKEND, else embedded)",
     )  # fmt: skip
     parser.add_argument("--host", default=None, help="backend host (coppeliasim, epuck2-wifi)")
     parser.add_argument("--port", type=int, default=None, help="backend port")
@@ -127,9 +128,17 @@ def main(args: argparse.Namespace) -> int:
         for key, value in (("host", args.host), ("port", args.port), ("device", args.device))
         if value is not None
     }
-    if args.backend == "embedded" and backend_options:
+    try:
+        from ..adapters.registry import default_backend
+
+        args.backend = args.backend or default_backend()
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+    if args.backend in ("embedded", "fake") and backend_options:
         flags = ", ".join(f"--{k}" for k in backend_options)
-        raise CliError(f"{flags} do not apply to the embedded simulator; use them with --backend")
+        raise CliError(
+            f"{flags} do not apply to the {args.backend} backend; use them with --backend"
+        )
     try:
         from ..scenario.scenefile import load_scene
 

@@ -10,6 +10,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from . import CliError
 
@@ -35,6 +36,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "--seeds 0:50 --set noise.proximity=0,0.05,0.1 --out runs.csv"
         ),
     )
+    _add_what_to_run(parser)
+    _add_where_to_run(parser)
+    _add_outputs(parser)
+    parser.set_defaults(func=main)
+
+
+def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
+    """The sweep's grid: scene, controllers, seeds, swept parameters."""
     parser.add_argument(
         "scenario",
         nargs="?",
@@ -71,6 +80,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="PARAM=V1,V2,...",
         help="sweep a parameter over values (repeatable; see the list below)",
     )
+    parser.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="simulated seconds per episode (default: scene's)",
+    )
+
+
+def _add_where_to_run(parser: argparse.ArgumentParser) -> None:
+    """Executors and their limits: local processes or a Dask cluster, batches, timeouts."""
     where = parser.add_mutually_exclusive_group()
     where.add_argument(
         "--workers", type=int, metavar="N", help="local worker processes (default: all CPUs)"
@@ -79,12 +98,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--scheduler",
         metavar="ADDRESS",
         help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (needs puckboard[dask])",
-    )
-    parser.add_argument(
-        "--duration",
-        type=float,
-        metavar="S",
-        help="simulated seconds per episode (default: scene's)",
     )
     parser.add_argument(
         "--episode-timeout",
@@ -99,6 +112,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="N",
         help="episodes per task (default: automatic, at most 8)",
     )
+
+
+def _add_outputs(parser: argparse.ArgumentParser) -> None:
+    """Where the rows, the summary and the plot go."""
     parser.add_argument(
         "--out",
         type=Path,
@@ -118,7 +135,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="parameter for the plot's x axis (default: the first --set with several values)",
     )
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
-    parser.set_defaults(func=main)
 
 
 def _scene(ref: str):  # type: ignore[no-untyped-def]
@@ -131,70 +147,17 @@ def _scene(ref: str):  # type: ignore[no-untyped-def]
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..sweep import (
-        DaskExecutor,
-        LocalExecutor,
-        PlanError,
-        SweepExecutor,
-        SweepPlan,
-        WorkerLostError,
-        check_plan,
-        controllers_in_dir,
-        make_progress,
-        open_store,
-        run_sweep,
-    )
-    from ..sweep.summary import format_groups, format_ranking
+    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
 
+    _check_numbers(args)
     scene = _scene(args.scenario)
-    controllers = list(args.controller)
-    if args.controllers_dir is not None:
-        try:
-            controllers += controllers_in_dir(args.controllers_dir)
-        except ValueError as exc:
-            raise CliError(str(exc)) from exc
-    if args.duration is not None and not args.duration > 0:
-        raise CliError(f"--duration must be positive (simulated seconds), got {args.duration}")
-    if args.batch_size is not None and args.batch_size < 1:
-        raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
-    if args.episode_timeout is not None and not args.episode_timeout > 0:
-        raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
-    if args.workers is not None and args.workers < 1:
-        raise CliError(f"--workers must be at least 1, got {args.workers}")
-    fixed = {} if args.duration is None else {"duration": args.duration}
-    try:
-        plan = SweepPlan.from_specs(
-            scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
-        )
-        warnings = check_plan(plan, scene)
-    except PlanError as exc:
-        raise CliError(str(exc)) from exc
-    for warning in warnings:
-        print(
-            f"puckboard sweep: warning: {warning} (its episodes count as 'error')", file=sys.stderr
-        )
-
-    plot_param = args.plot_param or (plan.swept[0] if plan.swept else None)
-    if args.plot is not None:
-        if plot_param is None:
-            raise CliError("--plot needs a parameter swept over several values (--set PARAM=V1,V2)")
-        if plot_param not in plan.grid and plot_param not in plan.fixed:
-            raise CliError(f"--plot-param {plot_param!r} is not a parameter of this sweep")
-
+    plan = _plan(args, scene)
+    plot_param = _plot_param(args, plan)
     try:
         store = open_store(args.out) if args.out is not None else None
     except (ValueError, ImportError, OSError) as exc:
         raise CliError(str(exc)) from exc
-
-    try:
-        executor: SweepExecutor
-        if args.scheduler:
-            executor = DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
-        else:
-            executor = LocalExecutor(args.workers)
-    except (ImportError, ConnectionError, ValueError) as exc:
-        raise CliError(str(exc)) from exc
-
+    executor = _executor(args)
     progress = make_progress(enabled=not args.quiet)
     try:
         result = run_sweep(
@@ -214,6 +177,72 @@ def main(args: argparse.Namespace) -> int:
         executor.close()
         if store is not None:
             store.close()
+    _report(args, plan, result, stored=store is not None, plot_param=plot_param)
+    return _exit_status(args, result, stored=store is not None)
+
+
+def _check_numbers(args: argparse.Namespace) -> None:
+    if args.duration is not None and not args.duration > 0:
+        raise CliError(f"--duration must be positive (simulated seconds), got {args.duration}")
+    if args.batch_size is not None and args.batch_size < 1:
+        raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
+    if args.episode_timeout is not None and not args.episode_timeout > 0:
+        raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
+    if args.workers is not None and args.workers < 1:
+        raise CliError(f"--workers must be at least 1, got {args.workers}")
+
+
+def _plan(args: argparse.Namespace, scene: Any) -> Any:
+    """The grid of episodes, with warnings for specs that will fail (they count as 'error')."""
+    from ..sweep import PlanError, SweepPlan, check_plan, controllers_in_dir
+
+    controllers = list(args.controller)
+    if args.controllers_dir is not None:
+        try:
+            controllers += controllers_in_dir(args.controllers_dir)
+        except ValueError as exc:
+            raise CliError(str(exc)) from exc
+    fixed = {} if args.duration is None else {"duration": args.duration}
+    try:
+        plan = SweepPlan.from_specs(
+            scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
+        )
+        warnings = check_plan(plan, scene)
+    except PlanError as exc:
+        raise CliError(str(exc)) from exc
+    for warning in warnings:
+        print(
+            f"puckboard sweep: warning: {warning} (its episodes count as 'error')", file=sys.stderr
+        )
+    return plan
+
+
+def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
+    plot_param: str | None = args.plot_param or (plan.swept[0] if plan.swept else None)
+    if args.plot is not None:
+        if plot_param is None:
+            raise CliError("--plot needs a parameter swept over several values (--set PARAM=V1,V2)")
+        if plot_param not in plan.grid and plot_param not in plan.fixed:
+            raise CliError(f"--plot-param {plot_param!r} is not a parameter of this sweep")
+    return plot_param
+
+
+def _executor(args: argparse.Namespace) -> Any:
+    from ..sweep import DaskExecutor, LocalExecutor
+
+    try:
+        if args.scheduler:
+            return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
+        return LocalExecutor(args.workers)
+    except (ImportError, ConnectionError, ValueError) as exc:
+        raise CliError(str(exc)) from exc
+
+
+def _report(
+    args: argparse.Namespace, plan: Any, result: Any, *, stored: bool, plot_param: str | None
+) -> None:
+    """The summary table (or JSON), the ranking of several controllers, and the plot."""
+    from ..sweep.summary import format_groups, format_ranking
 
     groups = result.groups()
     if args.json:
@@ -221,7 +250,7 @@ def main(args: argparse.Namespace) -> int:
     else:
         counts = (
             f"{result.ran} run, {result.skipped} already in {args.out}"
-            if store
+            if stored
             else f"{result.ran} run"
         )
         print(
@@ -240,6 +269,10 @@ def main(args: argparse.Namespace) -> int:
         plot_success(groups, plot_param, args.plot, title=plan.scenario)
         if not args.json:
             print(f"\nplot written to {args.plot}")
+
+
+def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
+    """0, or 130 when interrupted, or 1 when every episode raised (a broken setup)."""
     errors = result.errors
     if errors:
         print(
@@ -251,7 +284,7 @@ def main(args: argparse.Namespace) -> int:
     if result.interrupted:
         print(
             f"puckboard sweep: interrupted; {result.ran} episodes of this run kept"
-            + (f" in {args.out}; run the same command again to resume" if store else ""),
+            + (f" in {args.out}; run the same command again to resume" if stored else ""),
             file=sys.stderr,
         )
         return 130

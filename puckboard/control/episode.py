@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..adapters.registry import open_backend
+from ..adapters.registry import default_backend, open_backend
 from ..behaviours.controller import Controller
 from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
@@ -207,14 +207,14 @@ class Episode:
         *,
         controller: Any = None,
         seed: int = 0,
-        backend: str = "embedded",
+        backend: str | None = None,
         overrides: Mapping[str, Any] | None = None,
         **backend_options: Any,
     ) -> None:
         overrides = dict(overrides or {})
         self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
         self.seed = int(seed)
-        self.backend = backend
+        self.backend = backend if backend is not None else default_backend()
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
@@ -225,7 +225,7 @@ class Episode:
         }
         apply_layer_overrides(self.controllers, overrides)
         self.controller_label = _label(specs)
-        self.connection = open_backend(backend, self.scene, seed=self.seed, **backend_options)
+        self.connection = open_backend(self.backend, self.scene, seed=self.seed, **backend_options)
         try:
             self.world = self.connection.world
             self.blackboard = self.connection.blackboard
@@ -235,7 +235,7 @@ class Episode:
                 # robots it has: the episode, and the judge, shrink to those
                 log.warning(
                     "backend %r drives only %s; leaving out %s",
-                    backend, ", ".join(self.connection.adapters), ", ".join(missing),
+                    self.backend, ", ".join(self.connection.adapters), ", ".join(missing),
                 )  # fmt: skip
                 kept = tuple(r for r in self.scene.robots if r.name in self.connection.adapters)
                 self.scene = dataclasses.replace(self.scene, robots=kept)
@@ -244,7 +244,7 @@ class Episode:
                 missing = []
             if missing:
                 raise SceneError(
-                    f"backend {backend!r} has no robot called {', '.join(missing)}; it has "
+                    f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
                     f"{', '.join(self.connection.adapters)}"
                 )
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
@@ -363,7 +363,7 @@ def run_episode(
     seed: int = 0,
     duration: float | None = None,
     overrides: Mapping[str, Any] | None = None,
-    backend: str = "embedded",
+    backend: str | None = None,
     stop_early: bool = True,
     **backend_options: Any,
 ) -> EpisodeResult:

@@ -131,7 +131,27 @@ class World:
         self._noise_gyro = float(noise.gyro)
         self._gyro_bias = float(noise.gyro_bias)
 
-        # -- state ----------------------------------------------------------------------
+        self._init_state()
+
+        # -- static geometry ------------------------------------------------------------
+        self.floor = (
+            Floor(scene) if ground_footprint is None else Floor(scene, footprint=ground_footprint)
+        )
+        self.statics = Statics(scene.obstacles, scene.arena)
+        self._build_geometry()
+        self._build_sensor_layout(ir_rays)
+
+        self._init_sensor_buffer()
+        # the first contact check and sensor pass describe the start pose (time 0)
+        self._resolve_start_contacts()
+        self._sense(None)
+        self._cameras: dict[tuple[int, int, float, float], CameraRenderer] = {}
+        self._read_only_views()
+
+    # -- construction helpers ----------------------------------------------------------------
+    def _init_state(self) -> None:
+        """The robots' moving state: poses (with start jitter), wheels, encoders, IMU."""
+        scene, n, noise = self.scene, self.n, self.scene.noise
         self._poses = np.array([[r.x, r.y, r.theta] for r in scene.robots], dtype=float)
         if noise.start_jitter > 0:
             self._poses += self.rng.normal(0.0, noise.start_jitter, size=(n, 3))
@@ -163,14 +183,9 @@ class World:
         self._range_list: list[float] = self._range.tolist()
         self._collision_list: list[int] = [0] * n
 
-        # -- static geometry ------------------------------------------------------------
-        self.floor = (
-            Floor(scene) if ground_footprint is None else Floor(scene, footprint=ground_footprint)
-        )
-        self.statics = Statics(scene.obstacles, scene.arena)
-        self._build_geometry()
-        self._build_sensor_layout(ir_rays)
-
+    def _init_sensor_buffer(self) -> None:
+        """One buffer for all sensor arrays; see the comment below for why."""
+        n = self.n
         # The four sensor arrays are consecutive blocks of one buffer (each still a
         # contiguous N×k array), so the read-only copy that records share is one copy
         # per step, and a record's row is a slice of it.
@@ -196,13 +211,7 @@ class World:
         self._sense_count = 0
         self._frozen_count = -1
         self._frozen_buffer = self._sensor_buffer
-        # the first contact check and sensor pass describe the start pose (time 0)
-        self._resolve_start_contacts()
-        self._sense(None)
-        self._cameras: dict[tuple[int, int, float, float], CameraRenderer] = {}
-        self._read_only_views()
 
-    # -- construction helpers ----------------------------------------------------------------
     def _build_geometry(self) -> None:
         """Stack every static surface once: segments (polygon edges, walls) and circles."""
         scene = self.scene
@@ -440,7 +449,6 @@ class World:
 
     # -- the step ------------------------------------------------------------------------------
     def _step_once(self) -> None:
-        dt = self._dt
         n = self.n
         z = self.rng.standard_normal(n * 13) if self._noisy else None
         # The e-puck's steppers turn the wheels exactly as commanded; the noise is the
@@ -448,11 +456,21 @@ class World:
         # step counters (encoders) and reported wheel speeds follow the command, and
         # odometry drifts as it does on the real robot.
         stepped = list(self._command)
+        old = [(p[0], p[1], p[2]) for p in self._pose_list]
+        touched = self._move(self._slipped(stepped, z))
+        new_collision = self._update_inertial_and_counters(old, stepped, touched)
+        self._publish(stepped, touched, new_collision)
+        t0 = time.perf_counter()
+        self._sense(z)
+        self.sensor_seconds += time.perf_counter() - t0
+
+    def _slipped(self, stepped: list[list[float]], z: FloatArray | None) -> list[list[float]]:
+        """The wheel speeds the ground lets act on the body: the command times (1 + σ·N)."""
         command = [list(c) for c in stepped]
         if z is not None and self._noise_wheel > 0:
-            zw = z[: 2 * n].tolist()
+            zw = z[: 2 * self.n].tolist()
             sigma = self._noise_wheel
-            for i in range(n):
+            for i in range(self.n):
                 limit = self._max_wheel_list[i]
                 left = command[i][0] * (1.0 + sigma * zw[2 * i])
                 right = command[i][1] * (1.0 + sigma * zw[2 * i + 1])
@@ -460,8 +478,12 @@ class World:
                     -limit if left < -limit else limit if left > limit else left,
                     -limit if right < -limit else limit if right > limit else right,
                 ]
+        return command
+
+    def _move(self, command: list[list[float]]) -> list[bool]:
+        """Move every robot along its arc in contact-safe sub-steps; who touched something."""
+        n, dt = self.n, self._dt
         poses = self._pose_list
-        old = [(p[0], p[1], p[2]) for p in poses]
         forward = [0.0] * n
         turn = [0.0] * n
         for i in range(n):
@@ -479,15 +501,28 @@ class World:
                 p[0], p[1], p[2] = arc(p[0], p[1], p[2], forward[i], turn[i], h)
             contact = self.statics.resolve(poses, self._radius_list)
             touched = [a or b for a, b in zip(touched, contact)]
-        # accelerometer: change of the actual (contact-limited) velocity, in the robot frame;
-        # gyro: change of the actual heading (exact while a step turns less than π)
+        return touched
+
+    def _update_inertial_and_counters(
+        self,
+        old: list[tuple[float, float, float]],
+        stepped: list[list[float]],
+        touched: list[bool],
+    ) -> bool:
+        """Accelerometer, yaw rate, encoders and collision counts; True on a new collision.
+
+        Accelerometer: change of the actual (contact-limited) velocity, in the robot frame;
+        gyro: change of the actual heading (exact while a step turns less than π).
+        """
+        dt = self._dt
         inv_dt = 1.0 / dt
+        poses = self._pose_list
         accel = self._accel_list
-        yaw_rate = [0.0] * n
+        yaw_rate = [0.0] * self.n
         velocity = self._velocity_list
         encoders = self._encoder_list
         new_collision = False
-        for i in range(n):
+        for i in range(self.n):
             p = poses[i]
             vx = (p[0] - old[i][0]) * inv_dt
             vy = (p[1] - old[i][1]) * inv_dt
@@ -502,29 +537,31 @@ class World:
             if touched[i] and not self._contact_list[i]:
                 self._collision_list[i] += 1
                 new_collision = True
-        # publish the state to the read-only arrays in a few bulk copies (contacts and
-        # collision counts change rarely: copied only when they do)
-        self._poses[:] = poses
-        self._wheels[:] = stepped
-        self._wheel_list = stepped
-        self._encoders[:] = encoders
-        self._accel[:] = accel
         if self._noise_gyro > 0:
-            yaw_rate = (self._noise_gyro * self.rng.standard_normal(n) + yaw_rate).tolist()
+            yaw_rate = (self._noise_gyro * self.rng.standard_normal(self.n) + yaw_rate).tolist()
         if self._gyro_bias != 0.0:
             yaw_rate = [w + self._gyro_bias for w in yaw_rate]
         self._yaw_rate_list = yaw_rate
-        self._gyro_z[:] = yaw_rate
+        return new_collision
+
+    def _publish(
+        self, stepped: list[list[float]], touched: list[bool], new_collision: bool
+    ) -> None:
+        """Copy the step's state into the read-only arrays in a few bulk copies (contacts
+        and collision counts change rarely: copied only when they do)."""
+        self._poses[:] = self._pose_list
+        self._wheels[:] = stepped
+        self._wheel_list = stepped
+        self._encoders[:] = self._encoder_list
+        self._accel[:] = self._accel_list
+        self._gyro_z[:] = self._yaw_rate_list
         if touched != self._contact_list:
             self._contacts[:] = touched
         self._contact_list = touched
         if new_collision:
             self._collisions[:] = self._collision_list
         self.step_count += 1
-        self._time = self.step_count * dt
-        t0 = time.perf_counter()
-        self._sense(z)
-        self.sensor_seconds += time.perf_counter() - t0
+        self._time = self.step_count * self._dt
 
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""

@@ -314,7 +314,8 @@ class Stage:
         title) is rendered once and cached as a bitmap; each frame restores it and draws
         only the moving parts and the close-ups. This makes a frame several times
         cheaper than a full redraw, which is what keeps the live view smooth and a
-        long GIF quick to render. Call :meth:`invalidate` when the figure is resized.
+        long GIF quick to render. After the GUI redraws the figure (a resize, a zoom)
+        :meth:`on_draw_event` takes that drawing as the new background.
         """
         canvas = self.fig.canvas
         if self._background is None:
@@ -344,11 +345,6 @@ class Stage:
         draw(self._clock)
         draw(self._news)
         draw(self._footer)
-
-    def invalidate(self, _event: Any = None) -> None:
-        """Forget the cached background (after a resize, for instance)."""
-        if not self._own_draw:
-            self._background = None
 
     def on_draw_event(self, _event: Any = None) -> None:
         """After the GUI redrew the figure (resize, zoom, expose): keep that as the new

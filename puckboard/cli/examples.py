@@ -1,0 +1,85 @@
+"""``puckboard examples``: list the installed teaching examples, show or run one.
+
+The examples ship inside the package (``puckboard.examples``), so they are reachable after
+a plain install, without a clone of the repository.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from . import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    parser = subparsers.add_parser(
+        "examples",
+        help="list the teaching examples, show one or run it ('examples run NAME')",
+        description=(
+            "List the examples installed with puckboard, print one's source to copy and "
+            "edit ('puckboard examples show first_layer > my_layer.py'), or run one "
+            "('puckboard examples run first_layer --duration 20'); arguments after NAME "
+            "go to the example."
+        ),
+    )
+    parser.add_argument("action", nargs="?", choices=("list", "show", "run"), default="list")
+    parser.add_argument("name", nargs="?", help="example to show or run")
+    parser.add_argument(
+        "example_args", nargs=argparse.REMAINDER, help="arguments passed to the example"
+    )
+    parser.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    import importlib.resources
+    import runpy
+    import sys
+
+    names = example_names()
+    if args.action == "list":
+        if args.name:
+            raise CliError("'puckboard examples' takes no name; use 'examples show NAME' or 'run'")
+        width = max(len(n) for n in names)
+        for name in names:
+            print(f"{name:<{width}}  {summary(name)}")
+        return 0
+    if not args.name:
+        raise CliError(f"which example? puckboard examples {args.action} NAME ({', '.join(names)})")
+    name = args.name.removesuffix(".py")
+    if name not in names:
+        raise CliError(f"no example {args.name!r}; examples: {', '.join(names)}")
+    if args.action == "show":
+        source = importlib.resources.files("puckboard.examples").joinpath(f"{name}.py")
+        print(source.read_text(encoding="utf-8"), end="")
+        return 0
+    saved = sys.argv
+    sys.argv = [f"puckboard examples run {name}", *args.example_args]
+    try:
+        runpy.run_module(f"puckboard.examples.{name}", run_name="__main__", alter_sys=True)
+    except SystemExit as exc:  # an example's own argparse error or exit status
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    finally:
+        sys.argv = saved
+    return 0
+
+
+def example_names() -> list[str]:
+    """The installed examples' module names, sorted."""
+    import importlib.resources
+
+    folder = importlib.resources.files("puckboard.examples")
+    return sorted(
+        entry.name.removesuffix(".py")
+        for entry in folder.iterdir()
+        if entry.name.endswith(".py") and not entry.name.startswith("_")
+    )
+
+
+def summary(name: str) -> str:
+    """The first line of an example's docstring, read without running the example."""
+    import ast
+    import importlib.resources
+
+    source = importlib.resources.files("puckboard.examples").joinpath(f"{name}.py")
+    doc = ast.get_docstring(ast.parse(source.read_text(encoding="utf-8"))) or ""
+    return doc.splitlines()[0] if doc else ""
