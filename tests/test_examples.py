@@ -227,6 +227,7 @@ def test_switch_backend_coppeliasim_line_drives_a_served_simulation() -> None:
 # -- installed with the package -----------------------------------------------------------
 def test_examples_are_installed_as_a_package_and_listed_by_the_cli(capsys) -> None:
     import puckboard.examples
+
     from puckboard.cli import main
 
     assert Path(puckboard.examples.__file__).resolve().parent == EXAMPLES

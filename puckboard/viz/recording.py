@@ -28,8 +28,9 @@ order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,
 ``robots``, ``layer_names`` (the table ``layer`` indexes), ``robot_layers`` (each
 robot's layers in priority order, for timelines), ``colours`` (RGB per robot),
 ``scenario``, ``controller``, ``seed``, ``backend``, ``dt``, ``created`` (UTC, ISO
-8601), ``puckboard`` (version), ``scene`` (the scene's static geometry as JSON,
-or ``null``) and, when the run was judged, ``events`` (``time_s``, ``robot``,
+8601), ``puckboard`` (version), ``scene`` (the scene in the scene file's JSON form, see
+:func:`~puckboard.scenario.scenefile.scene_to_dict`, so ``puckboard run`` can load it
+again; or ``null``) and, when the run was judged, ``events`` (``time_s``, ``robot``,
 ``kind``: collisions, passes, lost line, ...) and ``prox_range`` (m, the distance
 that means "nothing seen").
 
@@ -66,7 +67,9 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 FORMAT_NAME = "puckboard-recording"
-FORMAT_VERSION = 1
+#: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.scenefile); 1 tagged
+#: each scene dataclass with its type. Both are read.
+FORMAT_VERSION = 2
 """Bumped whenever the on-disk layout changes incompatibly."""
 
 RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels", "command/layer")
@@ -178,7 +181,8 @@ class Recording:
         """The recorded :class:`~puckboard.scenario.scene.Scene` (``None`` if none was recorded)."""
         if self._scene is _UNSET:
             data = self.meta.get("scene")
-            self._scene = None if data is None else scene_from_json(data)
+            version = int(self.meta.get("version", FORMAT_VERSION))
+            self._scene = None if data is None else scene_from_json(data, version=version)
         return self._scene
 
     @property
@@ -199,7 +203,10 @@ class Recording:
         if path.suffix.lower() != ".npz":
             raise ValueError(f"recordings are saved as .npz files, got {str(path)!r}")
         path.parent.mkdir(parents=True, exist_ok=True)
-        meta = dict(self.meta, format=FORMAT_NAME, version=FORMAT_VERSION)
+        meta = dict(self.meta)
+        if meta.get("scene") is not None and int(meta.get("version", FORMAT_VERSION)) < 2:
+            meta["scene"] = scene_to_json(self.scene)  # an older recording, saved anew
+        meta.update(format=FORMAT_NAME, version=FORMAT_VERSION)
         fd, tmp = tempfile.mkstemp(prefix=path.name, suffix=".tmp", dir=path.parent)
         try:
             with os.fdopen(fd, "wb") as fh:
@@ -445,6 +452,7 @@ class Recorder:
             created=meta.get("created") or _dt.datetime.now(_dt.timezone.utc).isoformat(),
             puckboard=__version__,
             scene=None if self.scene is None else scene_to_json(self.scene),
+            version=FORMAT_VERSION,
         )
         meta.setdefault("colours", {})
         if self.events is not None:
@@ -518,16 +526,29 @@ def _encode(value: Any) -> Any:
 
 
 def scene_to_json(scene: Any) -> dict[str, Any]:
-    """The scene as plain JSON data (every dataclass tagged with its ``type``)."""
-    return _encode(scene)  # type: ignore[no-any-return]
+    """The scene as stored in a recording: the scene file's own JSON form."""
+    from ..scenario.scenefile import scene_to_dict
+
+    return scene_to_dict(scene)
 
 
-def scene_from_json(data: Mapping[str, Any]) -> Any:
-    """Rebuild a :class:`~puckboard.scenario.scene.Scene` from :func:`scene_to_json` data.
+def scene_from_json(data: Mapping[str, Any], *, version: int = FORMAT_VERSION) -> Any:
+    """Rebuild the recorded :class:`~puckboard.scenario.scene.Scene`.
 
-    Fields this version does not know are ignored, so an older puckboard can still draw
-    a newer recording's floor.
+    ``version`` is the recording's format: 2 and later store the scene file's form, read
+    (and validated) by :func:`~puckboard.scenario.scenefile.scene_from_dict`; format 1
+    recordings are still read, with their type-tagged dataclasses.
     """
+    if version >= 2:
+        from ..scenario.scenefile import scene_from_dict
+
+        return scene_from_dict(data, source="recording")
+    return _scene_from_v1(data)
+
+
+def _scene_from_v1(data: Mapping[str, Any]) -> Any:
+    """Format 1: each dataclass tagged with its ``type``; unknown fields are ignored, so an
+    older puckboard can still draw a newer recording's floor."""
     from ..scenario import scene as scene_module
 
     def decode(value: Any) -> Any:

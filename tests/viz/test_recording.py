@@ -53,10 +53,39 @@ def test_metadata_and_scene_survive_the_round_trip(tmp_path):
     scene = rec.scene
     assert scene.name == "stand-in"
     assert [r.name for r in scene.robots] == ["red", "blue"]
-    np.testing.assert_allclose(scene.track.points, ep.scene.track.points)
+    # the scene file form keeps coordinates to the nanometre
+    np.testing.assert_allclose(scene.track.points, ep.scene.track.points, atol=1e-9)
     assert scene.obstacles[0].radius == pytest.approx(0.03)
     assert scene.arena.xmax == pytest.approx(0.6)
     assert "stand-in" in rec.title and "seed 0" in rec.title
+
+
+def test_recorded_scene_is_the_scene_file_form_and_loads_as_a_scene(tmp_path):
+    from puckboard.scenario.scenefile import scene_from_dict, scene_to_dict
+
+    ep, _ = _recorded(tmp_path, 0.5)
+    rec = load_recording(tmp_path / "run.npz")
+    assert rec.meta["scene"] == json.loads(json.dumps(scene_to_dict(ep.scene)))
+    # what a recording holds is a scene file: it loads through the same validation
+    assert scene_to_dict(scene_from_dict(rec.meta["scene"])) == rec.meta["scene"]
+
+
+def test_format_1_recordings_are_still_read_and_saved_anew_as_the_current_format(tmp_path):
+    from puckboard.viz.recording import Recording, _encode
+
+    ep, _ = _recorded(tmp_path, 0.5)
+    rec = load_recording(tmp_path / "run.npz")
+    old_meta = dict(rec.meta, version=1, scene=_encode(ep.scene))  # format 1: tagged dataclasses
+    assert old_meta["scene"]["type"] == "Scene"
+    arrays = {
+        k: getattr(rec, k) for k in ("time", "pose", "wheels", "layer", "proximity", "ground")
+    }
+    old = Recording(meta=old_meta, **arrays)
+    assert [r.name for r in old.scene.robots] == ["red", "blue"]
+    old.save(tmp_path / "again.npz")
+    again = load_recording(tmp_path / "again.npz")
+    assert again.meta["version"] == FORMAT_VERSION
+    assert again.scene.arena.xmax == pytest.approx(0.6)
 
 
 def test_recording_is_flushed_when_a_layer_raises(tmp_path):
