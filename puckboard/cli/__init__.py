@@ -29,6 +29,7 @@ COMMANDS: tuple[str, ...] = (
     "monitor",
     "tree",
     "scenes",
+    "profiles",
     "examples",
     "docs",
 )

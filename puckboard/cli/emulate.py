@@ -60,6 +60,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
+        "--profile",
+        default="epuck",
+        metavar="NAME",
+        help="robot profile of the emulated robot and the others (default epuck: it stands in "
+        "for the physical robot; 'scene' keeps the scene's)",
+    )
+    p.add_argument(
         "--others",
         choices=("controller", "still"),
         default="controller",
@@ -101,8 +108,9 @@ def main(args: argparse.Namespace) -> int:
             serial=serial,
             others=args.others,
             idle_timeout=args.idle_timeout or None,
+            profile=None if args.profile == "scene" else args.profile,
         )
-    except (SceneError, FileNotFoundError, KeyError) as exc:
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise CliError(str(exc)) from None
     except OSError as exc:
         raise CliError(str(exc)) from None

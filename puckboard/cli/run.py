@@ -48,6 +48,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     parser.add_argument(
+        "--profile",
+        metavar="NAME",
+        help="robot profile for every robot (epuck, epuck-vrep, e-puck1; default: the scene's; "
+        "see puckboard profiles)",
+    )
+    parser.add_argument(
         "--duration", type=float, default=None, metavar="SECONDS",
         help="simulated seconds (default: the scene's)",
     )  # fmt: skip
@@ -119,6 +125,8 @@ def main(args: argparse.Namespace) -> int:
     from ..errors import PuckboardError
 
     overrides = parse_overrides(args.overrides)
+    if args.profile is not None:
+        overrides["robot.profile"] = args.profile
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     if args.duration is not None and not args.duration > 0:
@@ -205,12 +213,12 @@ def format_summary(result: Any) -> str:
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
         f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} steps of {d['dt_s'] * 1000:g} ms)",
         "",
-        f"{'robot':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}{'on line':>9}"
-        f"{'obstacles':>11}{'passed other':>14}",
+        f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
+        f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",
     ]
     for r in d["robots"]:
         lines.append(
-            f"{r['name']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
+            f"{r['name']:<12}{r['profile']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
             f"{r['obstacles_passed']:>11d}{'yes' if r['passed_other'] else 'no':>14}"
         )
@@ -221,6 +229,8 @@ def format_summary(result: Any) -> str:
         from ..scenario.judge import FAILURES
 
         lines.append(f"outcome: FAILED ({d['failure']}: {FAILURES.get(d['failure'], '')})")
+        if len(d["failures"]) > 1:
+            lines.append(f"failures detected, in order: {', '.join(d['failures'])}")
     if d["events"]:
         lines.append("")
         lines.append("events:")

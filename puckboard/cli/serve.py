@@ -51,6 +51,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's noise")
     p.add_argument(
+        "--profile",
+        default="epuck-vrep",
+        metavar="NAME",
+        help="robot profile of every served robot (default epuck-vrep: the server stands in "
+        "for CoppeliaSim and its stock e-puck model; 'scene' keeps the scene's)",
+    )
+    p.add_argument(
         "--stepping-timeout",
         type=float,
         default=10.0,
@@ -64,6 +71,7 @@ def main(args: argparse.Namespace) -> int:
     import logging
 
     from ..errors import SceneError
+    from ..profile import get_profile
     from ..remote.server import RemoteApiServer
     from ..scenario.scenefile import load_scene
 
@@ -73,6 +81,7 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
     try:
         scene = load_scene(args.scenario)
+        profile = None if args.profile == "scene" else get_profile(args.profile).name
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise CliError(str(exc)) from None
     try:
@@ -82,6 +91,7 @@ def main(args: argparse.Namespace) -> int:
             port=args.port,
             seed=args.seed,
             stepping_timeout=args.stepping_timeout,
+            profile=profile,
         )
     except ImportError as exc:
         raise CliError(

@@ -86,6 +86,12 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         metavar="S",
         help="simulated seconds per episode (default: scene's)",
     )
+    parser.add_argument(
+        "--profile",
+        metavar="NAME",
+        help="robot profile for every robot (default: the scene's; to compare profiles, "
+        "--set robot.profile=epuck,epuck-vrep)",
+    )
 
 
 def _add_where_to_run(parser: argparse.ArgumentParser) -> None:
@@ -202,7 +208,11 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
             controllers += controllers_in_dir(args.controllers_dir)
         except ValueError as exc:
             raise CliError(str(exc)) from exc
-    fixed = {} if args.duration is None else {"duration": args.duration}
+    fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
+    if args.profile is not None:
+        if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
+            raise CliError("give either --profile or --set robot.profile=..., not both")
+        fixed["robot.profile"] = args.profile
     try:
         plan = SweepPlan.from_specs(
             scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed

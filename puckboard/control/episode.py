@@ -39,6 +39,7 @@ from ..behaviours.controller import Controller
 from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
 from ..errors import SceneError
+from ..profile import get_profile
 from ..scenario.judge import Event, Judge, RobotMetrics
 from ..scenario.scene import Scene
 from .loop import ControlLoop
@@ -48,6 +49,7 @@ __all__ = ["OVERRIDE_NAMES", "Episode", "EpisodeResult", "apply_scene_overrides"
 log = logging.getLogger(__name__)
 
 OVERRIDE_NAMES = (
+    "robot.profile",
     "noise.wheel_speed",
     "noise.proximity",
     "noise.ground",
@@ -78,6 +80,8 @@ class EpisodeResult:
     failure: str | None
     robots: list[RobotMetrics] = field(default_factory=list)
     events: list[Event] = field(default_factory=list)
+    #: every failure the judge detected, in order (``failure`` is the one reported)
+    failures: list[str] = field(default_factory=list)
 
     @property
     def realtime_factor(self) -> float:
@@ -98,6 +102,7 @@ class EpisodeResult:
             "realtime_factor": round(rtf, 3) if np.isfinite(rtf) else None,
             "success": self.success,
             "failure": self.failure,
+            "failures": list(self.failures),
             "robots": [m.to_dict() for m in self.robots],
             "events": [e.to_dict() for e in self.events],
         }
@@ -112,10 +117,11 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
 
 
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
-    """``scene`` with the scene-level overrides applied (``noise.*``, ``dt``, ``duration``);
-    ``layer.*`` names are left for the controllers. Unknown names raise ``ValueError``."""
+    """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
+    ``noise.*``, ``dt``, ``duration``); ``layer.*`` names are left for the controllers.
+    Unknown names raise ``ValueError``."""
     noise_changes: dict[str, float] = {}
-    scene_changes: dict[str, float] = {}
+    scene_changes: dict[str, Any] = {}
     noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
     for name, value in overrides.items():
         if name.startswith("layer."):
@@ -127,6 +133,9 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
                     f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
                 )
             noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
+        elif name == "robot.profile":
+            profile = get_profile(str(value)).name  # a clear error names the known profiles
+            scene_changes["robots"] = scene.with_profile(profile).robots
         elif name in ("dt", "duration"):
             number = _number(name, value)
             if number <= 0:
@@ -341,6 +350,7 @@ class Episode:
             wall_s=self.wall_s,
             success=bool(self.judge.success),
             failure=self.judge.failure,
+            failures=list(self.judge.failures),
             robots=self.judge.metrics(),
             events=sorted(self.judge.events, key=lambda e: e.time_s),
         )

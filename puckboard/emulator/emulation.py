@@ -59,7 +59,9 @@ class Emulation:
     """Emulate the first robot of ``scene``; see the module docstring.
 
     ``protocol`` is ``"wifi"`` or ``"sercom"``; ``port`` is the TCP port (``0``: any free
-    one). For sercom, ``serial="pty"`` (POSIX) or ``"tcp"`` chooses the carrier.
+    one). For sercom, ``serial="pty"`` (POSIX) or ``"tcp"`` chooses the carrier. The
+    emulator stands in for the physical robot, so every robot is given the ``epuck``
+    profile unless ``profile`` names another (``None`` keeps the scene's).
     """
 
     def __init__(
@@ -75,6 +77,7 @@ class Emulation:
         others: str = "controller",
         until_client_leaves: bool = True,
         idle_timeout: float | None = 2.0,
+        profile: str | None = "epuck",
     ) -> None:
         from ..sim.world import World
 
@@ -88,6 +91,10 @@ class Emulation:
             from ..scenario.scenefile import load_scene
 
             scene = load_scene(scene)
+        if profile is not None:  # it stands in for the physical robot
+            from ..profile import get_profile
+
+            scene = scene.with_profile(get_profile(profile).name)
         self.scene = scene
         self.protocol = protocol
         self.seed = seed
@@ -244,6 +251,7 @@ class Emulation:
                 wall_s=float(self.wall_s),
                 success=bool(self.judge.success),
                 failure=self.judge.failure,
+                failures=list(self.judge.failures),
                 robots=self.judge.metrics(),
                 events=list(self.judge.events),
             )

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import zmq
 
+from ..profile import get_profile
 from .clients import ClientState, ClientTable
 from .codec import (
     END,
@@ -57,7 +58,9 @@ class RemoteApiServer:
     """Serves ``scene`` over the ZeroMQ remote API; see the module docstring.
 
     ``port=0`` picks a free port (read it from :attr:`port`). ``start()`` serves in a
-    background thread; ``serve_forever()`` in the calling thread (Ctrl-C ends it).
+    background thread; ``serve_forever()`` in the calling thread (Ctrl-C ends it). The
+    server stands in for CoppeliaSim, so its robots are V-REP's e-puck model
+    (``epuck-vrep``) unless ``profile`` names another (``None`` keeps the scene's).
     """
 
     def __init__(
@@ -72,9 +75,12 @@ class RemoteApiServer:
         max_idle: float = 600.0,
         heartbeat: float = 0.25,
         realtime: bool = True,
+        profile: str | None = "epuck-vrep",
     ) -> None:
         if heartbeat <= 0:
             raise ValueError(f"heartbeat must be positive seconds, got {heartbeat}")
+        if profile is not None:
+            scene = scene.with_profile(get_profile(profile).name)
         self.api = SimApi(scene, seed=seed, model=model)
         self.clients = ClientTable(stepping_timeout=stepping_timeout, max_idle=max_idle)
         self.host = host

@@ -32,7 +32,13 @@ Outcomes (``Goal.kind`` of the scene; thresholds in :class:`JudgeRules`):
 ``follow`` success once every robot has ``goal.laps`` laps of progress.
 ``avoid`` success when the run ends with no collision and no robot stuck.
 
-Failures, first detected wins (the run can stop there):
+Failures. Every failure the judge detects is kept, once per kind, in order of detection
+(:attr:`Judge.failures`). After the first one the judge keeps watching for
+``failure_watch_s``, because one failure often leads into another: two robots that touch
+and then drive off side by side are the thesis's Figure 4.6, which a report of
+``collision`` alone would hide. The reported :attr:`Judge.failure` is ``parallel_driving``
+when it was detected (it names the thesis's phenomenon), else the first failure detected.
+The outcome is final at ``parallel_driving``, when the watch ends, or at the end of the run.
 
 ``collision``        a robot touched another robot, an obstacle or a wall;
 ``parallel_driving`` two robots drove side by side, close and heading the same way, for
@@ -94,6 +100,7 @@ class JudgeRules:
     turn_back_m: float = 0.25  # m back along the line below the best progress so far
     lost_line_s: float = 25.0  # s continuously off the line
     debounce_s: float = 0.5  # s a line state must last before left_line/back_on_line
+    failure_watch_s: float = 10.0  # s after the first failure still watched for others
 
 
 @dataclass(frozen=True)
@@ -119,10 +126,12 @@ class RobotMetrics:
     on_line_fraction: float = 0.0
     obstacles_passed: int = 0
     passed_other: bool = False
+    profile: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "name": self.name,
+            "profile": self.profile,
             "progress_laps": round(self.progress_laps, 4),
             "distance_m": round(self.distance_m, 4),
             "collisions": self.collisions,
@@ -218,8 +227,15 @@ class Judge:
         self.success: bool | None = None
         self.failure: str | None = None
         self.failure_robot: str = ""
+        #: every failure detected, once per kind, in order of detection
+        self.failures: list[str] = []
+        #: when each of :attr:`failures` was detected (s)
+        self.failure_times: dict[str, float] = {}
+        self._failure_robots: dict[str, str] = {}
+        self._first_failure_time: float | None = None
         self.events: list[Event] = []
         self.robots: list[_RobotState] = []
+        self.profiles = tuple(get_profile(spec.profile).name for spec in scene.robots)
         for spec in scene.robots:
             profile = get_profile(spec.profile)
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
@@ -463,11 +479,22 @@ class Judge:
         return True  # not enough history yet: assume driving
 
     # -- deciding --------------------------------------------------------------------------
-    def _fail(self, kind: str, robot: str) -> None:
-        self.decided = True
+    def _fail(self, kind: str, robot: str, *, final: bool = False) -> None:
+        """Record failure ``kind`` (once per kind) and pick the one to report."""
+        if kind in self.failures:
+            return
+        self.failures.append(kind)
+        self.failure_times[kind] = self.time
+        self._failure_robots[kind] = robot
+        if self._first_failure_time is None:
+            self._first_failure_time = self.time
         self.success = False
-        self.failure = kind
-        self.failure_robot = robot
+        self.failure = (
+            "parallel_driving" if "parallel_driving" in self.failures else self.failures[0]
+        )
+        self.failure_robot = self._failure_robots[self.failure]
+        if final or kind == "parallel_driving":
+            self.decided = True
         event = Event(self.time, robot, kind)
         if event not in self.events[-2 * self.n :]:  # a collision is already an event
             self.events.append(event)
@@ -482,24 +509,29 @@ class Judge:
         rules = self.rules
         for r in self.robots:
             if r.collisions:
-                return self._fail("collision", r.name)
+                self._fail("collision", r.name)
+                break
         for (i, j), since in self._parallel_since.items():
             if since is not None and self.time - since >= rules.parallel_s:
-                names = f"{self.robots[i].name},{self.robots[j].name}"
-                return self._fail("parallel_driving", names)
+                self._fail("parallel_driving", f"{self.robots[i].name},{self.robots[j].name}")
         for r in self.robots:
             if self._stuck(r):
-                return self._fail("stuck", r.name)
+                self._fail("stuck", r.name)
         if self.projector is not None and self.goal in ("pass", "follow"):
             for r in self.robots:
                 if r.best_progress - r.progress >= rules.turn_back_m:
-                    return self._fail("turned_back", r.name)
+                    self._fail("turned_back", r.name)
             for r in self.robots:
                 if (
                     r.off_line_since is not None
                     and self.time - r.off_line_since >= rules.lost_line_s
                 ):
-                    return self._fail("lost_line", r.name)
+                    self._fail("lost_line", r.name)
+        if self.failures:
+            assert self._first_failure_time is not None
+            if self.time - self._first_failure_time >= rules.failure_watch_s:
+                self.decided = True
+            return None
         if self.goal == "pass" and self._pass_complete():
             return self._succeed()
         if self.goal == "follow" and all(
@@ -546,15 +578,18 @@ class Judge:
         """The run is over: settle the outcome if nothing has decided it yet."""
         if self.decided:
             return
+        if self.failures:  # still watching after a failure: what was seen is the verdict
+            self.decided = True
+            return
         if self.goal == "avoid":
             return self._succeed()
         if self.goal == "pass":
             if self.n >= 2 and not all(self._pair_passed(i, j) for (i, j) in self._pair_k):
-                return self._fail("not_passed", "")
+                return self._fail("not_passed", "", final=True)
             for r in self.robots:
                 if any(k - k0 < 1 for k, k0 in zip(r.obstacle_k, r.obstacle_k0)):
-                    return self._fail("obstacles_not_passed", r.name)
-        return self._fail("timeout", "")
+                    return self._fail("obstacles_not_passed", r.name, final=True)
+        return self._fail("timeout", "", final=True)
 
     # -- results ---------------------------------------------------------------------------
     def metrics(self) -> list[RobotMetrics]:
@@ -573,6 +608,7 @@ class Judge:
                         1 for k, k0 in zip(r.obstacle_k, r.obstacle_k0) if k - k0 >= 1
                     ),
                     passed_other=passed,
+                    profile=self.profiles[i],
                 )
             )
         return out

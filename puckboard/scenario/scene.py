@@ -9,6 +9,7 @@ World frame: x to the right, y up, angles counter-clockwise from +x, seen from a
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -117,7 +118,9 @@ class Arena:
 
 @dataclass(frozen=True)
 class RobotSpec:
-    """One robot: name, start pose (m, m, rad), controller spec, body colour."""
+    """One robot: name, start pose (m, m, rad), controller spec, body colour, robot profile
+    (:mod:`puckboard.profile`: ``epuck``, the physical robot, or ``epuck-vrep``, V-REP's
+    model)."""
 
     name: str
     x: float
@@ -125,7 +128,7 @@ class RobotSpec:
     theta: float
     controller: str = "improved"
     colour: Colour = (60, 160, 60)
-    profile: str = "e-puck2"
+    profile: str = "epuck"
 
 
 @dataclass(frozen=True)
@@ -196,6 +199,11 @@ class Scene:
     floor_colour: Colour = (235, 235, 225)
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
     goal: Goal = field(default_factory=Goal)
+
+    def with_profile(self, profile: str) -> Scene:
+        """This scene with every robot given robot profile ``profile`` (by name)."""
+        robots = tuple(dataclasses.replace(r, profile=profile) for r in self.robots)
+        return dataclasses.replace(self, robots=robots)
 
     def robot(self, name: str) -> RobotSpec:
         for r in self.robots:

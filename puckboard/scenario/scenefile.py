@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import SceneError
-from ..profile import PROFILES
+from ..profile import profile_names
 from .scene import (
     GOAL_KINDS,
     Arena,
@@ -417,7 +417,9 @@ def _place(reader: _Reader, frame: _TrackFrame | None, what: str) -> tuple[float
     return reader.number("x", unit="m"), reader.number("y", unit="m"), 0.0
 
 
-def _robot(reader: _Reader, index: int, frame: _TrackFrame | None) -> RobotSpec:
+def _robot(
+    reader: _Reader, index: int, frame: _TrackFrame | None, default_profile: str
+) -> RobotSpec:
     name = reader.string("name", f"epuck{index + 1}")
     if not name.strip():
         reader.fail("name", "a non-empty name", name)
@@ -437,7 +439,7 @@ def _robot(reader: _Reader, index: int, frame: _TrackFrame | None) -> RobotSpec:
         reader.fail(
             "controller", "a controller spec such as improved, stock or module:factory", controller
         )
-    profile = reader.string("profile", "e-puck2", choices=tuple(PROFILES))
+    profile = reader.string("profile", default_profile, choices=profile_names())
     colour = reader.colour("colour", _ROBOT_COLOURS[index % len(_ROBOT_COLOURS)])
     reader.finish()
     return RobotSpec(name, x, y, theta, controller=controller, colour=colour, profile=profile)
@@ -549,9 +551,11 @@ def scene_from_dict(
     robot_items = top.table_list("robots")
     if not robot_items:
         top.fail("robots", "at least one robot", robot_items)
+    # the robots' profile unless a robot names its own (one scene can mix them)
+    default_profile = top.string("profile", "epuck", choices=profile_names())
     robots = []
     for i, item in enumerate(robot_items):
-        robots.append(_robot(_Reader(item, f"robots[{i}]", source), i, frame))
+        robots.append(_robot(_Reader(item, f"robots[{i}]", source), i, frame, default_profile))
     seen: set[str] = set()
     for i, r in enumerate(robots):
         if r.name in seen:

@@ -112,6 +112,8 @@ class ProximitySensors:
             (w.ax, w.ay, w.ex, w.ey, w.ex * w.ex + w.ey * w.ey, w.index) for w in walls
         )
         self.robot_radii = [p.body_radius for p in profiles]
+        # robots whose sensors are cones (V-REP's model) cast no rays: sim.cone computes them
+        self.casts = [p.prox_model == "rays" for p in profiles]
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))
@@ -209,7 +211,7 @@ class ProximitySensors:
                 if qx * qx + qy * qy < reach2:
                     segments.add(k)
                     found = True
-            if found:
+            if found and self.casts[i]:
                 robots.append(i)
         return robots, sorted(circles), sorted(segments)
 

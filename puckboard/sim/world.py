@@ -54,6 +54,7 @@ from ..records import (
 )
 from ..scenario.scene import CircleObstacle, PolygonObstacle, Scene
 from .camera import CameraRenderer
+from .cone import ConeSensors
 from .contacts import Statics
 from .floor import Floor
 from .geometry import polygon_edges
@@ -294,6 +295,15 @@ class World:
             static_circles=self._static_circles,
             polygons=self._polygon_bounds,
             walls=self._wall_segments,
+        )
+        # robots whose profile senses as V-REP does: exact cones, computed after the rays
+        cone_robots = [i for i, p in enumerate(self.profiles) if p.prox_model == "cone"]
+        self.cones = ConeSensors(
+            self.profiles,
+            cone_robots,
+            static_circles=self._static_circles,
+            seg_start=self._seg_start,
+            seg_vector=self._seg_vector,
         )
         # ground sensors: local positions, and their centroid for the segment grid
         self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in self.profiles]
@@ -575,6 +585,7 @@ class World:
             noise=self._noise_prox,
             z=None if z is None else z[2 * n : 10 * n].reshape(n, 8),
         )
+        self.cones.sense(self._pose_list, self._prox_distance, self._prox_raw)
         # -- ground: only the track segments near the robots ------------------------------
         # three points per robot: plain floats are cheaper than a dozen numpy calls here
         points: list[complex] = []

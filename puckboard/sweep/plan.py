@@ -35,6 +35,7 @@ SCENE_CONTROLLERS = "scene"
 
 #: Parameters ``run_episode(overrides=...)`` understands, besides ``layer.<Layer>.<attr>``.
 PARAMETERS: dict[str, str] = {
+    "robot.profile": "every robot's profile (epuck, epuck-vrep, e-puck1; see puckboard profiles)",
     "noise.wheel_speed": "relative σ of each wheel's actual speed",
     "noise.proximity": "relative σ of the raw IR proximity values",
     "noise.ground": "absolute σ of the 0..1 ground sensor values",
@@ -124,6 +125,15 @@ def check_parameter(name: str) -> str:
 
 def _check_value(name: str, value: Any) -> None:
     if name.startswith("layer."):
+        return
+    if name == "robot.profile":
+        from ..profile import profile_names
+
+        if value not in profile_names():
+            raise PlanError(
+                f"parameter robot.profile: unknown profile {value!r}; "
+                f"profiles: {', '.join(profile_names())}"
+            )
         return
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise PlanError(f"parameter {name} needs numbers, got {value!r}")

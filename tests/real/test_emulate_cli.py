@@ -18,7 +18,7 @@ pytestmark = pytest.mark.network
 
 RUN_JSON_FIELDS = {
     "scenario", "controller", "seed", "dt_s", "steps", "sim_time_s", "wall_s",
-    "realtime_factor", "success", "failure", "robots", "events",
+    "realtime_factor", "success", "failure", "failures", "robots", "events",
 }  # fmt: skip
 
 

@@ -8,10 +8,10 @@ from puckboard.control.episode import Episode, run_episode
 
 FIELDS = {
     "scenario", "controller", "seed", "dt_s", "steps", "sim_time_s", "wall_s",
-    "realtime_factor", "success", "failure", "robots", "events",
+    "realtime_factor", "success", "failure", "failures", "robots", "events",
 }  # fmt: skip
 ROBOT_FIELDS = {
-    "name", "progress_laps", "distance_m", "collisions", "on_line_fraction",
+    "name", "profile", "progress_laps", "distance_m", "collisions", "on_line_fraction",
     "obstacles_passed", "passed_other",
 }  # fmt: skip
 
@@ -34,6 +34,7 @@ def test_result_dict_has_exactly_the_contract_fields():
     assert d["scenario"] == "line-follow" and d["controller"] == "stock" and d["seed"] == 0
     assert d["dt_s"] == 0.05 and d["steps"] == 100 and d["sim_time_s"] == pytest.approx(5.0)
     assert d["success"] is False and d["failure"] == "timeout"  # 5 s is not 2.5 laps
+    assert d["failures"] == ["timeout"]
     for r in d["robots"]:
         assert set(r) == ROBOT_FIELDS
         assert r["progress_laps"] > 0 and r["distance_m"] == pytest.approx(5.0 * 0.043, rel=0.2)

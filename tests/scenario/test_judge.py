@@ -79,15 +79,16 @@ def line_pose(geo, s, sign, offset=0.0):
 
 
 def feed(judge, pose_fn, duration, collisions_fn=None):
-    """Call ``judge.update`` every DT until ``duration`` or a decision; returns the time."""
+    """Call ``judge.update`` every DT until ``duration`` or a decision; returns the time of
+    the decision, or for a failure the time the reported failure was detected."""
     steps = int(round(duration / DT))
     for k in range(steps + 1):
         t = k * DT
         poses = np.array(pose_fn(t))
         judge.update(t, poses, None if collisions_fn is None else collisions_fn(t))
         if judge.decided:
-            return t
-    return duration
+            return judge.failure_times.get(judge.failure, t)
+    return judge.failure_times.get(judge.failure, duration) if judge.failure else duration
 
 
 def head_on(geo, t):
@@ -160,6 +161,58 @@ def test_driving_side_by_side_is_parallel_driving():
         <= meet + 1.0 + JudgeRules().parallel_s + 1.5
     )
     assert not any(m.collisions for m in judge.metrics())
+    assert judge.failures == ["parallel_driving"]
+
+
+def test_a_touch_followed_by_side_by_side_driving_is_reported_as_parallel_driving():
+    """The thesis's Figure 4.6: the robots touch, then drive off together the same way."""
+    scene = pass_scene()
+    geo = TrackGeometry(scene.track)
+    judge = Judge(scene)
+    touch = (0.5 - 0.070) / (2 * SPEED)  # centres 7 cm apart: the 3.7 cm bodies overlap
+    at_touch = head_on(geo, touch)
+
+    def after(dt):
+        turn = min(1.0, dt)
+        drive = max(0.0, dt - 1.0) * SPEED
+        (ax, ay, _), (bx, by, _) = at_touch
+        return [
+            (ax - 0.01, ay + drive, turn * math.pi / 2),
+            (bx + 0.01, by + drive, math.pi - turn * math.pi / 2),
+        ]
+
+    def poses(t):
+        return head_on(geo, t) if t <= touch else after(t - touch)
+
+    t = feed(judge, poses, 60.0)
+    assert judge.failures == ["collision", "parallel_driving"]
+    assert judge.failure == "parallel_driving" and judge.decided
+    assert judge.failure_times["collision"] < judge.failure_times["parallel_driving"] == t
+    kinds = [e.kind for e in judge.events]
+    assert kinds.index("collision") < kinds.index("parallel_driving")
+
+
+def test_a_touch_alone_is_a_collision_decided_after_the_watch():
+    scene = pass_scene()
+    geo = TrackGeometry(scene.track)
+    judge = Judge(scene)
+    touch = (0.5 - 0.070) / (2 * SPEED)  # centres 7 cm apart: the 3.7 cm bodies overlap
+    rules = JudgeRules()
+
+    def poses(t):  # after touching, both back away along the line: no side-by-side
+        if t <= touch:
+            return head_on(geo, t)
+        return head_on(geo, max(0.0, touch - (t - touch)))
+
+    decided_at = None
+    for k in range(int(60.0 / DT) + 1):
+        judge.update(k * DT, np.array(poses(k * DT)))
+        if judge.decided:
+            decided_at = k * DT
+            break
+    assert judge.failures[0] == "collision" and judge.failure == "collision"
+    assert "parallel_driving" not in judge.failures
+    assert decided_at == pytest.approx(judge.failure_times["collision"] + rules.failure_watch_s)
 
 
 def test_following_the_line_backwards_is_turned_back():

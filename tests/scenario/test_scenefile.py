@@ -150,7 +150,7 @@ def test_robots_and_obstacles_on_the_track():
         ),
         (
             {"robots": [{"x": 0, "y": 0, "theta": 0, "profile": "e-puck9"}]},
-            "robots[0].profile: expected one of e-puck1, e-puck2",
+            "robots[0].profile: expected one of epuck, epuck-vrep, e-puck1, e-puck2",
         ),
     ],
 )

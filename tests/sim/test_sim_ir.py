@@ -130,14 +130,20 @@ def test_arena_walls_are_seen_along_the_closest_ray_of_the_aperture():
     assert w.prox_distance[0, 4] == EPUCK2.prox_range  # rear_left faces away
 
 
-def test_an_obstacle_touching_the_body_at_a_sensor_reads_zero_and_full_scale():
-    heading = EPUCK2.prox_poses[PS7].heading
+def test_an_obstacle_touching_the_body_reads_the_sensors_depth_inside_the_outline():
+    """The physical profile's sensors sit where Webots puts them, inside the 37 mm body
+    (the calibration table's distances are from there): a touching obstacle reads the
+    few millimetres between sensor and outline, and a high raw value."""
+    pose = EPUCK2.prox_poses[PS7]
+    heading = pose.heading
     reach = EPUCK2.body_radius + 0.02
     post = CircleObstacle(reach * math.cos(heading), reach * math.sin(heading), 0.02)
     w = World(empty_scene(robot("a"), obstacles=(post,)))
     assert w.contacts_now[0]
-    assert w.prox_distance[0, PS7] == pytest.approx(0.0, abs=1e-9)
-    assert w.prox_raw[0, PS7] > 3500  # the table starts at 4095 for 0 m
+    depth = EPUCK2.body_radius - (pose.x * math.cos(heading) + pose.y * math.sin(heading))
+    assert 0.004 < depth < 0.007
+    assert w.prox_distance[0, PS7] == pytest.approx(depth, abs=5e-4)
+    assert w.prox_raw[0, PS7] == pytest.approx(float(raw_from_distance(depth)), rel=0.05)
 
 
 def test_a_robot_that_moves_out_of_reach_while_another_still_sees_reads_nothing():

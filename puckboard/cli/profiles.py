@@ -1,0 +1,93 @@
+"""``puckboard profiles``: the robot profiles, their headline numbers and their sources."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from typing import Any
+
+from . import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "profiles",
+        help="list the robot profiles (physical e-puck, V-REP's model) with their sources",
+        description=(
+            "List the robot profiles a scene, 'run --profile' or 'sweep --set robot.profile=' "
+            "can use, with their headline numbers; 'profiles show NAME' also prints where "
+            "every number comes from."
+        ),
+    )
+    parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
+    parser.add_argument("name", nargs="?", help="profile to show")
+    parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.set_defaults(func=main)
+
+
+def headline(profile: object) -> dict[str, Any]:
+    """The numbers that tell profiles apart, in display units (mm, degrees)."""
+    from ..profile import RobotProfile
+
+    assert isinstance(profile, RobotProfile)
+    ring = [math.hypot(q.x, q.y) * 1000 for q in profile.prox_poses]
+    return {
+        "name": profile.name,
+        "aliases": list(profile.aliases),
+        "wheel_radius_mm": round(profile.wheel_radius * 1000, 2),
+        "axle_mm": round(profile.axle_length * 1000, 2),
+        "body_radius_mm": round(profile.body_radius * 1000, 2),
+        "max_wheel_speed_rad_s": round(profile.max_wheel_speed, 3),
+        "ir_model": profile.prox_model,
+        "ir_ring_mm": [round(min(ring), 1), round(max(ring), 1)],
+        "ir_headings_deg": [round(math.degrees(q.heading), 1) for q in profile.prox_poses],
+        "ir_aperture_deg": round(math.degrees(profile.prox_aperture), 1),
+        "ir_detects_mm": [
+            round(profile.prox_min_distance * 1000, 1),
+            round(profile.prox_max_distance * 1000, 1),
+        ],
+        "ground_sensors_mm": [
+            [round(q.x * 1000, 1), round(q.y * 1000, 1)] for q in profile.ground_poses
+        ],
+        "gyro": profile.has_gyro,
+        "sources": dict(profile.sources),
+    }
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..profile import PROFILES, get_profile
+
+    if args.action == "show":
+        if not args.name:
+            raise CliError(f"which profile? puckboard profiles show NAME ({', '.join(PROFILES)})")
+        try:
+            chosen = [get_profile(args.name)]
+        except ValueError as exc:
+            raise CliError(str(exc)) from None
+    else:
+        if args.name:
+            raise CliError("'puckboard profiles' takes no name; use 'profiles show NAME'")
+        chosen = list(PROFILES.values())
+    rows = [headline(p) for p in chosen]
+    if args.json:
+        print(json.dumps(rows if args.action == "list" else rows[0], indent=2))
+        return 0
+    for row in rows:
+        aliases = f" (also {', '.join(row['aliases'])})" if row["aliases"] else ""
+        print(f"{row['name']}{aliases}")
+        print(
+            f"  wheels r {row['wheel_radius_mm']} mm, axle {row['axle_mm']} mm, "
+            f"body r {row['body_radius_mm']} mm, max {row['max_wheel_speed_rad_s']} rad/s"
+        )
+        lo, hi = row["ir_detects_mm"]
+        ring_lo, ring_hi = row["ir_ring_mm"]
+        print(
+            f"  IR: {row['ir_model']}, ring {ring_lo}-{ring_hi} mm, "
+            f"aperture {row['ir_aperture_deg']}°, detects {lo}-{hi} mm, headings "
+            f"{', '.join(f'{h:g}' for h in row['ir_headings_deg'])}°"
+        )
+        if args.action == "show":
+            for key, source in row["sources"].items():
+                print(f"  {key}: {source}")
+    return 0
