@@ -8,7 +8,9 @@ uses to read them (in the opposite direction):
 * proximity: the world's distances through the calibrated response curve
   (:func:`~puckboard.adapters.real.units.prox_value_from_distance`), minus the baseline
   of the last IR calibration (none at start: the robot was switched on in free space),
-  plus a little sensor noise, so a free sensor reads ≈0 and can go slightly negative;
+  plus a little sensor noise, then clamped at 0 as the e-puck2 firmware's
+  ``get_calibrated_prox`` does (a reading below its calibration offset is 0, never
+  negative: a client reading the field as unsigned must not see 65535, "touching");
 * ground: 0..1023 (0 black, 1023 white);
 * step counters: int16 that wrap every 65536 steps;
 * accelerometer: ≈768 counts per g, gravity on z;
@@ -139,7 +141,8 @@ class EmulatedRobot:
             w = self.world
             values = prox_value_from_distance(w.prox_distance[self.index]) - self._prox_baseline
             values = values + w.rng.normal(0.0, _PROX_NOISE, size=8)
-            return tuple(clamp_int16(v) for v in np.clip(values, -50, 4095))
+            # the firmware's get_calibrated_prox: 0 when the reading is below the offset
+            return tuple(clamp_int16(v) for v in np.clip(values, 0, 4095))
 
     def ground(self) -> tuple[int, int, int]:
         with self.lock:

@@ -117,3 +117,36 @@ def test_run_ends_when_the_client_falls_silent() -> None:
     thread.join(10)
     assert not thread.is_alive()
     assert em.ended_by.startswith("client silent")
+
+
+def test_calibrated_proximity_never_goes_below_zero_on_the_wire() -> None:
+    """As the firmware's get_calibrated_prox: a reading under its calibration offset is 0.
+
+    After calibrating with a wall in front and backing away, the front sensors read less
+    than their offset; the bytes of both protocols must then say 0, never a negative int16
+    (which a client reading the field as unsigned sees as 65535, an obstacle touching).
+    """
+    from puckboard.adapters.real import sercom_codec as sc
+    from puckboard.emulator import SercomSession
+
+    world = World(load_scene("arena"))
+    robot = EmulatedRobot(world, 0)
+    arena = world.scene.arena
+    assert arena is not None
+    middle = (arena.ymin + arena.ymax) / 2
+    world.set_pose(0, arena.xmax - 0.05, middle, 0.0)
+    robot.calibrate_ir()
+    world.set_pose(0, (arena.xmin + arena.xmax) / 2, middle, 0.0)
+    wifi = WifiSession(robot)
+    sercom = SercomSession(robot)
+    for _ in range(20):  # the emulated noise differs each read
+        packet = wifi.feed(WifiCommand(sensors=True).encode())
+        assert packet[0] == 0x02
+        ir_bytes = packet[1 + 37 : 1 + 53]  # bytes 37-52 of the block: 8 × int16 LE
+        values = [int.from_bytes(ir_bytes[k : k + 2], "little") for k in range(0, 16, 2)]
+        assert all(v <= 4095 for v in values), values
+        reply = sercom.feed(sc.encode_request([(sc.GET_PROXIMITY, b"")]))
+        assert len(reply) == 16
+        unsigned = [int.from_bytes(reply[k : k + 2], "little") for k in range(0, 16, 2)]
+        assert all(v <= 4095 for v in unsigned), unsigned
+        assert unsigned[0] == 0 and unsigned[7] == 0  # calibrated at the wall: now below offset
