@@ -23,6 +23,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
     parser.add_argument("name", nargs="?", help="profile to show")
     parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument(
+        "--markdown", action="store_true", help="print the sources table of docs/profiles.md"
+    )
     parser.set_defaults(func=main)
 
 
@@ -70,6 +73,9 @@ def main(args: argparse.Namespace) -> int:
             raise CliError("'puckboard profiles' takes no name; use 'profiles show NAME'")
         chosen = list(PROFILES.values())
     rows = [headline(p) for p in chosen]
+    if args.markdown:
+        print(markdown_table(chosen))
+        return 0
     if args.json:
         print(json.dumps(rows if args.action == "list" else rows[0], indent=2))
         return 0
@@ -91,3 +97,42 @@ def main(args: argparse.Namespace) -> int:
             for key, source in row["sources"].items():
                 print(f"  {key}: {source}")
     return 0
+
+
+#: Rows of the sources table: (label, how to show the value, key in ``sources``).
+_TABLE_ROWS: tuple[tuple[str, str, str], ...] = (
+    ("wheel radius", "{wheel_radius_mm} mm", "wheel_radius"),
+    ("axle", "{axle_mm} mm", "axle_length"),
+    ("body radius", "{body_radius_mm} mm", "body_radius"),
+    ("wheel speed limit", "{max_wheel_speed_rad_s} rad/s", "max_wheel_speed"),
+    ("IR model", "{ir_model}", "prox_model"),
+    ("IR poses", "ring {ir_ring_mm[0]}-{ir_ring_mm[1]} mm", "prox_poses"),
+    ("IR aperture", "{ir_aperture_deg}°", "prox_aperture"),
+    ("IR detects", "{ir_detects_mm[0]}-{ir_detects_mm[1]} mm", "prox_max_distance"),
+    ("ground sensors", "x {ground_sensors_mm[1][0]} mm", "ground_poses"),
+    ("camera", "", "camera"),
+)
+
+
+def markdown_table(profiles: list[Any]) -> str:
+    """One row per model number, one column per profile: the value and where it comes from.
+
+    docs/profiles.md holds this table verbatim, and a test keeps the two in step.
+    """
+    rows = [headline(p) for p in profiles]
+    lines = [
+        "| | " + " | ".join(f"`{r['name']}`" for r in rows) + " |",
+        "|---|" + "---|" * len(rows),
+    ]
+    for label, shown, key in _TABLE_ROWS:
+        cells = []
+        for profile, row in zip(profiles, rows):
+            value = shown.format(**row)
+            source = profile.sources.get(key, "")
+            if key == "prox_max_distance" and "prox_min_distance" in profile.sources:
+                source = f"{profile.sources['prox_min_distance']}; {source}"
+            # a source that starts with its number already shows the value
+            starts_with_number = source[:1].isdigit()
+            cells.append(source if starts_with_number or not value else f"{value}; {source}")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)

@@ -103,3 +103,34 @@ def test_sensor_poses_are_clockwise_from_front_right():
     assert [g.y for g in EPUCK2.ground_poses] == sorted(
         (g.y for g in EPUCK2.ground_poses), reverse=True
     )
+
+
+def test_docs_profiles_table_is_the_code_s_sources_table():
+    """Every number of every profile cites its source in docs/profiles.md, in step with the code."""
+    from pathlib import Path
+
+    from puckboard.cli.profiles import markdown_table
+    from puckboard.profile import PROFILES
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "profiles.md").read_text(encoding="utf-8")
+    assert markdown_table(list(PROFILES.values())) in doc
+    for profile in PROFILES.values():
+        for key in ("wheel_radius", "axle_length", "body_radius", "prox_poses", "prox_model"):
+            assert profile.sources.get(key), f"{profile.name}: no source for {key}"
+
+
+def test_vrep_profile_holds_the_decoded_model():
+    """The decoded e-puck.ttm numbers, V-REP order mapped onto ps0..ps7."""
+    import math
+
+    from puckboard.profile import EPUCK_VREP
+    from puckboard.records import VREP_ORDER
+
+    assert EPUCK_VREP.wheel_radius == 0.02118 and EPUCK_VREP.axle_length == 0.054
+    looks = [round(math.degrees(EPUCK_VREP.prox_poses[ps].heading)) for ps in VREP_ORDER]
+    assert looks == [90, 45, 15, -15, -45, -90, -145, 145]  # ePuck_proxSensor1..8
+    sensor4 = EPUCK_VREP.prox_poses[VREP_ORDER[3]]
+    assert (sensor4.x, sensor4.y) == (0.0337, -0.0094)
+    assert (EPUCK_VREP.prox_min_distance, EPUCK_VREP.prox_max_distance) == (0.0015, 0.0415)
+    assert EPUCK_VREP.prox_range == 0.05  # the controllers' no-detection distance stays
+    assert [round(q.y * 1000, 1) for q in EPUCK_VREP.ground_poses] == [10.3, 0.7, -10.3]
