@@ -156,6 +156,9 @@ def run_case(
     from ..control.episode import Episode
 
     overrides = {
+        # odometry and gyro fusion are about the physical robot (its e-puck2 gyro): the
+        # thesis's scenes default to V-REP's model, which has no gyro
+        "robot.profile": "epuck",
         "noise.wheel_speed": wheel_noise,
         "noise.gyro": gyro_noise,
         "noise.gyro_bias": gyro_bias,

@@ -1,11 +1,12 @@
-"""Faithfulness: the thesis's findings (§4.2, Figure 4.6) as acceptance tests.
+"""Faithfulness: the thesis's findings (§4.2, Figure 4.6) as acceptance tests, per profile.
 
-Each episode runs the shipped scene with its default noise; outcomes come from the judge
-(docs/scenarios.md). The measured outcomes are recorded in docs/controllers.md: over
-seeds 0-199 the improved controller succeeds on 80 %, and every failure is the robot that
-dodges to the outside of the loop losing the line after a clean pass. The tests hold
-that finding (the meeting always works, the failure has one cause, a line-search layer
-fixes it) rather than the exact outcome of each seed.
+Each episode runs the shipped scene with its default noise, once with V-REP's e-puck model
+(``epuck-vrep``, the scenes' own profile: the thesis measured on it) and once with the
+physical e-puck (``epuck``); outcomes come from the judge (docs/scenarios.md). The
+measured rates, 200 seeds per cell with 95 % intervals, are in docs/controllers.md. The
+tests hold what was measured (the meeting always works, the failure has one kind, floors
+well below the measured rates) rather than the exact outcome of each seed; the thesis's
+claims that the measurements contradict stay as strict expected failures.
 """
 
 from __future__ import annotations
@@ -24,28 +25,41 @@ TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 
 IMPROVED_SEEDS = range(20)
 STOCK_SEEDS = range(10)
+PROFILES = ("epuck-vrep", "epuck")
 #: Failures that mean "the meeting itself went wrong": what the thesis reports for the
 #: stock controller (turn the same way and drive side by side, or drive into each other).
 MEETING_FAILURES = {"parallel_driving", "stuck", "collision"}
+QUIET = {f"noise.{k}": 0.0 for k in ("wheel_speed", "proximity", "ground", "start_jitter")}
 
 
-@pytest.fixture(scope="module")
-def improved_runs():
-    return {s: run_episode("two-robot-pass", controller="improved", seed=s) for s in IMPROVED_SEEDS}
+def run(scene, controller, seed=0, profile="epuck-vrep", **overrides):
+    return run_episode(
+        scene, controller=controller, seed=seed, overrides={"robot.profile": profile, **overrides}
+    )
 
 
-@pytest.fixture(scope="module")
-def stock_runs():
-    return {s: run_episode("two-robot-pass", controller="stock", seed=s) for s in STOCK_SEEDS}
+@pytest.fixture(scope="module", params=PROFILES)
+def improved_runs(request):
+    profile = request.param
+    return profile, {s: run("two-robot-pass", "improved", s, profile) for s in IMPROVED_SEEDS}
+
+
+@pytest.fixture(scope="module", params=PROFILES)
+def stock_runs(request):
+    profile = request.param
+    return profile, {s: run("two-robot-pass", "stock", s, profile) for s in STOCK_SEEDS}
 
 
 @pytest.mark.slow
 def test_improved_robots_meet_and_pass_each_other_on_every_seed(improved_runs):
     """The thesis's fix (always turn left first) removes the stock failure: the robots go
-    past each other right side to right side, without touching or driving side by side."""
-    for seed, result in improved_runs.items():
-        assert all(m.passed_other for m in result.robots), (seed, result.failure, result.events)
-        assert result.failure not in MEETING_FAILURES, (seed, result.failure)
+    past each other right side to right side, without touching or driving side by side,
+    with either profile."""
+    profile, runs = improved_runs
+    for seed, result in runs.items():
+        assert all(m.passed_other for m in result.robots), (profile, seed, result.events)
+        assert not set(result.failures) & MEETING_FAILURES, (profile, seed, result.failures)
+        assert all(m.profile == profile for m in result.robots)
 
 
 #: The robot that travels clockwise round the counter-clockwise loop: its left-first
@@ -54,34 +68,67 @@ OUTSIDE_ROBOT = "right"
 
 
 @pytest.mark.slow
-def test_improved_passes_two_robot_pass_on_most_seeds(improved_runs):
-    """Measured: 159 of seeds 0..199 (80 %, 95 % interval 73-85 %), 19 of seeds 0..19.
-    The floor, 13 of 20, is far enough below that only a real regression trips it."""
-    successes = sum(r.success for r in improved_runs.values())
-    assert successes >= 13, {s: r.failure for s, r in improved_runs.items()}
+@pytest.mark.parametrize("improved_runs", ["epuck-vrep"], indirect=True)
+def test_improved_passes_two_robot_pass_on_most_seeds_with_vrep_s_model(improved_runs):
+    """Measured with epuck-vrep: 140 of seeds 0..199 (70 %, 95 % interval 63-76 %), 16 of
+    seeds 0..19. The floor, 10 of 20, is far enough below that only a real regression
+    trips it."""
+    _, runs = improved_runs
+    successes = sum(r.success for r in runs.values())
+    assert successes >= 10, {s: r.failure for s, r in runs.items()}
 
 
 @pytest.mark.slow
-def test_improved_loses_only_the_robot_that_dodged_outside_the_loop(improved_runs):
-    """Every failure has the one cause docs/controllers.md explains: after a clean pass
-    the robot on the outside of the loop leaves the mutual rotation parallel to the line
-    and never sees it again. Never a collision, never the robot on the inside."""
-    for seed, result in improved_runs.items():
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "measured with the physical e-puck's geometry (epuck): improved finds the line again "
+        "on 8 of seeds 0..199 (4 %, 95 % interval 2-8 %), 0 of 0..19; the robots pass each "
+        "other cleanly every time and then lose the line (lost_line). See docs/controllers.md."
+    ),
+)
+def test_improved_passes_two_robot_pass_on_most_seeds_with_the_physical_e_puck():
+    runs = [run("two-robot-pass", "improved", s, "epuck") for s in IMPROVED_SEEDS]
+    assert sum(r.success for r in runs) >= 10, [r.failure for r in runs]
+
+
+@pytest.mark.slow
+def test_improved_fails_only_by_losing_the_line_after_the_pass(improved_runs):
+    """Every failure is ``lost_line`` after a clean pass (docs/controllers.md explains why):
+    never a collision, never a failure at the meeting."""
+    profile, runs = improved_runs
+    for seed, result in runs.items():
         if result.success:
             continue
-        assert result.failure == "lost_line", (seed, result.failure)
-        lost = {e.robot for e in result.events if e.kind == "lost_line"}
-        assert lost == {OUTSIDE_ROBOT}, (seed, result.events)
-        assert all(m.collisions == 0 for m in result.robots), seed
+        assert result.failures == ["lost_line"], (profile, seed, result.failures)
+        assert all(m.collisions == 0 for m in result.robots), (profile, seed)
 
 
 @pytest.mark.slow
-def test_improved_passes_without_noise_as_in_the_thesis_v_rep_run():
+def test_it_is_always_the_robot_outside_the_loop_that_loses_the_line(improved_runs):
+    """Measured: every lost_line of 200 seeds × 2 scenes × 2 profiles is the robot ``right``."""
+    profile, runs = improved_runs
+    for seed, result in runs.items():
+        if not result.success:
+            lost = {e.robot for e in result.events if e.kind == "lost_line"}
+            assert lost == {OUTSIDE_ROBOT}, (profile, seed, result.events)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", ["two-robot-pass", "two-robot-pass-bend"])
+def test_improved_passes_without_noise_with_vrep_s_model_as_in_the_thesis_run(scene):
     """V-REP's physics is deterministic: the thesis saw one outcome per start placement.
-    The noise-free embedded run is that outcome, and it is a pass."""
-    quiet = {f"noise.{k}": 0.0 for k in ("wheel_speed", "proximity", "ground", "start_jitter")}
-    result = run_episode("two-robot-pass", controller="improved", overrides=quiet)
+    The noise-free embedded run with V-REP's model is that outcome, and it is a pass."""
+    result = run(scene, "improved", **QUIET)
     assert result.success, (result.failure, result.events)
+
+
+@pytest.mark.slow
+def test_without_noise_the_physical_e_puck_still_loses_the_line():
+    """Measured: with the physical geometry the noise-free run fails too (lost_line)."""
+    result = run("two-robot-pass", "improved", profile="epuck", **QUIET)
+    assert result.failures == ["lost_line"], result.failures
+    assert all(m.passed_other for m in result.robots)
 
 
 def tutorial_controller_file(tmp_path: Path) -> Path:
@@ -97,42 +144,56 @@ def tutorial_controller_file(tmp_path: Path) -> Path:
 @pytest.mark.slow
 def test_one_line_search_layer_recovers_the_seeds_improved_loses(improved_runs, tmp_path):
     """The failure is the controller's, not the scene's: the tutorial's controller (the
-    improved layers plus ``FindLineOnTheRight``) passes exactly where improved failed."""
-    lost = [s for s, r in improved_runs.items() if not r.success]
+    improved layers plus ``FindLineOnTheRight``) passes where improved failed."""
+    profile, runs = improved_runs
+    lost = [s for s, r in runs.items() if not r.success]
     if not lost:
         pytest.skip("improved passed every seed; nothing to recover")
     spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
     load_controller(spec)  # a bad spec fails here, with its own message
     for seed in lost:
-        result = run_episode("two-robot-pass", controller=spec, seed=seed)
-        assert result.success, (seed, result.failure, result.events)
+        result = run("two-robot-pass", spec, seed, profile)
+        assert result.success, (profile, seed, result.failures, result.events)
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "measured: improved succeeds on 19 of seeds 0..19 (159 of 0..199); on seed 8 the "
-        "robot on the outside of the loop leaves the mutual rotation parallel to the line, "
-        "a few cm beside it, and never finds it again (lost_line). See docs/controllers.md."
+        "measured with V-REP's model (epuck-vrep): improved succeeds on 16 of seeds 0..19 "
+        "(140 of 0..199, 70 %, 95 % interval 63-76 %); on the others the robot on the outside "
+        "of the loop leaves the mutual rotation beside the line and never finds it again "
+        "(lost_line). The thesis's 'every seed' does not hold. See docs/controllers.md."
     ),
 )
-def test_improved_passes_two_robot_pass_on_every_seed(improved_runs):
-    failures = {s: r.failure for s, r in improved_runs.items() if not r.success}
+def test_improved_passes_two_robot_pass_on_every_seed():
+    runs = {s: run("two-robot-pass", "improved", s) for s in IMPROVED_SEEDS}
+    failures = {s: r.failure for s, r in runs.items() if not r.success}
     assert not failures
 
 
 @pytest.mark.slow
 def test_stock_fails_at_the_meeting_for_most_seeds(stock_runs):
-    failed = {s: r.failure for s, r in stock_runs.items() if not r.success}
-    assert len(failed) >= 8, failed
+    """Measured: 200 of 200 seeds fail at the meeting with either profile (the robots touch
+    before they are past each other; some slide past afterwards, too late)."""
+    profile, runs = stock_runs
+    failed = {s: r.failure for s, r in runs.items() if not r.success}
+    assert len(failed) >= 8, (profile, failed)
     assert set(failed.values()) <= set(FAILURES)
-    at_meeting = [
-        s
-        for s, r in stock_runs.items()
-        if r.failure in MEETING_FAILURES and not any(m.passed_other for m in r.robots)
-    ]
-    assert len(at_meeting) >= 8, {s: stock_runs[s].failure for s in STOCK_SEEDS}
+
+    def failed_at_meeting(result):
+        first = result.failures[0] if result.failures else None
+        when = result_time(result, first)
+        passed = [e.time_s for e in result.events if e.kind == "passed_other"]
+        return first in MEETING_FAILURES and (not passed or when < min(passed))
+
+    at_meeting = [s for s, r in runs.items() if failed_at_meeting(r)]
+    assert len(at_meeting) >= 8, (profile, {s: runs[s].failures for s in STOCK_SEEDS})
+
+
+def result_time(result, kind):
+    """When failure ``kind`` was first reported among the result's events."""
+    return min((e.time_s for e in result.events if e.kind == kind), default=math.inf)
 
 
 @pytest.mark.slow
@@ -166,8 +227,20 @@ def test_stock_robots_meeting_in_a_bend_drive_off_side_by_side():
 
 
 @pytest.mark.slow
-def test_improved_robots_meeting_in_a_bend_pass_each_other():
+@pytest.mark.parametrize("profile", PROFILES)
+def test_the_judge_names_figure_4_6_when_stock_robots_meet_in_a_bend(profile):
+    """Measured: parallel_driving is the verdict on 200 of 200 seeds with either profile;
+    the touch before it stays in the failures list."""
     for seed in range(5):
-        result = run_episode("two-robot-pass-bend", controller="improved", seed=seed)
-        assert all(m.passed_other for m in result.robots), (seed, result.failure, result.events)
-        assert result.failure not in MEETING_FAILURES, (seed, result.failure)
+        result = run("two-robot-pass-bend", "stock", seed, profile)
+        assert result.failure == "parallel_driving", (profile, seed, result.failures)
+        assert "parallel_driving" in result.failures
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("profile", PROFILES)
+def test_improved_robots_meeting_in_a_bend_pass_each_other(profile):
+    for seed in range(5):
+        result = run("two-robot-pass-bend", "improved", seed, profile)
+        assert all(m.passed_other for m in result.robots), (profile, seed, result.events)
+        assert not set(result.failures) & MEETING_FAILURES, (profile, seed, result.failures)
