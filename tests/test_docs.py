@@ -173,14 +173,32 @@ def test_docs_build_strict_clean_through_puckboard_docs(tmp_path: Path) -> None:
     assert (out / "index.html").is_file()
     assert (out / "index.html").as_uri() in result.stdout
     # the reference really was generated from docstrings, not left as ::: directives
-    core = (out / "api" / "core" / "index.html").read_text(encoding="utf-8")
+    core = (out / "api" / "core.html").read_text(encoding="utf-8")
     assert "thread-safe key/value store" in core  # Blackboard's docstring
-    behaviours = (out / "api" / "behaviours" / "index.html").read_text(encoding="utf-8")
+    behaviours = (out / "api" / "behaviours.html").read_text(encoding="utf-8")
     assert "Follow a dark line" in behaviours  # LineFollow's docstring
     for page in out.rglob("*.html"):
         html = page.read_text(encoding="utf-8")
         assert "::: puckboard" not in html, page
         assert not re.search(r":(class|func|meth|mod|attr):<code>", html), f"raw role in {page}"
+    assert_local_links_open_pages(out)
+
+
+def assert_local_links_open_pages(site: Path) -> None:
+    """Opened from disk (file://), every local link must land on a file, not a folder:
+    a directory URL shows a listing there, not the page."""
+    broken = []
+    for page in site.rglob("*.html"):
+        if page.name == "404.html":
+            continue  # a web server's error page, with site-absolute links by design
+        html = page.read_text(encoding="utf-8")
+        for href in re.findall(r'href="([^"#?]+)', html):
+            if re.match(r"^[a-z][a-z0-9+.-]*:", href) or href.startswith("//"):
+                continue  # external (https:, mailto:, data:)
+            target = (page.parent / href).resolve()
+            if not target.is_file():
+                broken.append(f"{page.relative_to(site)} -> {href}")
+    assert not broken, broken[:20]
 
 
 # -- puckboard docs -----------------------------------------------------------------------
