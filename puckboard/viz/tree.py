@@ -1,9 +1,9 @@
 """Behaviour-tree diagrams of a controller: text for the terminal, Graphviz for documents.
 
 A controller is a py_trees tree (a Selector without memory over the layers), so py_trees
-draws it: ``ascii``/``unicode`` with its text display, ``dot`` with its pydot export. We
-add what a student needs to read the diagram: each layer's priority (1 = highest) and
-the blackboard keys it reads. ``png``/``svg`` run Graphviz's ``dot`` program, a system
+draws it for documents (``dot``, its pydot export); the text forms (``ascii``/``unicode``)
+are drawn here. Both add what a student needs to read the diagram: each layer's priority
+(1 = highest) and the blackboard keys it reads. ``png``/``svg`` run Graphviz's ``dot`` program, a system
 package, not a Python one; when it is missing the error says how to install it.
 """
 
@@ -46,12 +46,41 @@ def graphviz_install_hint() -> str:
     )
 
 
-def tree_text(controller: Any, *, unicode: bool = False) -> str:
-    """The tree as indented text (ascii or unicode box drawing), without run status."""
-    import py_trees
+#: Branch glyphs: (middle child, last child, continuing line, blank) per style.
+_BRANCHES = {
+    True: ("├── ", "└── ", "│   ", "    "),
+    False: ("+-- ", "`-- ", "|   ", "    "),
+}
 
-    fn = py_trees.display.unicode_tree if unicode else py_trees.display.ascii_tree
-    return fn(controller.root, show_status=False)  # type: ignore[no-any-return]
+
+def tree_text(controller: Any, *, unicode: bool = False) -> str:
+    """The tree as indented text: each layer's priority (1 = highest) and the keys it reads.
+
+    py_trees' own text display shows the tree's shape but neither the priority order a
+    student reads the arbitration by nor the blackboard keys, and its unicode and ascii
+    forms look alike in many terminals; this drawing shows both, with box-drawing branches
+    (``unicode``) or plain ``+--`` ones.
+    """
+    mid, last, line, blank = _BRANCHES[unicode]
+    root = controller.root
+    rows: list[tuple[str, str]] = []  # (branch and label, keys read), aligned below
+
+    def walk(node: Any, prefix: str, rank: int | None, is_last: bool) -> None:
+        label = f"{rank}. {node.name}" if rank is not None else node.name
+        reads = tuple(getattr(node, "reads", ()))
+        rows.append((f"{prefix}{last if is_last else mid}{label}", ", ".join(reads)))
+        children = list(getattr(node, "children", ()))
+        inner = prefix + (blank if is_last else line)
+        for k, child in enumerate(children):
+            walk(child, inner, None, k == len(children) - 1)
+
+    children = list(root.children)
+    for k, child in enumerate(children, start=1):
+        walk(child, "", k, k == len(children))
+    width = max((len(left) for left, _ in rows), default=0)
+    lines = [f"{root.name}  (priority selector: the first layer that applies drives)"]
+    lines += [f"{left:<{width}}   reads: {keys}" if keys else left for left, keys in rows]
+    return "\n".join(lines)
 
 
 def tree_dot(controller: Any) -> str:

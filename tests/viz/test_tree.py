@@ -26,6 +26,19 @@ def test_text_trees_name_every_node(fmt, factory):
     assert [text.index(n) for n in layers] == sorted(text.index(n) for n in layers)
 
 
+def test_text_trees_give_priority_and_keys_and_the_two_styles_differ():
+    """What --help promises: priority order (1 = highest) and the keys each layer reads."""
+    controller = improved()
+    text = render_tree(controller, "unicode")
+    for rank, layer in enumerate(controller.root.children, start=1):
+        line = next(row for row in text.splitlines() if f"{rank}. {layer.name}" in row)
+        for key in getattr(layer, "reads", ()):
+            assert key in line.split("reads:")[1], (layer.name, line)
+    ascii_text = render_tree(controller, "ascii")
+    assert "└── 4. Cruise" in text and "`-- 4. Cruise" in ascii_text
+    assert ascii_text.isascii() and not text.isascii()
+
+
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 def test_dot_parses_and_has_every_node_and_edge():
     controller = improved()
@@ -66,3 +79,26 @@ def test_cli_writes_dot_to_a_file_and_text_to_stdout(tmp_path, capsys):
     assert main(["tree", "-o", str(target)]) == 0
     assert pydot.graph_from_dot_data(target.read_text())
     assert main(["tree", "--controller", "nonsense"]) == 2
+
+
+def test_the_tree_shown_in_the_docs_is_what_puckboard_tree_prints():
+    from pathlib import Path
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "visual-tools.md").read_text(
+        encoding="utf-8"
+    )
+    assert render_tree(improved(), "unicode") in doc
+
+
+def test_the_status_markers_the_tutorial_explains_are_py_trees_own():
+    """docs/tutorial.md explains [o], -->, [-], [*] and [x]: they must be what prints."""
+    from puckboard.adapters import FakeAdapter
+
+    controller = improved()
+    fresh = controller.ascii_tree()
+    assert fresh.startswith("[o] improved [-]") and "--> Cruise [-]" in fresh
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller.tick(robot.ns)
+    ticked = controller.ascii_tree()
+    assert "--> Cruise [*]" in ticked and "--> LineFollow [x]" in ticked
