@@ -275,12 +275,19 @@ def plot_wheels(rec: Recording) -> Any:
     for ax, name in zip(axes, names):
         s = rec.robot(name)
         # not the layer colours: these lines are wheels, not layers
-        ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#222222", label="left")
-        ax.plot(rec.time, s.wheels[:, 1], lw=LINE["trace"], color="#CC79A7", ls="--", label="right")
+        ax.plot(rec.time, s.wheels[:, 0], lw=LINE["trace"], color="#222222", label="left wheel")
+        ax.plot(
+            rec.time,
+            s.wheels[:, 1],
+            lw=LINE["trace"],
+            color="#CC79A7",
+            ls="--",
+            label="right wheel",
+        )
         ax.axhline(0.0, color="#404040", lw=1.0)
         ax.set_ylabel("rad/s")
         ax.set_title(
-            f"{name}: wheel commands", fontsize=FONT["label"], color=colours[name], loc="left",
+            f"robot {name}: wheel commands", fontsize=FONT["label"], color=colours[name], loc="left",
             fontweight="bold",
         )  # fmt: skip
         ax.legend(

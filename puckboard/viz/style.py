@@ -43,6 +43,9 @@ _SKY = "#56B4E9"
 _YELLOW = "#F0E442"
 _GREY = "#999999"
 _DARK = "#404040"
+# Cruising is the layer that drives when nothing else does: a quiet brown, away from the
+# robots' own green, blue and red so a timeline never mixes a layer up with a robot
+_BROWN = "#8C564B"
 
 _BY_KEYWORD: tuple[tuple[str, str], ...] = (
     ("obstacle", _VERMILLION),
@@ -50,10 +53,10 @@ _BY_KEYWORD: tuple[tuple[str, str], ...] = (
     ("braitenberg", _VERMILLION),
     ("line", _BLUE),
     ("wall", _ORANGE),
-    ("cruise", _GREEN),
-    ("wander", _GREEN),
+    ("cruise", _BROWN),
+    ("wander", _BROWN),
 )
-_EXTRA = (_PURPLE, _SKY, _YELLOW, "#8C564B", "#7F7F7F", "#BCBD22", "#17BECF", "#9467BD")
+_EXTRA = (_PURPLE, _SKY, _YELLOW, _GREEN, "#7F7F7F", "#BCBD22", "#17BECF", "#9467BD")
 
 _ROBOT_PALETTE = ("#2ca02c", "#1f77b4", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2")
 
@@ -81,7 +84,7 @@ def layer_colour(name: str | None) -> str:
     """The colour of a layer, stable across runs, files and processes.
 
     Layers are coloured by role (obstacle avoidance vermillion, line following blue,
-    wall keeping orange, cruising green), so ``FrontBraitenbergAvoid`` in the stock
+    wall keeping orange, cruising brown), so ``FrontBraitenbergAvoid`` in the stock
     controller and ``FrontObstacleLeftTurn`` in the improved one share a colour; other
     names get a colour from a hash of the name.
     """

@@ -38,3 +38,11 @@ def test_python_dash_m_works():
     )
     assert out.returncode == 0
     assert puckboard.__version__ in out.stdout
+
+
+def test_scenes_warns_that_arena_ends_in_a_collision_by_design(capsys):
+    from puckboard.cli import main
+
+    assert main(["scenes"]) == 0
+    arena = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("arena"))
+    assert "collision" in arena and "by design" in arena

@@ -52,3 +52,30 @@ def test_arbitration_spans_follow_the_recorded_layers(rec):
 def test_bad_format_and_empty_recordings_are_refused(rec, tmp_path):
     with pytest.raises(ValueError, match="png, svg"):
         save_plots(rec, tmp_path, "jpg")
+
+
+def test_layer_colours_stay_apart_from_every_shipped_robot_colour():
+    """A timeline shows robots and layers side by side: the default layer (Cruise) must
+    not look like a robot (it was a light green next to the green robot 'left')."""
+    from puckboard.scenario import load_scene, scene_names
+    from puckboard.viz.style import layer_colour
+
+    def rgb(hex_colour):
+        return tuple(int(hex_colour[k : k + 2], 16) for k in (1, 3, 5))
+
+    mine = rgb(layer_colour("Cruise"))
+    for name in scene_names():
+        for robot in load_scene(name).robots:
+            gap = sum((a - b) ** 2 for a, b in zip(mine, robot.colour)) ** 0.5
+            assert gap > 90, (name, robot.name, gap)
+
+
+def test_wheel_plot_says_wheel_for_the_lines_and_robot_for_the_panels(rec):
+    """'left'/'right' name both a robot and a wheel in the two-robot pass: say which."""
+    from puckboard.viz.plots import plot_wheels
+
+    fig = plot_wheels(rec)
+    for ax in fig.axes:
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert labels == ["left wheel", "right wheel"]
+        assert ax.get_title(loc="left").startswith("robot ")
