@@ -110,7 +110,10 @@ def test_tutorial_code_runs_in_order_with_the_promised_outcomes(tmp_path: Path) 
     for shown_output in fenced(page, "text"):
         for line in shown_output.splitlines():
             assert words(line) in words(out), f"the page shows {line!r}; the run printed:\n{out}"
-    # step 2: stock fails at the meeting; improved gets the robots past each other
+    # step 2: stock fails at the meeting; improved gets the robots past each other, and the
+    # page shows both lines the loop prints, not only the first
+    step2 = next(b for b in fenced(page, "text") if "the robots got past each other" in b)
+    assert len(step2.strip().splitlines()) == 2, step2
     assert re.search(
         r"stock +the robots got past each other: False +outcome: failed \(collision\)", out
     )
