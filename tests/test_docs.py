@@ -325,3 +325,27 @@ def test_architecture_page_quotes_the_control_loop_example_verbatim() -> None:
     example = statements((ROOT / "examples" / "control_loop.py").read_text(encoding="utf-8"))
     for line in statements(quoted[0]):
         assert line in example, f"not in examples/control_loop.py: {line}"
+
+
+def test_tutorial_cli_parameter_example_prints_what_the_python_one_does(capsys) -> None:
+    """Step 7 shows the same experiment twice; the command must report the same run."""
+    import json
+
+    from puckboard.cli import main
+    from puckboard.control.episode import run_episode
+
+    text = (DOCS / "tutorial.md").read_text(encoding="utf-8")
+    command = next(
+        line
+        for line in text.splitlines()
+        if line.startswith("puckboard run line-follow --controller stock --set layer.LineFollow")
+    )
+    argv = command.split()[1:] + ["--json"]
+    assert main(argv) == 0
+    shown = json.loads(capsys.readouterr().out)["robots"][0]
+    python = run_episode(
+        "line-follow", controller="stock", duration=60, stop_early=False,
+        overrides={"layer.LineFollow.inner_factor": 0.9},
+    ).robots[0]  # fmt: skip
+    assert shown["progress_laps"] == pytest.approx(python.progress_laps, abs=1e-4)
+    assert shown["on_line_fraction"] == pytest.approx(python.on_line_fraction, abs=1e-4)
