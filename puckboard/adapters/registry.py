@@ -13,6 +13,8 @@ import pkgutil
 from collections.abc import Callable
 from typing import Any
 
+from .._extras import missing_package_message
+
 __all__ = ["BACKENDS", "BACKEND_ENV", "default_backend", "open_backend", "register_backend"]
 
 BACKENDS: dict[str, tuple[str, str | None]] = {
@@ -49,8 +51,7 @@ def resolve_backend(name: str) -> Callable[..., Any]:
     try:
         return pkgutil.resolve_name(target)  # type: ignore[no-any-return]
     except ImportError as exc:
-        hint = f" (install it with: pip install 'puckboard[{extra}]')" if extra else ""
-        raise ImportError(f"backend {name!r} needs a missing package: {exc.name}{hint}") from exc
+        raise ImportError(missing_package_message(f"backend {name!r}", exc, extra)) from exc
 
 
 def default_backend() -> str:

@@ -2,8 +2,9 @@
 
 ``puckboard bench`` runs the suites in :data:`SUITES`. A suite is a function
 ``run_suite(steps: int | None) -> dict`` named as ``"module:function"`` so that other
-parts of puckboard (or a user's package) can add their own; a suite whose module is not
-installed is skipped with a note, not an error.
+parts of puckboard (or a user's package) can add their own; a suite whose module, or an
+optional package it needs, is not installed is skipped with a note naming the extra to
+install, not an error.
 
 Every figure is the median over several repeats after a warm-up, timed with
 ``time.perf_counter``; results carry the number of repeats and the machine so they can be
@@ -23,6 +24,7 @@ import time
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from .._extras import extra_for, missing_package_message
 from .timing import REPEATS, seconds_per_call
 
 __all__ = ["SUITES", "machine", "run_suites", "sim_suite"]
@@ -81,6 +83,10 @@ def run_suites(
 ) -> dict[str, Any]:
     """Run the named suites; a suite whose module is absent gets ``{"skipped": reason}``.
 
+    So does a suite that needs one of puckboard's optional packages (the coppeliasim
+    suite imports pyzmq only when it starts its server): the reason names the extra
+    that installs it. Any other ImportError is a bug and propagates.
+
     ``options`` are keyword arguments for the suites (e.g. ``seeds`` for ``estimation``);
     each suite receives those it accepts, so one command line can serve several suites.
     """
@@ -89,15 +95,30 @@ def run_suites(
         try:
             fn = resolve_suite(name)
         except ImportError as exc:
-            results["suites"][name] = {"skipped": f"module not available ({exc})"}
+            results["suites"][name] = {"skipped": _missing(name, exc)}
             continue
         except AttributeError as exc:
             results["suites"][name] = {"skipped": f"suite function not available ({exc})"}
             continue
         accepted = suite_options(name)
         kwargs = {k: v for k, v in (options or {}).items() if k in accepted}
-        results["suites"][name] = fn(steps, **kwargs)
+        try:
+            results["suites"][name] = fn(steps, **kwargs)
+        except ImportError as exc:
+            if extra_for(exc) is None:
+                raise
+            results["suites"][name] = {"skipped": _missing(name, exc)}
+        if "skipped" in results["suites"][name]:
+            log.info("benchmark suite %r skipped: %s", name, results["suites"][name]["skipped"])
     return results
+
+
+def _missing(name: str, exc: ImportError) -> str:
+    """Why suite ``name`` cannot run: the extra to install when the missing module is one
+    of puckboard's optional packages, else Python's own words (a user's suite)."""
+    if extra_for(exc) is not None:
+        return missing_package_message(f"suite {name!r}", exc)
+    return f"module not available ({exc})"
 
 
 def _median_us(fn: Callable[[], Any], calls: int) -> float:

@@ -30,6 +30,7 @@ It is a benchmark, never a test: the figures depend on the machine and its load.
 
 from __future__ import annotations
 
+import importlib
 import logging
 import sys
 import time
@@ -181,6 +182,11 @@ def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, 
     """
     if server not in ("thread", "process"):
         raise ValueError(f"server must be 'thread' or 'process', got {server!r}")
+    # Both sides need the coppeliasim extra: import them now, so a missing package is
+    # an ImportError naming it (the suite is then skipped) rather than a server process
+    # that dies before its banner.
+    importlib.import_module("puckboard.remote.server")
+    importlib.import_module("coppeliasim_zmqremoteapi_client")
     cycles = steps or 300
     port, stop = _start_server(server)
     results: dict[str, Any] = {

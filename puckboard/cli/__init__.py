@@ -9,14 +9,29 @@ import only ``argparse`` at the top and load the heavy parts inside ``func``, so
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import logging
+import math
+import socket
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
+from .._extras import missing_package_message
 from .._version import __version__
 
-__all__ = ["COMMANDS", "main"]
+__all__ = [
+    "COMMANDS",
+    "CliError",
+    "bind_error_message",
+    "check_port",
+    "check_seconds",
+    "main",
+    "missing_extra",
+    "require",
+    "seed_type",
+]
 
 #: Subcommands in the order ``--help`` lists them.
 COMMANDS: tuple[str, ...] = (
@@ -39,6 +54,158 @@ class CliError(Exception):
     """Bad input on the command line: printed as one line, exit status 2."""
 
 
+class _ArgumentError(CliError):
+    """A value argparse refused in a subcommand's options (``prog`` is ``puckboard CMD``)."""
+
+    def __init__(self, prog: str, message: str) -> None:
+        super().__init__(message)
+        self.prog = prog
+
+
+class _SubcommandParser(argparse.ArgumentParser):
+    """A subcommand's parser whose refusals end like every other bad input: one line
+    ``puckboard CMD: error: ...`` and status 2 from :func:`main`, not argparse's usage
+    block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage."""
+
+    def error(self, message: str) -> NoReturn:
+        flag, sep, detail = message.partition(": ")
+        if sep and flag.startswith("argument ") and detail.startswith(flag[9:] + " "):
+            message = detail  # the type's message names the option already (seed_type)
+        raise _ArgumentError(self.prog, message)
+
+
+# -- shared checks and messages ---------------------------------------------------------------
+def seed_type(text: str) -> int:
+    """argparse type of every ``--seed``: a whole number >= 0, which is what numpy's
+    generators accept; without it ``--seed -1`` fails deep inside numpy with a message
+    ("expected non-negative integer") that does not say which option was wrong."""
+    try:
+        seed = int(text)
+    except ValueError:
+        seed = -1
+    if seed < 0:
+        raise argparse.ArgumentTypeError(f"--seed must be a whole number ≥ 0, got {text}")
+    return seed
+
+
+def check_seconds(value: float | None, flag: str = "--duration") -> None:
+    """Refuse a time option that is not a finite positive number of seconds. ``inf``
+    passes a plain ``> 0`` test and then overflows when it is turned into a number of
+    steps, and ``nan`` compares false with everything."""
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise CliError(f"{flag} must be a finite positive number of seconds, got {value:g}")
+
+
+def check_port(port: int | None, flag: str = "--port") -> None:
+    """Refuse a TCP port outside 0..65535 before binding: the socket layer reports it
+    as an ``OverflowError`` that names neither the option nor the range."""
+    if port is not None and not 0 <= port <= 65535:
+        raise CliError(f"{flag} must be 0..65535, got {port}")
+
+
+def missing_extra(exc: ImportError, what: str) -> CliError:
+    """One line for a missing optional package that names the extra to install.
+
+    Library code that already worded its ImportError for users (it names a
+    ``puckboard[...]`` extra) keeps its words; a bare ``No module named 'rich'`` becomes
+    ``"<what> needs a missing package: rich (install it with: pip install
+    'puckboard[cli]')"``, the wording of ``puckboard run --backend coppeliasim``.
+    """
+    text = (str(exc).strip().splitlines() or [""])[0]
+    if "puckboard[" in text:
+        return CliError(text)
+    return CliError(missing_package_message(what, exc))
+
+
+def require(module: str, what: str) -> None:
+    """Import ``module`` now, so that a missing optional package is reported before a
+    backend (perhaps a real robot) is opened and not halfway through a command."""
+    try:
+        importlib.import_module(module)
+    except ImportError as exc:
+        raise missing_extra(exc, what) from None
+
+
+def _errnos(*names: str) -> frozenset[int]:
+    """The error numbers called ``names`` on this system: POSIX names, and Windows'
+    WSA* twins, which its socket errors carry instead."""
+    return frozenset(
+        code
+        for name in names
+        for mod in (errno, socket)
+        if isinstance(code := getattr(mod, name, None), int)
+    )
+
+
+_IN_USE = _errnos("EADDRINUSE", "WSAEADDRINUSE")
+_DENIED = _errnos("EACCES", "EPERM", "WSAEACCES")
+#: The host is not an address of this machine, or no address at all: bind()'s own
+#: errors, the one ZeroMQ gives for a host it cannot resolve (ENODEV), and the
+#: resolver's (socket.create_server re-raises those as a plain OSError, and on some
+#: systems their numbers overlap errno's: checked after _IN_USE and _DENIED).
+_BAD_HOST = _errnos(
+    "EADDRNOTAVAIL",
+    "WSAEADDRNOTAVAIL",
+    "ENODEV",
+    "EINVAL",
+    "EAFNOSUPPORT",
+    "EAI_NONAME",
+    "EAI_NODATA",
+    "EAI_AGAIN",
+    "EAI_FAIL",
+)
+
+
+def _bind_cause(exc: BaseException) -> BaseException:
+    """The socket-level error behind ``exc``: servers wrap it in an error of their own
+    (``raise OSError(...) from exc``), and only the original carries the errno."""
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        if isinstance(current, socket.gaierror) or isinstance(getattr(current, "errno", None), int):
+            return current
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return exc
+
+
+def bind_error_message(exc: BaseException, host: str, port: int) -> str:
+    """Why listening on ``host:port`` failed, and what to do, for ``serve`` and ``emulate``.
+
+    Blaming "another server using that port" for every failure sends a user after the
+    wrong problem, so the three usual causes are told apart: the port is in use, the
+    port needs rights the user lacks (below 1024 on most systems), or the host is not
+    an address of this machine. Anything else keeps the system's reason.
+    """
+    cause = _bind_cause(exc)
+    code = getattr(cause, "errno", None)
+    where = f"cannot listen on {host}:{port}"
+    bad_host = (
+        f"{where}: {host!r} is not an address of this machine; use 127.0.0.1 (this machine "
+        "only), 0.0.0.0 (every interface) or one of this machine's addresses"
+    )
+    if isinstance(cause, socket.gaierror):
+        return bad_host
+    if code in _IN_USE:
+        return (
+            f"{where}: the port is in use (by another server, or CoppeliaSim?); choose "
+            "another with --port, or --port 0 for any free one"
+        )
+    privileged = 0 < port < 1024
+    if code in _DENIED:
+        if privileged:
+            return (
+                f"{where}: permission denied; ports below 1024 need administrator rights, "
+                "use one from 1024 to 65535, e.g. --port 10000"
+            )
+        return f"{where}: permission denied by the system; choose another port with --port"
+    if code in _BAD_HOST:
+        return bad_host
+    reason = getattr(cause, "strerror", None) or str(cause) or type(cause).__name__
+    hint = " (ports below 1024 need administrator rights; try --port 10000)" if privileged else ""
+    return f"{where}: {reason}{hint}"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="puckboard",
@@ -48,7 +215,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "-v", "--verbose", action="count", default=0, help="more log output (-vv for debug)"
     )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_SubcommandParser)
     for name in COMMANDS:
         try:
             module = importlib.import_module(f"{__name__}.{name}")
@@ -62,7 +229,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except _ArgumentError as exc:
+        print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+        return 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     if not getattr(args, "func", None):

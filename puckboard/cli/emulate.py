@@ -13,7 +13,7 @@ import argparse
 import json
 import sys
 
-from . import CliError
+from . import CliError, bind_error_message, check_port, check_seconds, seed_type
 
 DEFAULT_WIFI_PORT = 10000  # the robot uses 1000, which needs administrator rights to bind
 
@@ -58,7 +58,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="end when the client sends nothing for this long (s; 0: never); a TCP client "
         "that disconnects ends the run at once",
     )
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=seed_type, default=0, help="seed of the simulation's noise")
     p.add_argument(
         "--profile",
         default="epuck",
@@ -80,8 +80,8 @@ def main(args: argparse.Namespace) -> int:
     from ..emulator import Emulation, pty_available
     from ..errors import SceneError
 
-    if args.duration is not None and args.duration <= 0:
-        raise CliError(f"--duration must be positive seconds, got {args.duration}")
+    check_seconds(args.duration)
+    check_port(args.port)
     if args.idle_timeout < 0:
         raise CliError(f"--idle-timeout must be >= 0 seconds, got {args.idle_timeout}")
     serial = None
@@ -113,7 +113,9 @@ def main(args: argparse.Namespace) -> int:
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise CliError(str(exc)) from None
     except OSError as exc:
-        raise CliError(str(exc)) from None
+        if serial == "pty":  # no socket involved: the system's reason says it all
+            raise CliError(str(exc)) from None
+        raise CliError(bind_error_message(exc, args.host, port or 0)) from None
     info = emulation.info
     banner = sys.stderr if args.json else sys.stdout
     print(

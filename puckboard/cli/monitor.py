@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from . import CliError
+from . import CliError, check_seconds, require, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -30,7 +30,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="keep the wheels still and only watch the sensors (a real robot on the desk)",
     )
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=seed_type, default=0, help="seed of the simulation's noise")
     p.add_argument(
         "--duration",
         type=float,
@@ -58,6 +58,8 @@ def main(args: argparse.Namespace) -> int:
         raise CliError("--refresh must be positive")
     if args.still and args.controller:
         raise CliError("--still and --controller exclude each other")
+    check_seconds(args.duration)
+    require("rich", "the live sensor table")  # before a backend, perhaps a robot, is opened
     controller = _still if args.still else args.controller
     options = {
         k: getattr(args, k) for k in ("host", "port", "device") if getattr(args, k) is not None
@@ -70,8 +72,13 @@ def main(args: argparse.Namespace) -> int:
             backend=args.backend,
             **options,
         )
-    except (ValueError, KeyError, TypeError, PuckboardError) as exc:
-        raise CliError(str(exc)) from exc
+    except (ValueError, KeyError, TypeError, ImportError, PuckboardError) as exc:
+        raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
+    try:
+        episode.check_duration(args.duration)
+    except ValueError as exc:
+        episode.connection.close()
+        raise CliError(str(exc)) from None
     SensorMonitor.for_episode(episode, refresh=args.refresh).attach(episode)
     result = episode.run(args.duration)
     verdict = "success" if result.success else f"failure ({result.failure})"

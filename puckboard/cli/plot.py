@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from . import CliError
@@ -59,14 +60,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..viz.animation import VideoSupportError, check_animation_path, render_animation
+    """Check every option, then write: a bad --from/--to or --size found after the plots
+    were written would leave half the outputs behind and the user unsure which."""
+    from ..viz.animation import (
+        VideoSupportError,
+        check_animation_path,
+        frame_indices,
+        render_animation,
+    )
     from ..viz.plots import save_plots
     from ..viz.recording import load_recording
 
+    _check_window(args.start, args.end)
     try:
         rec = load_recording(args.recording)
     except (FileNotFoundError, ValueError) as exc:
-        raise CliError(str(exc)) from exc
+        raise CliError(str(exc)) from None
     if args.animate:
         try:
             check_animation_path(args.animate)
@@ -74,6 +83,11 @@ def main(args: argparse.Namespace) -> int:
             raise CliError(str(exc)) from exc
     if (args.speed is not None and args.speed <= 0) or args.fps <= 0:
         raise CliError("--speed and --fps must be positive")
+    if args.animate:
+        try:  # the window against the run's own span, before any file is written
+            frame_indices(rec, args.fps, args.speed or 4.0, args.start, args.end)
+        except ValueError as exc:
+            raise CliError(str(exc)) from None
     size = None
     if args.size:
         try:
@@ -111,3 +125,13 @@ def main(args: argparse.Namespace) -> int:
             f"wrote {info['path']} ({info['frames']} frames, {w}x{h}, {info['bytes'] / 1e6:.1f} MB)"
         )
     return 0
+
+
+def _check_window(start: float | None, end: float | None) -> None:
+    """``--from``/``--to`` must be finite times in order: ``nan`` would silently mean
+    "from the start" and a reversed window can only fail, after the plots are written."""
+    for flag, value in (("--from", start), ("--to", end)):
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise CliError(f"{flag} must be a finite number of seconds ≥ 0, got {value:g}")
+    if start is not None and end is not None and end < start:
+        raise CliError(f"--to ({end:g} s) is before --from ({start:g} s); swap them")

@@ -15,7 +15,7 @@ import json
 import sys
 from typing import Any
 
-from . import CliError
+from . import CliError, check_seconds, missing_extra, require, seed_type
 
 #: A run longer than this (wall seconds) gets a progress indicator on stderr.
 PROGRESS_AFTER_S = 0.5
@@ -46,7 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="controller for every robot (default: each robot's controller in the scene, "
         "improved in the shipped scenes)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    parser.add_argument("--seed", type=seed_type, default=0, help="random seed (default: 0)")
     parser.add_argument(
         "--profile",
         metavar="NAME",
@@ -129,8 +129,9 @@ def main(args: argparse.Namespace) -> int:
         overrides["robot.profile"] = args.profile
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
-    if args.duration is not None and not args.duration > 0:
-        raise CliError(f"--duration must be positive seconds, got {args.duration}")
+    check_seconds(args.duration)
+    if args.monitor:
+        require("rich", "--monitor")
     backend_options = {
         key: value
         for key, value in (("host", args.host), ("port", args.port), ("device", args.device))
@@ -164,24 +165,36 @@ def main(args: argparse.Namespace) -> int:
         )
     except (PuckboardError, ValueError, TypeError, ImportError, OSError) as exc:
         raise CliError(_first_line(exc)) from None
+    duration = args.duration if args.duration is not None else episode.scene.duration
+    try:
+        episode.check_duration(duration)  # before any window opens or file is promised
+    except ValueError as exc:
+        episode.connection.close()
+        raise CliError(_first_line(exc)) from None
     outputs = None
-    wants_visuals = args.view or args.record or args.plots or args.monitor
-    if wants_visuals:
+    visuals = [
+        flag
+        for flag, wanted in (
+            ("--view", args.view),
+            ("--record", args.record),
+            ("--plots", args.plots),
+            ("--monitor", args.monitor),
+        )
+        if wanted
+    ]
+    if visuals:
         try:
             from ..viz.hooks import attach
-        except ImportError as exc:
-            episode.connection.close()
-            raise CliError(
-                f"visual tools not available ({exc}); install them with: pip install 'puckboard[viz]'"
-            ) from None
-        try:
+
             outputs = attach(
                 episode, view=args.view, record=args.record, plots=args.plots, monitor=args.monitor
             )
-        except (ValueError, ImportError) as exc:
+        except ImportError as exc:
+            episode.connection.close()
+            raise missing_extra(exc, "/".join(visuals)) from None
+        except ValueError as exc:
             episode.connection.close()
             raise CliError(_first_line(exc)) from None
-    duration = args.duration if args.duration is not None else episode.scene.duration
     progress = None if args.json and not sys.stderr.isatty() else _Progress(duration)
     if progress is not None and not args.monitor:
         episode.add_observer(progress.update)

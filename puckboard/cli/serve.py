@@ -18,7 +18,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import CliError
+from . import CliError, bind_error_message, check_port, missing_extra, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -49,7 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--port", type=int, default=23000, help="TCP port (default 23000, CoppeliaSim's; 0 = any)"
     )
-    p.add_argument("--seed", type=int, default=0, help="seed of the simulation's noise")
+    p.add_argument("--seed", type=seed_type, default=0, help="seed of the simulation's noise")
     p.add_argument(
         "--profile",
         default="epuck-vrep",
@@ -72,13 +72,15 @@ def main(args: argparse.Namespace) -> int:
 
     from ..errors import SceneError
     from ..profile import get_profile
-    from ..remote.server import RemoteApiServer
     from ..scenario.scenefile import load_scene
 
-    if not 0 <= args.port <= 65535:
-        raise CliError(f"--port must be 0..65535, got {args.port}")
+    check_port(args.port)
     if args.stepping_timeout <= 0:
         raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
+    try:
+        from ..remote.server import RemoteApiServer
+    except ImportError as exc:
+        raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     try:
         scene = load_scene(args.scenario)
         profile = None if args.profile == "scene" else get_profile(args.profile).name
@@ -94,11 +96,9 @@ def main(args: argparse.Namespace) -> int:
             profile=profile,
         )
     except ImportError as exc:
-        raise CliError(
-            f"serving needs a missing package ({exc.name}); install: pip install 'puckboard[coppeliasim]'"
-        ) from None
+        raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     except OSError as exc:
-        raise CliError(str(exc)) from None
+        raise CliError(bind_error_message(exc, args.host, args.port)) from None
     shown_host = "127.0.0.1" if args.host in ("127.0.0.1", "localhost") else args.host
     out = sys.stdout
     print(
@@ -106,6 +106,8 @@ def main(args: argparse.Namespace) -> int:
         f"remote API, protocol 2, at tcp://{args.host}:{server.port}",
         file=out,
     )
+    profiles = sorted({r.profile for r in server.api.world.scene.robots})
+    print(f"  robot profile: {', '.join(profiles)} (--profile to change)", file=out)
     for line in server.describe():
         print(f"  {line}", file=out)
     if args.host in ("0.0.0.0", "*"):

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from . import CliError
+from . import CliError, check_seconds
 
 DEFAULT_SCENARIO = "two-robot-pass"
 
@@ -188,8 +188,7 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _check_numbers(args: argparse.Namespace) -> None:
-    if args.duration is not None and not args.duration > 0:
-        raise CliError(f"--duration must be positive (simulated seconds), got {args.duration}")
+    check_seconds(args.duration)
     if args.batch_size is not None and args.batch_size < 1:
         raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
     if args.episode_timeout is not None and not args.episode_timeout > 0:

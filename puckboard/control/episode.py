@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -44,9 +45,24 @@ from ..scenario.judge import Event, Judge, RobotMetrics
 from ..scenario.scene import Scene
 from .loop import ControlLoop
 
-__all__ = ["OVERRIDE_NAMES", "Episode", "EpisodeResult", "apply_scene_overrides", "run_episode"]
+__all__ = [
+    "MAX_STEPS",
+    "OVERRIDE_NAMES",
+    "Episode",
+    "EpisodeResult",
+    "apply_scene_overrides",
+    "check_steps",
+    "run_episode",
+]
 
 log = logging.getLogger(__name__)
+
+#: The most steps one episode may take. ``dt=1e-9`` over a one-second run is 10⁹ steps,
+#: days of computing that look like a hang and end only when killed; the bound turns
+#: such a typo into an error before anything runs. Ten million steps are a 5.8-day run
+#: at the usual dt of 0.05 s. Raise it (``puckboard.control.episode.MAX_STEPS = ...``)
+#: for a run that really needs more.
+MAX_STEPS = 10_000_000
 
 OVERRIDE_NAMES = (
     "robot.profile",
@@ -106,6 +122,19 @@ class EpisodeResult:
             "robots": [m.to_dict() for m in self.robots],
             "events": [e.to_dict() for e in self.events],
         }
+
+
+def check_steps(duration: float, dt: float) -> int:
+    """The steps of ``dt`` seconds in ``duration`` seconds; a ``ValueError`` that names
+    the limit, the two numbers and the way out when they exceed :data:`MAX_STEPS`."""
+    steps = math.ceil(duration / dt - 1e-9)
+    if steps > MAX_STEPS:
+        raise ValueError(
+            f"{duration:g} s in steps of dt={dt:g} s would take {steps:,} steps, more than "
+            f"one episode may take ({MAX_STEPS:,}, puckboard.control.episode.MAX_STEPS); "
+            "use a larger dt or a shorter duration, or raise MAX_STEPS"
+        )
+    return steps
 
 
 def _resolve_scene(scene: Scene | str | Path) -> Scene:
@@ -318,15 +347,30 @@ class Episode:
                 log.exception("episode close observer %r failed", obs)
 
     # -- running ---------------------------------------------------------------------------
+    def check_duration(self, duration: float | None = None) -> float:
+        """``duration`` (default: the scene's) if this episode can run that long: a finite
+        positive number of seconds within :data:`MAX_STEPS` steps, else ``ValueError``.
+
+        :meth:`run` checks it too; calling it first lets a caller refuse a bad run
+        before it opens windows or promises files. The step is the simulation's (the
+        control period on a real robot), since that is what the run will count.
+        """
+        duration = self.scene.duration if duration is None else float(duration)
+        if not (math.isfinite(duration) and duration > 0):
+            raise ValueError(
+                f"duration must be a finite positive number of seconds, got {duration:g}"
+            )
+        check_steps(duration, self.loop.period / max(1, self.loop.steps_per_cycle))
+        return duration
+
     def run(self, duration: float | None = None, *, stop_early: bool = True) -> EpisodeResult:
         """Run for ``duration`` s of simulation (default: the scene's), stopping as soon as
         the judge's verdict is final when ``stop_early``. Everything is closed at the end,
-        on error and on Ctrl-C."""
+        on error and on Ctrl-C. A duration :meth:`check_duration` refuses raises
+        ``ValueError`` before anything runs (the backend stays open for another try)."""
         if self.result is not None:
             raise RuntimeError("an Episode runs once; build a new one for another run")
-        duration = self.scene.duration if duration is None else float(duration)
-        if duration <= 0:
-            raise ValueError(f"duration must be positive seconds, got {duration}")
+        duration = self.check_duration(duration)
         until = (lambda loop: self.judge.decided) if stop_early else None
         t0 = time.perf_counter()
         try:

@@ -102,10 +102,14 @@ class RemoteApiServer:
         except zmq.ZMQError as exc:
             self._socket.close(0)
             self._context.term()
-            raise OSError(
-                f"cannot serve on {host}:{port}: {exc}. Is another server (or CoppeliaSim) "
-                "using that port? Choose another with --port."
-            ) from None
+            # only a port in use has another server to blame; the cause keeps the errno
+            # so callers (puckboard serve) can tell no rights and a wrong host apart
+            hint = (
+                " Is another server (or CoppeliaSim) using that port? Choose another port."
+                if exc.errno == zmq.EADDRINUSE
+                else ""
+            )
+            raise OSError(f"cannot serve on {host}:{port}: {exc}.{hint}") from exc
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._closed = False

@@ -407,14 +407,24 @@ def _place(reader: _Reader, frame: _TrackFrame | None, what: str) -> tuple[float
         x -= offset * math.sin(heading)
         y += offset * math.cos(heading)
         return x, y, heading
-    if not reader.has("x") or not reader.has("y"):
-        missing = "x" if not reader.has("x") else "y"
+    # A value that is there but wrong is reported before one that is missing: for
+    # x = "xx" without y, "x: expected a number" is the mistake to fix first.
+    given_x = reader.number("x", unit="m") if reader.has("x") else None
+    given_y = reader.number("y", unit="m") if reader.has("y") else None
+    if given_x is None or given_y is None:
         reader.fail(
-            missing,
+            "x" if given_x is None else "y",
             "",
-            message=f"missing; a {what} needs x and y (m), track_position or track_distance",
+            message=f"missing; {_a(what)} needs numbers x and y (m), or track_position "
+            "or track_distance",
         )
-    return reader.number("x", unit="m"), reader.number("y", unit="m"), 0.0
+    assert given_x is not None and given_y is not None
+    return given_x, given_y, 0.0
+
+
+def _a(noun: str) -> str:
+    """``noun`` with its indefinite article: "an obstacle", "a robot"."""
+    return f"{'an' if noun[:1].lower() in 'aeiou' else 'a'} {noun}"
 
 
 def _robot(

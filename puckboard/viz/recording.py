@@ -46,7 +46,9 @@ import json
 import logging
 import math
 import os
-import tempfile
+import secrets
+import zipfile
+import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -207,7 +209,7 @@ class Recording:
         if meta.get("scene") is not None and int(meta.get("version", FORMAT_VERSION)) < 2:
             meta["scene"] = scene_to_json(self.scene)  # an older recording, saved anew
         meta.update(format=FORMAT_NAME, version=FORMAT_VERSION)
-        fd, tmp = tempfile.mkstemp(prefix=path.name, suffix=".tmp", dir=path.parent)
+        fd, tmp = _create_beside(path)
         try:
             with os.fdopen(fd, "wb") as fh:
                 np.savez_compressed(
@@ -233,16 +235,56 @@ class Recording:
         )
 
 
+def _create_beside(path: Path) -> tuple[int, Path]:
+    """A new, empty temporary file in ``path``'s directory, open for writing.
+
+    It is created with mode ``0o666`` so that the umask (and a directory's default ACL)
+    set its permissions, as for any other file the user writes, such as the GIF or MP4
+    of the same run. :func:`tempfile.mkstemp` would make it ``0o600``, and
+    :func:`os.replace` keeps the temporary file's mode, so a recording shared with a
+    class could not be read by it. ``O_EXCL`` with a random name keeps mkstemp's
+    guarantee that no existing file is opened by mistake.
+    """
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(100):
+        tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+        try:
+            return os.open(tmp, flags, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary file name next to {str(path)!r}")
+
+
 def load_recording(path: str | os.PathLike[str]) -> Recording:
     """Read a recording written by :meth:`Recording.save` (or a :class:`Recorder`)."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no recording at {str(path)!r}")
+    not_a_recording = (
+        f"{str(path)!r} is not a puckboard recording (a .npz file written by "
+        "'puckboard run --record run.npz')"
+    )
     try:
-        with np.load(path, allow_pickle=False) as data:
+        loaded = np.load(path, allow_pickle=False)
+    except OSError as exc:
+        if exc.errno is not None:  # the file exists but cannot be read (permissions)
+            raise ValueError(f"cannot read {str(path)!r}: {exc.strerror}") from exc
+        log.debug("numpy cannot load %s: %s", path, exc)
+        raise ValueError(not_a_recording) from exc
+    except (ValueError, EOFError, zipfile.BadZipFile) as exc:
+        # numpy's reasons are about its own formats ("load it unsafely using the
+        # allow_pickle= keyword"): advice a user must not follow for a file of unknown
+        # origin, so it goes to the debug log, not into the message
+        log.debug("numpy cannot load %s: %s", path, exc)
+        raise ValueError(not_a_recording) from exc
+    if not isinstance(loaded, np.lib.npyio.NpzFile):
+        raise ValueError(f"{not_a_recording}; it holds a single NumPy array")
+    try:
+        with loaded as data:
             arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError) as exc:
-        raise ValueError(f"{str(path)!r} is not a puckboard recording (.npz): {exc}") from exc
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        log.debug("numpy cannot read the arrays of %s: %s", path, exc)
+        raise ValueError(f"{not_a_recording}, or a damaged one") from exc
     if "meta" not in arrays:
         raise ValueError(f"{str(path)!r} is an .npz file but not a puckboard recording")
     meta = json.loads(str(arrays.pop("meta")))
