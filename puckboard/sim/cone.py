@@ -90,28 +90,55 @@ class ConeSensors:
 
     # -- the step ------------------------------------------------------------------------------
     def sense(
-        self, poses: Sequence[Sequence[float]], distance: FloatArray, raw: FloatArray
+        self,
+        poses: Sequence[Sequence[float]],
+        distance: FloatArray,
+        raw: FloatArray,
+        near: Sequence[int] | None = None,
     ) -> None:
-        """Write the cone robots' rows of ``distance`` (N×8 m) and ``raw`` for ``poses``."""
+        """Write the cone robots' rows of ``distance`` (N×8 m) and ``raw`` for ``poses``.
+
+        ``near`` (world robot indices) says which cone robots have anything within reach,
+        from the ray sensors' conservative broad phase; the others read nothing without a
+        single geometric test, which is most steps of a line-following run.
+        """
         if not len(self.robots):
             return
-        p = np.asarray(poses, dtype=float)
-        own = p[self.robots]
-        c, s = np.cos(own[:, 2:3]), np.sin(own[:, 2:3])
-        apex_x = (own[:, 0:1] + c * self.local_x - s * self.local_y).reshape(-1)
-        apex_y = (own[:, 1:2] + s * self.local_x + c * self.local_y).reshape(-1)
-        heading = (own[:, 2:3] + self.local_heading).reshape(-1)
-        nearest = np.minimum(
-            self._circles(p, apex_x, apex_y, heading), self._segments(apex_x, apex_y, heading)
-        )
-        detected = (nearest >= self.min_distance) & (nearest <= self.max_distance)
-        reading = np.where(detected, nearest, np.inf).reshape(-1, 8)
         rows = self.robots
-        distance[rows] = np.where(np.isfinite(reading), reading, self.nothing)
-        raw[rows] = np.where(np.isfinite(reading), raw_from_distance(reading), self.nothing_raw)
+        distance[rows] = self.nothing
+        raw[rows] = self.nothing_raw
+        if near is None:
+            active = np.arange(len(rows))
+        else:
+            active = np.flatnonzero(np.isin(rows, near))
+            if not len(active):
+                return
+        p = np.asarray(poses, dtype=float)
+        own = p[rows[active]]
+        lx, ly, lh = self.local_x[active], self.local_y[active], self.local_heading[active]
+        sensors = (active[:, None] * 8 + np.arange(8)).reshape(-1)
+        c, s = np.cos(own[:, 2:3]), np.sin(own[:, 2:3])
+        apex_x = (own[:, 0:1] + c * lx - s * ly).reshape(-1)
+        apex_y = (own[:, 1:2] + s * lx + c * ly).reshape(-1)
+        heading = (own[:, 2:3] + lh).reshape(-1)
+        nearest = np.minimum(
+            self._circles(p, apex_x, apex_y, heading, sensors),
+            self._segments(apex_x, apex_y, heading, sensors),
+        )
+        low, high = self.min_distance[sensors], self.max_distance[sensors]
+        reading = np.where((nearest >= low) & (nearest <= high), nearest, np.inf).reshape(-1, 8)
+        seen = np.isfinite(reading)
+        chosen = rows[active]
+        distance[chosen] = np.where(seen, reading, self.nothing[active])
+        raw[chosen] = np.where(seen, raw_from_distance(reading), self.nothing_raw)
 
     def _circles(
-        self, poses: FloatArray, apex_x: FloatArray, apex_y: FloatArray, heading: FloatArray
+        self,
+        poses: FloatArray,
+        apex_x: FloatArray,
+        apex_y: FloatArray,
+        heading: FloatArray,
+        sensors: npt.NDArray[np.intp],
     ) -> FloatArray:
         """M nearest in-sector distances to any circle (inf where none is inside)."""
         centres = np.concatenate([self.static[:, :2], poses[:, :2]])
@@ -121,21 +148,28 @@ class ConeSensors:
         dist = np.hypot(vx, vy)
         ux, uy = np.cos(heading)[:, None], np.sin(heading)[:, None]
         # the circle's nearest point lies along the direction to its centre
-        towards = vx * ux + vy * uy >= dist * self.cos_half[:, None]
+        half = self.half[sensors]
+        towards = vx * ux + vy * uy >= dist * self.cos_half[sensors][:, None]
         best = np.where(towards, np.maximum(dist - radii, 0.0), np.inf)
         best = np.where(dist <= radii, 0.0, best)  # the sensor inside the circle
         for side in (-1.0, 1.0):
-            edge = heading + side * self.half
+            edge = heading + side * half
             bx, by = np.cos(edge)[:, None], np.sin(edge)[:, None]
             along = vx * bx + vy * by
             disc = radii * radii - (dist * dist - along * along)
             root = np.sqrt(np.maximum(disc, 0.0))
             enters = (disc >= 0.0) & (along + root >= 0.0)
             best = np.minimum(best, np.where(enters, np.maximum(along - root, 0.0), np.inf))
-        best[self.own_body] = np.inf
+        best[self.own_body[sensors]] = np.inf
         return best.min(axis=1) if best.shape[1] else np.full(len(apex_x), np.inf)
 
-    def _segments(self, apex_x: FloatArray, apex_y: FloatArray, heading: FloatArray) -> FloatArray:
+    def _segments(
+        self,
+        apex_x: FloatArray,
+        apex_y: FloatArray,
+        heading: FloatArray,
+        sensors: npt.NDArray[np.intp],
+    ) -> FloatArray:
         """M nearest in-sector distances to any segment (inf where none is inside)."""
         if not len(self.seg_a):
             return np.full(len(apex_x), np.inf)
@@ -143,7 +177,8 @@ class ConeSensors:
         ay = self.seg_a[None, :, 1] - apex_y[:, None]
         ex, ey = self.seg_e[None, :, 0], self.seg_e[None, :, 1]
         ux, uy = np.cos(heading)[:, None], np.sin(heading)[:, None]
-        cos_half = self.cos_half[:, None]
+        cos_half = self.cos_half[sensors][:, None]
+        half = self.half[sensors]
 
         def inside(px: FloatArray, py: FloatArray) -> FloatArray:
             d = np.hypot(px, py)
@@ -156,7 +191,7 @@ class ConeSensors:
         best = np.minimum(best, inside(ax, ay))
         best = np.minimum(best, inside(ax + ex, ay + ey))
         for side in (-1.0, 1.0):
-            edge = heading + side * self.half
+            edge = heading + side * half
             bx, by = np.cos(edge)[:, None], np.sin(edge)[:, None]
             # apex + r·b = a + s·e: solve for r ≥ 0 and 0 ≤ s ≤ 1
             denom = bx * ey - by * ex

@@ -114,6 +114,7 @@ class ProximitySensors:
         self.robot_radii = [p.body_radius for p in profiles]
         # robots whose sensors are cones (V-REP's model) cast no rays: sim.cone computes them
         self.casts = [p.prox_model == "rays" for p in profiles]
+        self.cones_near: list[int] = []
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))
@@ -173,6 +174,7 @@ class ProximitySensors:
         """
         reach2 = self.reach * self.reach
         robots: list[int] = []
+        cones: list[int] = []
         circles: set[int] = set()
         segments: set[int] = set()
         n = self.n
@@ -211,8 +213,10 @@ class ProximitySensors:
                 if qx * qx + qy * qy < reach2:
                     segments.add(k)
                     found = True
-            if found and self.casts[i]:
-                robots.append(i)
+            if found:
+                (robots if self.casts[i] else cones).append(i)
+        #: robots without rays (V-REP's cone model) that have something within reach
+        self.cones_near = cones
         return robots, sorted(circles), sorted(segments)
 
     def _subset(self, robots: list[int], circles: list[int], segments: list[int]) -> _Subset:

@@ -585,7 +585,9 @@ class World:
             noise=self._noise_prox,
             z=None if z is None else z[2 * n : 10 * n].reshape(n, 8),
         )
-        self.cones.sense(self._pose_list, self._prox_distance, self._prox_raw)
+        self.cones.sense(
+            self._pose_list, self._prox_distance, self._prox_raw, near=self.proximity.cones_near
+        )
         # -- ground: only the track segments near the robots ------------------------------
         # three points per robot: plain floats are cheaper than a dozen numpy calls here
         points: list[complex] = []
