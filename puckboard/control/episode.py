@@ -288,6 +288,7 @@ class Episode:
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
             self.loop = ControlLoop(bindings)
             self.judge = Judge(self.scene)
+            self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
         except BaseException:
             self.connection.close()
@@ -332,6 +333,12 @@ class Episode:
             pose = record.value
             poses[k] = (pose.x, pose.y, pose.theta)
             stamp = record.stamp  # the pose describes the sensing instant, not the step after
+        if not self.loop.synchronous:
+            # a real robot's records carry the host's clock (seconds since it booted): the
+            # judge, and the events it reports, count from the start of the run instead
+            if self._clock_offset is None:
+                self._clock_offset = stamp - self.loop.time
+            stamp -= self._clock_offset
         self.judge.update(stamp, poses)
 
     def _after_cycle(self, loop: ControlLoop) -> None:

@@ -52,3 +52,6 @@ def test_improved_follows_the_line_through_a_corner_over_wifi() -> None:
     assert theta > math.radians(60), (theta, truth)  # it turned left with the line (CCW)
     # the client's own judge, fed with dead reckoning, agrees that the robot made progress
     assert client_result.robots[0].progress_laps > 0.05
+    # judged on the run's clock, not the host's (seconds since boot): events count from 0
+    assert 0.0 < episode.judge.time <= duration + 1.0, episode.judge.time
+    assert all(0.0 <= e.time_s <= duration + 1.0 for e in client_result.events)
