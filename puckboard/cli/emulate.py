@@ -15,7 +15,9 @@ import sys
 
 from . import CliError, bind_error_message, check_port, check_seconds, seed_type
 
-DEFAULT_WIFI_PORT = 10000  # the robot uses 1000, which needs administrator rights to bind
+#: The robot uses 1000, which needs administrator rights to bind; kept equal to
+#: adapters.real.backends.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.
+DEFAULT_WIFI_PORT = 10000
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -71,3 +71,14 @@ def test_emulate_explains_missing_pty(
 def test_emulate_rejects_bad_duration(capsys: pytest.CaptureFixture[str]) -> None:
     assert cli_main(["emulate", "--duration", "-1"]) == 2
     assert "--duration" in capsys.readouterr().err
+
+
+def test_connecting_to_this_machine_on_the_robot_port_suggests_the_emulator_port() -> None:
+    """The emulator cannot bind the robot's port 1000 without rights; a client that
+    forgets --port is told which port the emulator uses."""
+    from puckboard.adapters.real.backends import EMULATOR_WIFI_PORT
+    from puckboard.cli.emulate import DEFAULT_WIFI_PORT
+
+    assert DEFAULT_WIFI_PORT == EMULATOR_WIFI_PORT
+    with pytest.raises(ConnectionLostError, match=f"add --port {EMULATOR_WIFI_PORT}"):
+        open_wifi("line-follow", host="127.0.0.1", connect_timeout=2.0)

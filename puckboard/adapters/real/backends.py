@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ...blackboard import Blackboard
+from ...errors import ConnectionLostError
 from ...profile import EPUCK1, EPUCK2, RobotProfile, get_profile
 from ..base import Connection
 from .adapter import EPuckReal
@@ -22,7 +23,12 @@ from .transport import SerialTransport, TcpTransport
 from .wifi_codec import DEFAULT_PORT
 from .wifi_link import WifiLink
 
-__all__ = ["open_sercom", "open_wifi"]
+__all__ = ["EMULATOR_WIFI_PORT", "open_sercom", "open_wifi"]
+
+#: The port ``puckboard emulate --protocol wifi`` listens on by default: the robot's own
+#: port 1000 needs administrator rights to bind.
+EMULATOR_WIFI_PORT = 10000
+_THIS_MACHINE = frozenset({"127.0.0.1", "localhost", "::1"})
 
 log = logging.getLogger(__name__)
 
@@ -62,7 +68,18 @@ def open_wifi(
             "(on the command line: --host 192.168.x.y)"
         )
     port = DEFAULT_PORT if port is None else int(port)
-    transport = TcpTransport(host, port, connect_timeout=connect_timeout)
+    try:
+        transport = TcpTransport(host, port, connect_timeout=connect_timeout)
+    except ConnectionLostError as exc:
+        if host in _THIS_MACHINE and port == DEFAULT_PORT:
+            # nobody runs a real e-puck on this machine: this is the emulator, which cannot
+            # take the robot's port 1000 without administrator rights
+            raise ConnectionLostError(
+                f"{exc}. On this machine it is probably 'puckboard emulate', which listens "
+                f"on port {EMULATOR_WIFI_PORT} by default: add --port {EMULATOR_WIFI_PORT} "
+                f"(in Python: port={EMULATOR_WIFI_PORT})"
+            ) from exc.__cause__
+        raise
     link = WifiLink(transport, timeout=timeout, retries=retries)
     return _connect(scene, link, EPUCK2, blackboard, name, command_timeout, image_rotation)
 
