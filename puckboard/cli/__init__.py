@@ -13,6 +13,7 @@ import errno
 import importlib
 import logging
 import math
+import re
 import socket
 import sys
 from collections.abc import Sequence
@@ -48,6 +49,12 @@ COMMANDS: tuple[str, ...] = (
     "examples",
     "docs",
 )
+
+
+def help_text(docstring: str | None) -> str:
+    """A module docstring as ``--help`` shows it: reST's ``double backticks`` become
+    'quotes', which read as code in a terminal where backticks are noise."""
+    return re.sub(r"``(.+?)``", r"'\1'", docstring or "", flags=re.S)
 
 
 class CliError(Exception):

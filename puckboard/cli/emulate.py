@@ -13,7 +13,7 @@ import argparse
 import json
 import sys
 
-from . import CliError, bind_error_message, check_port, check_seconds, seed_type
+from . import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
 
 #: The robot uses 1000, which needs administrator rights to bind; kept equal to
 #: adapters.real.backends.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.
@@ -24,7 +24,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p = subparsers.add_parser(
         "emulate",
         help="emulate a real e-puck's protocol (Wi-Fi or sercom) with the simulator behind it",
-        description=__doc__,
+        description=help_text(__doc__),
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=(
             "example:\n"
@@ -38,7 +38,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default="line-follow",
         help="scene name or file (default: line-follow)",
     )
-    p.add_argument("--protocol", choices=("wifi", "sercom"), default="wifi")
+    p.add_argument(
+        "--protocol",
+        choices=("wifi", "sercom"),
+        default="wifi",
+        help="wifi: the e-puck2's Wi-Fi protocol over TCP (default); sercom: advanced sercom, "
+        "as over Bluetooth or USB serial",
+    )
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1)")
     p.add_argument(
         "--port",

@@ -18,14 +18,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import CliError, bind_error_message, check_port, missing_extra, seed_type
+from . import CliError, bind_error_message, check_port, help_text, missing_extra, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = subparsers.add_parser(
         "serve",
         help="serve a scene over CoppeliaSim's ZeroMQ remote API (for EPuckVRep and classes)",
-        description=__doc__,
+        description=help_text(__doc__),
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=(
             "examples:\n"

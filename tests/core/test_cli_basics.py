@@ -46,3 +46,20 @@ def test_scenes_warns_that_arena_ends_in_a_collision_by_design(capsys):
     assert main(["scenes"]) == 0
     arena = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("arena"))
     assert "collision" in arena and "by design" in arena
+
+
+@pytest.mark.parametrize("command", ["serve", "emulate"])
+def test_help_has_no_rest_markup_and_every_option_is_explained(command, capsys):
+    import argparse
+
+    from puckboard.cli import build_parser, main
+
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    assert "``" not in capsys.readouterr().out
+    subparsers = next(
+        a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)
+    )
+    parser = subparsers.choices[command]
+    unexplained = [a.option_strings[0] for a in parser._actions if a.option_strings and not a.help]
+    assert unexplained == []
