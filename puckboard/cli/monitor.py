@@ -13,7 +13,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="live table of the robots' sensor values, their age and update rate",
         description=(
             "Run a scenario (or drive a real robot) with a live terminal table of every "
-            "blackboard key: value, age and update rate. Works with every backend."
+            "blackboard key: value, age and update rate. Works with every backend; a "
+            "simulation runs at real time (--speed) so the values can be read as they change."
         ),
     )
     p.add_argument(
@@ -46,6 +47,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--refresh", type=float, default=4.0, help="table redraws per second (default 4)"
     )
+    p.add_argument(
+        "--speed",
+        type=float,
+        default=1.0,
+        metavar="X",
+        help="simulated runs go at X times real time so the table can be read (default 1; "
+        "0 = as fast as the machine can)",
+    )
     p.set_defaults(func=main)
 
 
@@ -56,6 +65,8 @@ def main(args: argparse.Namespace) -> int:
 
     if args.refresh <= 0:
         raise CliError("--refresh must be positive")
+    if not (args.speed >= 0 and args.speed != float("inf")):
+        raise CliError(f"--speed must be a finite number ≥ 0 (0 = unpaced), got {args.speed}")
     if args.still and args.controller:
         raise CliError("--still and --controller exclude each other")
     check_seconds(args.duration)
@@ -80,6 +91,10 @@ def main(args: argparse.Namespace) -> int:
         episode.connection.close()
         raise CliError(str(exc)) from None
     SensorMonitor.for_episode(episode, refresh=args.refresh).attach(episode)
+    if args.speed > 0:
+        from ..control.pacing import RealTimePacer
+
+        episode.add_observer(RealTimePacer(args.speed))
     result = episode.run(args.duration)
     verdict = "success" if result.success else f"failure ({result.failure})"
     print(f"{result.scenario}: {verdict} after {result.sim_time_s:.1f} s")
