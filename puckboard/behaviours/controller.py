@@ -109,6 +109,8 @@ class Controller:
         self.active_layer: str = NO_LAYER
         self.last_command = WheelCommand.stop()
         self._proposal: tuple[py_trees.behaviour.Behaviour, WheelCommand] | None = None
+        #: the layer whose applies() or command() raised during the last tick, if any
+        self.failed_layer: str | None = None
         self.tree.setup(controller=self)
 
     @property
@@ -137,6 +139,7 @@ class Controller:
         snapshot = ns.snapshot(self.reads)
         self.frame = Frame(snapshot)
         self._proposal = None
+        self.failed_layer = None
         status = snapshot.status
         for key in self.requires:
             if status(key) != "fresh":

@@ -96,9 +96,13 @@ class Layer(py_trees.behaviour.Behaviour):
                 "from your layers and call controller.tick()"
             )
         frame = ctrl.frame
-        if not self.applies(frame):
-            return Status.FAILURE
-        ctrl.propose(self, self.command(frame))
+        try:
+            if not self.applies(frame):
+                return Status.FAILURE
+            ctrl.propose(self, self.command(frame))
+        except Exception:
+            ctrl.failed_layer = self.name  # so the error report can say which layer raised
+            raise
         return Status.RUNNING
 
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import traceback
 from typing import Any
 
 from . import CliError, check_seconds, missing_extra, require, seed_type
@@ -200,6 +201,17 @@ def main(args: argparse.Namespace) -> int:
         episode.add_observer(progress.update)
     try:
         result = episode.run(duration, stop_early=not args.full)
+    except Exception as exc:
+        failure = episode.loop.failure
+        if failure is None:
+            raise
+        # a student's layer raised: the traceback says what, the last line says where
+        traceback.print_exc()
+        print(
+            f"puckboard run: error: {failure.describe()}: {type(exc).__name__}: {exc}",
+            file=sys.stderr,
+        )
+        return 1
     finally:
         if progress is not None:
             progress.close()

@@ -23,11 +23,24 @@ from ..adapters.base import RobotAdapter, Stepper, declare_robot_keys
 from ..behaviours.controller import Controller
 from ..records import Sensor
 
-__all__ = ["Binding", "ControlLoop"]
+__all__ = ["Binding", "ControlLoop", "ControllerFailure"]
 
 log = logging.getLogger(__name__)
 
 CycleObserver = Callable[["ControlLoop"], None]
+
+
+@dataclass(frozen=True)
+class ControllerFailure:
+    """Where a controller raised: which robot, at what loop time (s), in which layer."""
+
+    robot: str
+    time: float
+    layer: str | None
+
+    def describe(self) -> str:
+        where = f"in layer {self.layer!r}" if self.layer else "in its controller"
+        return f"robot {self.robot!r} at t = {self.time:.2f} s, {where}"
 
 
 @dataclass
@@ -88,6 +101,8 @@ class ControlLoop:
         self.stale_after = 3 * self.period if stale_after is None else stale_after
         self.camera_every = camera_every
         self.cycles = 0
+        #: where a controller raised, if one did (robot, time, layer)
+        self.failure: ControllerFailure | None = None
         self.overruns = 0
         self.observers: list[CycleObserver] = []
         self.before_tick: list[CycleObserver] = []
@@ -143,7 +158,14 @@ class ControlLoop:
         for callback in self.before_tick:
             callback(self)
         for b in self.bindings:
-            cmd = b.controller.tick(b.adapter.ns)
+            try:
+                cmd = b.controller.tick(b.adapter.ns)
+            except Exception:
+                # the exception goes on unchanged; this says where it happened, for the
+                # one-line summary a command prints after the traceback
+                layer = getattr(b.controller, "failed_layer", None)
+                self.failure = ControllerFailure(b.adapter.name, self.time, layer)
+                raise
             b.adapter.set_wheel_speeds(cmd.left, cmd.right)
         if self.synchronous:
             for stepper in self.steppers:

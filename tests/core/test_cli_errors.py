@@ -214,3 +214,26 @@ def test_scene_with_a_missing_position_says_an_obstacle(tmp_path, capsys):
     assert main(["run", str(scene)]) == 2
     line = one_error_line(capsys, "run")
     assert "obstacles[0].x: missing; an obstacle needs numbers x and y" in line
+
+
+def test_a_layer_that_raises_ends_with_a_line_saying_robot_time_and_layer(tmp_path, capsys):
+    """The traceback says what went wrong; the last line says where, in the run's terms."""
+    module = tmp_path / "broken.py"
+    module.write_text(
+        "from puckboard.behaviours import Controller, Cruise, Layer\n"
+        "class Fragile(Layer):\n"
+        "    reads = ('ground',)\n"
+        "    def applies(self, frame):\n"
+        "        if frame.time > 2.0:\n"
+        "            raise ZeroDivisionError('the student divided by zero')\n"
+        "        return False\n"
+        "def make():\n"
+        "    return Controller([Fragile(), Cruise()])\n",
+        encoding="utf-8",
+    )
+    status = main(["run", "line-follow", "--controller", f"{module}:make", "--duration", "5"])
+    assert status == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert any("ZeroDivisionError" in line for line in err[:-1])  # the traceback is kept
+    assert err[-1].startswith("puckboard run: error: robot 'epuck' at t = 2.")
+    assert "in layer 'Fragile': ZeroDivisionError: the student divided by zero" in err[-1]
