@@ -103,6 +103,8 @@ class ControlLoop:
         self.cycles = 0
         #: where a controller raised, if one did (robot, time, layer)
         self.failure: ControllerFailure | None = None
+        #: the run was stopped by Ctrl-C (close observers may want to say what they keep)
+        self.interrupted = False
         self.overruns = 0
         self.observers: list[CycleObserver] = []
         self.before_tick: list[CycleObserver] = []
@@ -219,8 +221,9 @@ class ControlLoop:
                 done += 1
                 if until is not None and until(self):
                     break
-        except BaseException:
+        except BaseException as exc:
             log.info("control loop stopping after an exception; zeroing wheels")
+            self.interrupted = isinstance(exc, KeyboardInterrupt)
             self.close()
             raise
         if close:
@@ -243,9 +246,15 @@ class ControlLoop:
             return
         self._closed = True
         self.stop_all()
+        second_interrupt: KeyboardInterrupt | None = None
         for obs in self.close_observers:
             try:
                 obs(self)
+            except KeyboardInterrupt as exc:
+                # Ctrl-C while finishing (a long animation): give up on that observer,
+                # but the robots must still be closed
+                second_interrupt = exc
+                log.warning("interrupted while finishing up; closing the robots")
             except Exception:
                 log.exception("control loop close observer %r failed", obs)
         for b in self.bindings:
@@ -253,6 +262,8 @@ class ControlLoop:
                 b.adapter.close()
             except Exception as exc:
                 log.warning("could not close robot %r: %s", b.adapter.name, exc)
+        if second_interrupt is not None:
+            raise second_interrupt
 
     def __enter__(self) -> ControlLoop:
         return self

@@ -41,17 +41,35 @@ class RunOutputs:
         """Write the outputs; each failure is logged and does not stop the others."""
         if self.recorder is None:
             return
+        interrupted = bool(getattr(getattr(episode, "loop", None), "interrupted", False))
         rec = self.recorder.close()
         if self.recorder.saved_path is not None:
             self.written.append(self.recorder.saved_path)
+            if interrupted:
+                log.warning(
+                    "interrupted: the recording so far (%d cycles) is kept in %s",
+                    len(rec),
+                    self.recorder.saved_path,
+                )
         if len(rec) == 0:
             log.warning("the run ended before its first cycle: no animation or plots written")
             return
         if self.animation is not None:
             from .animation import render_animation
 
+            if interrupted:
+                log.warning(
+                    "interrupted: writing the animation %s from the %d cycles recorded; "
+                    "press Ctrl-C again to abandon it",
+                    self.animation,
+                    len(rec),
+                )
             try:
                 self.written.append(render_animation(rec, self.animation)["path"])
+            except KeyboardInterrupt:
+                log.warning("the animation %s was abandoned", self.animation)
+                self.animation.unlink(missing_ok=True)  # never leave half a file behind
+                return
             except Exception:
                 log.exception("could not write the animation %s", self.animation)
         if self.plots_dir is not None:

@@ -241,10 +241,18 @@ class LiveView:
         (unless the run ended with an error or Ctrl-C)."""
         if self._closed_window or len(self.recorder) == 0:
             return
-        self._draw(self.recorder.arrays())
+        failing = sys.exc_info()[0] is not None
+        try:
+            self._draw(self.recorder.arrays())
+        except Exception as exc:
+            if not failing:
+                raise
+            # Ctrl-C can tear the window down under us (Tk raises TclError): the run's
+            # own exception is the one to report, not a failed last redraw
+            log.debug("final redraw skipped while stopping: %s", exc)
+            return
         if not self.interactive:
             return
-        failing = sys.exc_info()[0] is not None
         in_widget = any(w in matplotlib_backend() for w in _NOTEBOOK_WIDGETS)
         if self.block_at_end and not failing and not in_widget:
             self.stage.set_footer("finished: close the window to exit")

@@ -190,3 +190,31 @@ def test_the_gif_is_the_same_file_with_or_without_a_view(tmp_path):
         ep.run(2.0, stop_early=False)
         files.append((tmp_path / f"{tag}.gif").read_bytes())
     assert files[0] == files[1]
+
+
+def test_a_window_torn_down_by_ctrl_c_does_not_replace_the_interrupt():
+    """Ctrl-C may destroy the Tk window before the view's last redraw (a TclError about
+    one time in nine): the user must see the interrupt, not a redraw traceback."""
+    from viz_standin import StandInEpisode
+
+    from puckboard.viz.recording import Recorder
+
+    ep = StandInEpisode()
+    recorder = Recorder.for_episode(ep)
+    ep.add_observer(recorder)
+    view = LiveView(recorder, speed=None, figure=plt.figure()).attach(ep)
+    ep.run(0.5)
+
+    class TclError(Exception):
+        pass
+
+    def torn_down(_arrays):
+        raise TclError('invalid command name ".!canvas"')
+
+    view._draw = torn_down
+    try:
+        raise KeyboardInterrupt
+    except KeyboardInterrupt:
+        view.close()  # while the interrupt is being handled: no new exception
+    with pytest.raises(TclError):
+        view.close()  # outside an interrupt a failing redraw is a real error
