@@ -265,7 +265,7 @@ class RobotAdapter(abc.ABC):
         ns = self.ns
         prefix = ns.prefix
         ns.board.put_many(
-            {prefix + s._value_: r for s, r in records.items()}, stamp=stamp, writer=self.name
+            {prefix + s.value: r for s, r in records.items()}, stamp=stamp, writer=self.name
         )
         if self._sensor_observers:
             changed = frozenset(records)

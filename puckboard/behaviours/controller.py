@@ -12,7 +12,7 @@ control), so traces, plots and monitors can show who drove when.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Sequence
 
 import py_trees
 from py_trees.common import Status
@@ -21,55 +21,10 @@ from ..blackboard import Namespace
 from ..records import WheelCommand
 from .layer import Frame, Layer
 
-__all__ = ["NO_LAYER", "Controller", "PrioritySelector"]
+__all__ = ["NO_LAYER", "Controller"]
 
 NO_LAYER = "(none)"
 """``command/layer`` when no layer applied (the robot then stops)."""
-
-
-class PrioritySelector(py_trees.composites.Selector):
-    """py_trees' ``Selector`` without memory, ticked without its costs that decide nothing.
-
-    The arbiter runs every control cycle for every robot, and ``Selector.tick`` formats
-    a debug message and looks up the ``Status`` members afresh at every step, on top of
-    the priority decision itself. This tick takes the same steps in the same order for a
-    selector without memory (initialise when not running, tick the children from the
-    highest priority down, on the first that runs or succeeds stop every lower child that
-    is not already invalid, take its status; fail when none does) and hands over to
-    py_trees' own tick whenever its debug logging is on, or the selector has memory or
-    no children.
-    """
-
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        children = self.children
-        if self.memory or not children or py_trees.logging.level < py_trees.logging.Level.INFO:
-            yield from super().tick()
-            return
-        if self.status != Status.RUNNING:
-            self.current_child = children[0]
-            self.initialise()
-        previous = self.current_child
-        for child in children:
-            for node in child.tick():
-                yield node
-                if node is child:
-                    status = node.status
-                    if status == Status.RUNNING or status == Status.SUCCESS:
-                        self.current_child = child
-                        if previous is not child:
-                            # a higher priority took over: invalidate everything below it
-                            for lower in children[children.index(child) + 1 :]:
-                                if lower.status != Status.INVALID:
-                                    lower.stop(Status.INVALID)
-                        if status == Status.SUCCESS:
-                            self.stop(status)
-                        else:
-                            self.status = status
-                        yield self
-                        return
-        self.stop(Status.FAILURE)
-        self.current_child = children[-1]
-        yield self
 
 
 class Controller:
@@ -98,7 +53,7 @@ class Controller:
                     f"{type(layer).__name__}"
                 )
         self.name = name
-        self.root = PrioritySelector(name, memory=False, children=list(layers))
+        self.root = py_trees.composites.Selector(name, memory=False, children=list(layers))
         self.tree = py_trees.trees.BehaviourTree(self.root)
         self.requires = tuple(requires)
         reads: set[str] = set(self.requires)
@@ -147,7 +102,7 @@ class Controller:
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
-            self._tick_tree()
+            self.tree.tick()
             if self._proposal is None:
                 layer_name, cmd = NO_LAYER, WheelCommand.stop()
             else:
@@ -160,23 +115,6 @@ class Controller:
             writer=self.name,
         )
         return cmd
-
-    def _tick_tree(self) -> None:
-        """``self.tree.tick()``, without its per-node visitor bookkeeping when nobody uses it.
-
-        ``BehaviourTree.tick`` builds a list of visitors for every node it ticks and walks
-        the whole tree again afterwards, even with no visitors or handlers: at control
-        rates that walk costs as much as the layers' own decisions. With none attached
-        the root's own tick does exactly the same work; attach a visitor or a handler to
-        :attr:`tree` and the full ``tick`` runs again.
-        """
-        tree = self.tree
-        if tree.visitors or tree.pre_tick_handlers or tree.post_tick_handlers:
-            tree.tick()
-            return
-        for _node in self.root.tick():
-            pass
-        tree.count += 1
 
     def reset(self) -> None:
         """Stop every layer (they forget held state) and clear the last decision."""

@@ -17,7 +17,6 @@ values behind one decision describe the same instant.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import py_trees
@@ -104,42 +103,6 @@ class Layer(py_trees.behaviour.Behaviour):
             ctrl.failed_layer = self.name  # so the error report can say which layer raised
             raise
         return Status.RUNNING
-
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        """py_trees' ``Behaviour.tick``, without its costs that decide nothing.
-
-        The arbiter ticks every layer above the one in control on every control cycle,
-        and for a leaf py_trees' own tick spends most of its time formatting debug
-        messages that are then dropped and listing the ``Status`` enum to validate the
-        result. This does the same steps in the same order (initialise when not running,
-        update, refuse a non-``Status`` result, stop when not running, yield) and hands
-        over to py_trees' tick whenever its debug logging is switched on.
-        """
-        if py_trees.logging.level < py_trees.logging.Level.INFO:
-            yield from super().tick()
-            return
-        if self.status != Status.RUNNING:
-            self.initialise()
-        new_status = self.update()
-        if new_status.__class__ is not Status:
-            self.logger.error(
-                "A behaviour returned an invalid status, setting to INVALID "
-                f"[{new_status}][{self.name}]"
-            )
-            new_status = Status.INVALID
-        if new_status != Status.RUNNING:
-            self.stop(new_status)
-        self.status = new_status
-        yield self
-
-    def stop(self, new_status: Status) -> None:
-        """py_trees' ``Behaviour.stop`` without formatting a dropped debug message."""
-        if py_trees.logging.level < py_trees.logging.Level.INFO:
-            super().stop(new_status)
-            return
-        self.terminate(new_status)
-        self.status = new_status
-        self.iterator = self.tick()
 
     def parameters(self) -> dict[str, Any]:
         """The layer's tunable parameters (public attributes that are numbers or strings)."""

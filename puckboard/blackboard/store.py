@@ -25,7 +25,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from .record import Record, _record
+from .record import Record
 from .schema import InstanceOf, Schema, check
 
 __all__ = [
@@ -223,7 +223,7 @@ class Blackboard:
                 if slot is None:
                     slot = slots[key] = _Slot()
                 seq = slot.seq = slot.seq + 1
-                rec = _record(key, value, stamp, received, seq, writer)
+                rec = Record(key, value, stamp, received, seq, writer)
                 slot.record = rec
                 if slot.history is not None:
                     slot.history.append(rec)

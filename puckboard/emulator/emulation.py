@@ -186,7 +186,7 @@ class Emulation:
         duration = self.scene.duration + START_SLACK if duration is None else float(duration)
         if duration <= 0:
             raise ValueError(f"duration must be positive seconds, got {duration}")
-        if self.server._thread is None:
+        if not self.server.started:
             self.start()
         t_open = time.monotonic()
         try:

@@ -74,6 +74,11 @@ class _ServerBase:
         self.bytes_out += len(reply)
         return reply
 
+    @property
+    def started(self) -> bool:
+        """Whether :meth:`start` has run (the server thread exists)."""
+        return self._thread is not None
+
     def start(self) -> None:
         self._thread = threading.Thread(
             target=self._guarded_run, name=type(self).__name__, daemon=True

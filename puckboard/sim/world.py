@@ -50,7 +50,6 @@ from ..records import (
     Sensor,
     WheelEncoders,
     WheelSpeeds,
-    _unchecked,
 )
 from ..scenario.scene import CircleObstacle, PolygonObstacle, Scene
 from .camera import CameraRenderer
@@ -622,8 +621,6 @@ class World:
             return self._records(i, sensors)
 
     def _records(self, i: int, sensors: frozenset[Sensor] | Sequence[Sensor]) -> dict[Sensor, Any]:
-        # The arrays are finite and in range by construction, so the records skip their
-        # validation (which would cost more than the whole simulation step).
         out: dict[Sensor, Any] = {}
         if self._frozen_count != self._sense_count:
             frozen = self._sensor_buffer.copy()
@@ -634,30 +631,27 @@ class World:
         rows = self._sensor_rows[i]
         for sensor in sensors:
             if sensor is Sensor.PROXIMITY:
-                out[sensor] = _unchecked(
-                    Proximity,
+                out[sensor] = Proximity(
                     distance=frozen[rows["prox_distance"]],
                     raw=frozen[rows["prox_raw"]],
                     range=self._range_list[i],
                 )
             elif sensor is Sensor.GROUND:
-                out[sensor] = _unchecked(
-                    Ground, value=frozen[rows["ground"]], raw=frozen[rows["ground_raw"]]
-                )
+                out[sensor] = Ground(value=frozen[rows["ground"]], raw=frozen[rows["ground_raw"]])
             elif sensor is Sensor.POSE:
                 x, y, theta = self._pose_list[i]
-                out[sensor] = _unchecked(Pose, x=x, y=y, theta=theta, ground_truth=True)
+                out[sensor] = Pose(x=x, y=y, theta=theta, ground_truth=True)
             elif sensor is Sensor.ENCODERS:
                 left, right = self._encoder_list[i]
-                out[sensor] = _unchecked(WheelEncoders, left=left, right=right)
+                out[sensor] = WheelEncoders(left=left, right=right)
             elif sensor is Sensor.WHEEL_SPEEDS:
                 left, right = self._wheel_list[i]
-                out[sensor] = _unchecked(WheelSpeeds, left=left, right=right)
+                out[sensor] = WheelSpeeds(left=left, right=right)
             elif sensor is Sensor.ACCELERATION:
                 ax, ay, az = self._accel_list[i]
-                out[sensor] = _unchecked(Acceleration, x=ax, y=ay, z=az)
+                out[sensor] = Acceleration(x=ax, y=ay, z=az)
             elif sensor is Sensor.GYRO:
-                out[sensor] = _unchecked(AngularVelocity, x=0.0, y=0.0, z=self._yaw_rate_list[i])
+                out[sensor] = AngularVelocity(x=0.0, y=0.0, z=self._yaw_rate_list[i])
             else:
                 raise ValueError(
                     f"the embedded simulator has no {Sensor(sensor).value} sensor in read(); "
@@ -669,7 +663,7 @@ class World:
         """Robot ``i``'s camera image (``size`` = (width, height), default the scene's)."""
         pixels = self.render_camera(i, size)
         pixels.flags.writeable = False
-        return _unchecked(CameraImage, pixels=pixels)  # a fresh array nobody else holds
+        return CameraImage(pixels=pixels)
 
     def render_camera(self, i: int, size: tuple[int, int] | None = None) -> npt.NDArray[np.uint8]:
         """The camera pixels (a fresh H×W×3 uint8 array) without wrapping them in a record."""
