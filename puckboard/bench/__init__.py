@@ -40,6 +40,7 @@ SUITES: dict[str, str] = {
     "sweep": "puckboard.bench.sweep:run_suite",
     "estimation": "puckboard.bench.estimation:run_suite",
     "emulator": "puckboard.bench.emulator:run_suite",
+    "scale": "puckboard.bench.scale:run_suite",
 }
 
 #: Suites run when none is named.

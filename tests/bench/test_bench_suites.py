@@ -107,3 +107,34 @@ def test_timing_helper_takes_the_median_of_repeats(monkeypatch):
         timing.seconds_per_call(lambda: None, 0)
     with pytest.raises(ValueError, match="no timing samples"):
         timing.median_seconds([])
+
+
+def test_swarm_grid_places_robots_apart_and_clear_of_walls_and_obstacles():
+    import math
+
+    from puckboard.bench.scale import CLEARANCE, GRID, ROBOT_COUNTS, grid_robots, swarm_with
+    from puckboard.scenario import load_scene
+    from puckboard.sim.world import World
+
+    shipped = load_scene("swarm")
+    assert len(shipped.robots) == 30 and {r.profile for r in shipped.robots} == {"epuck"}
+    for n in ROBOT_COUNTS:
+        robots = grid_robots(shipped, n)
+        assert len(robots) == n
+        for a in robots:
+            assert shipped.arena.xmin + CLEARANCE - 1e-9 <= a.x <= shipped.arena.xmax - CLEARANCE
+            for b in robots:
+                if a is not b:
+                    assert math.hypot(a.x - b.x, a.y - b.y) >= GRID - 1e-9
+        world = World(swarm_with(n), seed=0)
+        assert not world.contacts_now.any()  # nobody starts touching anything
+    with pytest.raises(ValueError, match="holds at most"):
+        grid_robots(shipped, 10_000)
+
+
+def test_scale_suite_reports_every_robot_count():
+    result = bench.run_suites(["scale"], steps=2)["suites"]["scale"]
+    rows = result["by_robot_count"]
+    assert list(rows) == ["2 robots", "10 robots", "30 robots", "50 robots"]
+    for row in rows.values():
+        assert row["steps_per_s"] > 0 and row["us_per_robot_step"] > 0
