@@ -58,6 +58,10 @@ class ConeSensors:
         seg_vector: FloatArray,
     ) -> None:
         self.robots = np.array(robots, dtype=np.intp)
+        #: world robot index -> position among the cone robots
+        self._cone_index = {int(i): c for c, i in enumerate(robots)}
+        every = list(robots) == list(range(len(profiles)))
+        self._rows: slice | npt.NDArray[np.intp] = slice(None) if every else self.robots
         cone = [profiles[i] for i in robots]
         self.n_robots = len(profiles)
         self.local_x = np.array([[q.x for q in p.prox_poses] for p in cone]).reshape(-1, 8)
@@ -104,15 +108,20 @@ class ConeSensors:
         """
         if not len(self.robots):
             return
-        rows = self.robots
+        rows = self._rows  # a slice when every robot is a cone robot: cheaper to assign
         distance[rows] = self.nothing
         raw[rows] = self.nothing_raw
         if near is None:
-            active = np.arange(len(rows))
+            active = np.arange(len(self.robots))
         else:
-            active = np.flatnonzero(np.isin(rows, near))
-            if not len(active):
+            if not near:
+                return  # nothing within any cone robot's reach (most steps)
+            cone_index = self._cone_index
+            picked = [cone_index[i] for i in near if i in cone_index]
+            if not picked:
                 return
+            active = np.array(picked, dtype=np.intp)
+        rows = self.robots
         p = np.asarray(poses, dtype=float)
         own = p[rows[active]]
         lx, ly, lh = self.local_x[active], self.local_y[active], self.local_heading[active]
@@ -152,14 +161,15 @@ class ConeSensors:
         towards = vx * ux + vy * uy >= dist * self.cos_half[sensors][:, None]
         best = np.where(towards, np.maximum(dist - radii, 0.0), np.inf)
         best = np.where(dist <= radii, 0.0, best)  # the sensor inside the circle
-        for side in (-1.0, 1.0):
-            edge = heading + side * half
-            bx, by = np.cos(edge)[:, None], np.sin(edge)[:, None]
-            along = vx * bx + vy * by
-            disc = radii * radii - (dist * dist - along * along)
-            root = np.sqrt(np.maximum(disc, 0.0))
-            enters = (disc >= 0.0) & (along + root >= 0.0)
-            best = np.minimum(best, np.where(enters, np.maximum(along - root, 0.0), np.inf))
+        # both edges of the sector at once (axis 1): where each first enters the circle
+        edges = heading[:, None] + np.stack([-half, half], axis=1)  # M×2
+        bx, by = np.cos(edges)[:, :, None], np.sin(edges)[:, :, None]
+        along = vx[:, None, :] * bx + vy[:, None, :] * by  # M×2×K
+        disc = radii * radii - ((dist * dist)[:, None, :] - along * along)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        enters = (disc >= 0.0) & (along + root >= 0.0)
+        on_edges = np.where(enters, np.maximum(along - root, 0.0), np.inf).min(axis=1)
+        best = np.minimum(best, on_edges)
         best[self.own_body[sensors]] = np.inf
         return best.min(axis=1) if best.shape[1] else np.full(len(apex_x), np.inf)
 
