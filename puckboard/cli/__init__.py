@@ -13,6 +13,7 @@ import errno
 import importlib
 import logging
 import math
+import os
 import re
 import socket
 import sys
@@ -254,6 +255,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"puckboard {args.command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader went away ('puckboard profiles | head'): stop quietly, as Unix tools
+        # do, and keep Python from complaining again when it flushes stdout at exit
+        _silence_stdout()
+        return 0
+
+
+def _silence_stdout() -> None:
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass  # not a real file (a test's capture): nothing left to flush
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -63,3 +63,20 @@ def test_help_has_no_rest_markup_and_every_option_is_explained(command, capsys):
     parser = subparsers.choices[command]
     unexplained = [a.option_strings[0] for a in parser._actions if a.option_strings and not a.help]
     assert unexplained == []
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly(monkeypatch):
+    """'puckboard profiles | head -2' must not end in a BrokenPipeError traceback."""
+    import sys
+
+    from puckboard.cli import main
+
+    class ClosedPipe:
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(sys, "stdout", ClosedPipe())
+    assert main(["profiles"]) == 0
