@@ -30,6 +30,14 @@ __all__ = [
 Colour = tuple[int, int, int]
 
 
+def _polygon_edges(
+    vertices: npt.ArrayLike,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """A closed polygon's edges as (start points, edge vectors), K×2 each."""
+    v = np.asarray(vertices, dtype=float)
+    return v.copy(), np.roll(v, -1, axis=0) - v
+
+
 @dataclass(frozen=True, eq=False)
 class Track:
     """A dark line on the floor: a polyline of ``points`` (M×2, m) of ``width`` (m).
@@ -98,7 +106,7 @@ class PolygonObstacle:
 
     def edges(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """The closed outline's edges as (start points, edge vectors), K×2 each."""
-        return self.vertices.copy(), np.roll(self.vertices, -1, axis=0) - self.vertices
+        return _polygon_edges(self.vertices)
 
 
 @dataclass(frozen=True)
@@ -114,6 +122,18 @@ class Arena:
     def __post_init__(self) -> None:
         if not (self.xmax > self.xmin and self.ymax > self.ymin):
             raise ValueError(f"arena needs xmax > xmin and ymax > ymin, got {self}")
+
+    def edges(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The four walls as (start points, edge vectors), counter-clockwise from (xmin, ymin)."""
+        corners = np.array(
+            [
+                [self.xmin, self.ymin],
+                [self.xmax, self.ymin],
+                [self.xmax, self.ymax],
+                [self.xmin, self.ymax],
+            ]
+        )
+        return _polygon_edges(corners)
 
 
 @dataclass(frozen=True)

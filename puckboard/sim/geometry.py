@@ -18,7 +18,6 @@ import numpy.typing as npt
 __all__ = [
     "cast_rays",
     "circle_hits",
-    "polygon_edges",
     "ray_hits",
     "segment_distance",
     "segment_hits",
@@ -189,9 +188,3 @@ def segment_distance(
     qx = wx - s * seg_vector[:, 0]
     qy = wy - s * seg_vector[:, 1]
     return np.sqrt((qx * qx + qy * qy).min(axis=1))
-
-
-def polygon_edges(vertices: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """A closed polygon's edges as (start points, edge vectors), K×2 each."""
-    v = np.asarray(vertices, dtype=float)
-    return v.copy(), np.roll(v, -1, axis=0) - v

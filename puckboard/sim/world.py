@@ -56,7 +56,6 @@ from .camera import CameraRenderer
 from .cone import ConeSensors
 from .contacts import Statics
 from .floor import Floor
-from .geometry import polygon_edges
 from .kinematics import arc
 from .proximity import PolygonBound, ProximitySensors, WallSegment
 
@@ -233,10 +232,7 @@ class World:
                 circle_colours.append(ob.colour)
         if scene.arena is not None:
             ar = scene.arena
-            corners = np.array(
-                [[ar.xmin, ar.ymin], [ar.xmax, ar.ymin], [ar.xmax, ar.ymax], [ar.xmin, ar.ymax]]
-            )
-            a, e = polygon_edges(corners)
+            a, e = ar.edges()
             starts.append(a)
             vectors.append(e)
             seg_colours += [ar.colour] * 4
