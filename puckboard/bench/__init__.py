@@ -72,9 +72,13 @@ def resolve_suite(name: str) -> Callable[..., dict[str, Any]]:
 def suite_options(name: str) -> set[str]:
     """The keyword options suite ``name`` accepts beyond ``steps`` (empty if not importable)."""
     try:
-        fn = resolve_suite(name)
+        return _keywords(resolve_suite(name))
     except (ImportError, AttributeError):
         return set()
+
+
+def _keywords(fn: Callable[..., Any]) -> set[str]:
+    """The keyword options a suite function takes beyond ``steps``."""
     params = inspect.signature(fn).parameters.values()
     return {p.name for p in params if p.name != "steps" and p.kind is not p.VAR_KEYWORD}
 
@@ -101,7 +105,7 @@ def run_suites(
         except AttributeError as exc:
             results["suites"][name] = {"skipped": f"suite function not available ({exc})"}
             continue
-        accepted = suite_options(name)
+        accepted = _keywords(fn)
         kwargs = {k: v for k, v in (options or {}).items() if k in accepted}
         try:
             results["suites"][name] = fn(steps, **kwargs)

@@ -31,7 +31,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def main(args: argparse.Namespace) -> int:
-    import importlib.resources
     import runpy
     import sys
 
@@ -49,8 +48,7 @@ def main(args: argparse.Namespace) -> int:
     if name not in names:
         raise CliError(f"no example {args.name!r}; examples: {', '.join(names)}")
     if args.action == "show":
-        source = importlib.resources.files("puckboard.examples").joinpath(f"{name}.py")
-        print(source.read_text(encoding="utf-8"), end="")
+        print(_source(name), end="")
         return 0
     saved = sys.argv
     sys.argv = [f"puckboard examples run {name}", *args.example_args]
@@ -78,8 +76,14 @@ def example_names() -> list[str]:
 def summary(name: str) -> str:
     """The first line of an example's docstring, read without running the example."""
     import ast
+
+    doc = ast.get_docstring(ast.parse(_source(name))) or ""
+    return doc.splitlines()[0] if doc else ""
+
+
+def _source(name: str) -> str:
+    """The text of installed example ``name`` (a zip or a folder, wherever it was put)."""
     import importlib.resources
 
-    source = importlib.resources.files("puckboard.examples").joinpath(f"{name}.py")
-    doc = ast.get_docstring(ast.parse(source.read_text(encoding="utf-8"))) or ""
-    return doc.splitlines()[0] if doc else ""
+    path = importlib.resources.files("puckboard.examples").joinpath(f"{name}.py")
+    return path.read_text(encoding="utf-8")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from . import CliError, check_seconds, require, seed_type
 
@@ -65,7 +66,7 @@ def main(args: argparse.Namespace) -> int:
 
     if args.refresh <= 0:
         raise CliError("--refresh must be positive")
-    if not (args.speed >= 0 and args.speed != float("inf")):
+    if not (math.isfinite(args.speed) and args.speed >= 0):
         raise CliError(f"--speed must be a finite number ≥ 0 (0 = unpaced), got {args.speed}")
     if args.still and args.controller:
         raise CliError("--still and --controller exclude each other")

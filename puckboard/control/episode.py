@@ -17,7 +17,7 @@ each robot's ``pose`` blackboard key. Viewers and recorders hook in with
 run is the same with or without them.
 
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
-``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
+``robot.profile`` (every robot's profile), ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
 ``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
 robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
 """

@@ -235,9 +235,9 @@ class Judge:
         self._first_failure_time: float | None = None
         self.events: list[Event] = []
         self.robots: list[_RobotState] = []
-        self.profiles = tuple(get_profile(spec.profile).name for spec in scene.robots)
-        for spec in scene.robots:
-            profile = get_profile(spec.profile)
+        profiles = [get_profile(spec.profile) for spec in scene.robots]
+        self.profiles = tuple(p.name for p in profiles)
+        for spec, profile in zip(scene.robots, profiles):
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))
         track = scene.track

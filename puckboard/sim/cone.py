@@ -23,7 +23,6 @@ M×K arrays (M sensors, K objects), a handful of numpy calls per step.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -86,11 +85,6 @@ class ConeSensors:
         for c, i in enumerate(robots):
             own[c * 8 : (c + 1) * 8, k_static + i] = True
         self.own_body = own
-        # how far from its robot's centre a sensor can see anything
-        self.reach = max(
-            (math.hypot(q.x, q.y) + p.prox_max_distance for p in cone for q in p.prox_poses),
-            default=0.0,
-        )
 
     # -- the step ------------------------------------------------------------------------------
     def sense(

@@ -33,7 +33,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...ir_response import TABLE as IR_TABLE
-from ...profile import RobotProfile
+from ...profile import NO_DETECTION_DISTANCE, RobotProfile
 from ...records import GRAVITY
 
 __all__ = [
@@ -82,7 +82,7 @@ so a robot standing still reads about 0.
 
 # The Webots E-puckDistanceSensor table (puckboard.ir_response, the one copy) up to the
 # 5 cm the controllers use, minus its 7 cm far baseline, so "nothing seen" reads 0.
-_WITHIN_5CM = IR_TABLE[:, 0] <= 0.05 + 1e-12
+_WITHIN_5CM = IR_TABLE[:, 0] <= NO_DETECTION_DISTANCE + 1e-12
 PROX_CURVE_DISTANCE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 0].copy()
 PROX_CURVE_VALUE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 1] - IR_TABLE[-1, 1]
 PROX_CURVE_DISTANCE.setflags(write=False)
