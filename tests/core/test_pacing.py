@@ -43,9 +43,15 @@ def test_monitor_paces_by_default_and_refuses_a_bad_speed(monkeypatch, capsys):
     from puckboard.control import pacing
 
     calls = []
-    monkeypatch.setattr(pacing.time, "sleep", lambda s: calls.append(s))
+    # a frozen wall clock (only inside the pacer): each wait is then exactly the
+    # simulated time since the first paced cycle, divided by the speed
+    fake_time = SimpleNamespace(perf_counter=lambda: 0.0, sleep=calls.append)
+    monkeypatch.setattr(pacing, "time", fake_time)
     assert main(["monitor", "line-follow", "--duration", "1", "--refresh", "100"]) == 0
     assert calls, "a simulated run should have been paced"
-    assert sum(calls) > 0.5  # about 1 s of simulation held to about 1 s of wall time
+    assert max(calls) == pytest.approx(0.95)  # 1 s of simulation after the first 0.05 s step
+    calls.clear()
+    assert main(["monitor", "line-follow", "--duration", "1", "--speed", "2"]) == 0
+    assert max(calls) == pytest.approx(0.475)  # twice real time: half the wait
     assert main(["monitor", "line-follow", "--speed", "-1"]) == 2
     assert "--speed must be a finite number" in capsys.readouterr().err
