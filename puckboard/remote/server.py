@@ -19,8 +19,10 @@ CoppeliaSim's free-running mode.
 from __future__ import annotations
 
 import logging
+import math
 import threading
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import zmq
@@ -52,6 +54,8 @@ DEFAULT_PORT = 23000
 _EMPTY = b""
 _RET_NONE = return_reply([])
 _MODULES = ("sim",)
+#: How often step observers hear from a simulation that stands still (s).
+_STILL_NOTIFY_S = 0.25
 
 
 class RemoteApiServer:
@@ -115,6 +119,29 @@ class RemoteApiServer:
         self._closed = False
         self._next_free_step = 0.0
         self._free_running = False
+        self._observers: list[Callable[[RemoteApiServer], None]] = []
+        self._last_notified = -math.inf
+
+    # -- observers ---------------------------------------------------------------------------
+    def add_step_observer(self, observer: Callable[[RemoteApiServer], None]) -> None:
+        """Call ``observer(server)`` in the server thread after every simulation step, and
+        about four times a second while the simulation stands still (stopped, or waiting
+        for a stepping client), so a viewer also sees a scene nobody has started.
+
+        The observer runs in the server's thread, between requests, so it may read the
+        world and the client table without a lock; it must return quickly (copy what it
+        needs and hand it to its own thread). An exception in it is logged and the
+        observer is kept.
+        """
+        self._observers.append(observer)
+
+    def _notify(self, now: float) -> None:
+        self._last_notified = now
+        for observer in self._observers:
+            try:
+                observer(self)
+            except Exception:
+                log.exception("step observer %r failed; the server keeps serving", observer)
 
     # -- lifecycle ---------------------------------------------------------------------------
     @property
@@ -310,6 +337,8 @@ class RemoteApiServer:
         api = self.api
         while api.running and self.clients.gate_open(api.step_count, now):
             api.advance()
+            if self._observers:
+                self._notify(now)
             for client in self.clients.done_waiting(api.step_count):
                 self._finish(client)
 
@@ -329,6 +358,8 @@ class RemoteApiServer:
             self._forget_expired(client)
         api = self.api
         self._free_running = False
+        if self._observers and now - self._last_notified >= _STILL_NOTIFY_S:
+            self._notify(now)
         if not api.running:
             return
         if self.clients.gating(now):
@@ -338,6 +369,8 @@ class RemoteApiServer:
             self._free_running = True
             if now >= self._next_free_step:
                 api.advance()
+                if self._observers:
+                    self._notify(now)
                 self._next_free_step += api.world.dt
                 if now - self._next_free_step > 1.0:  # fell behind: do not race to catch up
                     self._next_free_step = now + api.world.dt
