@@ -73,6 +73,10 @@ log = logging.getLogger(__name__)
 DEFAULT_PORT = 23000
 #: Name of the sense-all script function in the e-puck model's child script.
 SENSE_ALL_FUNCTION = "puckboardSenseAll"
+#: The stock model's light sensor: 16×2 pixels, of which its script reads three (as pixel
+#: indices into the greyscale image as sent): left, centre, right.
+STOCK_LIGHT_SENSOR_RES = (16, 2)
+STOCK_LIGHT_PIXELS = (0, 7, 31)
 #: Name of the both-wheels script function (present when the sense-all reply has api >= 1).
 SET_WHEELS_FUNCTION = "puckboardSetWheels"
 SCRIPTTYPE_CHILD = 1
@@ -565,7 +569,12 @@ class EPuckVRep(RobotAdapter):
         return out
 
     def _ground_from_image(self) -> np.ndarray:
-        """Three pixels of the light sensor (greyscale): left, centre, right of its middle row."""
+        """Three pixels of the light sensor (greyscale): left, centre, right.
+
+        The stock model's 16×2 sensor is read where its script reads it (bytes 0, 21 and
+        93 of the RGB image: pixels 0 and 7 of the first row sent, pixel 15 of the second);
+        any other resolution at the ends and the middle of its middle row.
+        """
         image, res = self.link.call("sim.getVisionSensorImg", [self.handles["light"], 1])
         w, hgt = int(res[0]), int(res[1])
         pixels = np.frombuffer(image, dtype=np.uint8)
@@ -573,6 +582,8 @@ class EPuckVRep(RobotAdapter):
             raise AdapterError(
                 f"light sensor image of {pixels.size} bytes does not match its resolution {w}×{hgt}"
             )
+        if (w, hgt) == STOCK_LIGHT_SENSOR_RES:
+            return pixels[list(STOCK_LIGHT_PIXELS)].astype(float) / 255.0
         row = pixels.reshape(hgt, w)[hgt // 2]
         return row[[0, w // 2, w - 1]].astype(float) / 255.0
 

@@ -7,13 +7,15 @@ That is what lets several students' controllers, each in its own process, share 
 synchronous simulation.
 
 Clients never say goodbye (the Python client sends no ``_*end*_``), so absence is
-inferred from silence. Two thresholds:
+inferred from silence, as CoppeliaSim's add-on does:
 
-* ``stepping_timeout``: a stepping client that has sent nothing for this long (it
-  crashed, or sits at a breakpoint) stops holding the others back until it speaks again;
 * the client's own ``timeout`` (sent with its first request; 600 s for the Python
   client), capped by ``max_idle``: after that it is forgotten and the wheels it
-  commanded are stopped.
+  commanded are stopped. Until then a silent stepping client (crashed, or sitting at a
+  breakpoint) holds the simulation back, exactly as in CoppeliaSim;
+* ``stepping_timeout`` (``None`` by default, CoppeliaSim's behaviour): when set, a
+  stepping client silent for this long stops holding the others back until it speaks
+  again — for a class, where one student's breakpoint should not freeze everybody.
 
 A client that is waiting inside ``sim.step`` is never silent: the server holds its
 ``_*executed*_`` and answers it with a ``_*wait*_`` heartbeat now and then, and each new
@@ -61,8 +63,8 @@ class ClientState:
 class ClientTable:
     """All known clients and the stepping gate; see the module docstring."""
 
-    def __init__(self, *, stepping_timeout: float = 10.0, max_idle: float = 600.0) -> None:
-        if stepping_timeout <= 0 or max_idle <= 0:
+    def __init__(self, *, stepping_timeout: float | None = None, max_idle: float = 600.0) -> None:
+        if (stepping_timeout is not None and stepping_timeout <= 0) or max_idle <= 0:
             raise ValueError("stepping_timeout and max_idle must be positive seconds")
         self.stepping_timeout = stepping_timeout
         self.max_idle = max_idle
@@ -103,7 +105,11 @@ class ClientTable:
             c
             for c in self._clients.values()
             if c.stepping > 0
-            and (c.parked is not None or now - c.last_seen <= self.stepping_timeout)
+            and (
+                c.parked is not None
+                or self.stepping_timeout is None
+                or now - c.last_seen <= self.stepping_timeout
+            )
         ]
 
     def gate_open(self, step: int, now: float) -> bool:

@@ -75,7 +75,7 @@ class RemoteApiServer:
         port: int = DEFAULT_PORT,
         seed: int = 0,
         model: str = "ePuck",
-        stepping_timeout: float = 10.0,
+        stepping_timeout: float | None = None,
         max_idle: float = 600.0,
         heartbeat: float = 0.25,
         realtime: bool = True,
@@ -85,7 +85,7 @@ class RemoteApiServer:
             raise ValueError(f"heartbeat must be positive seconds, got {heartbeat}")
         if profile is not None:
             scene = scene.with_profile(get_profile(profile).name)
-        self.api = SimApi(scene, seed=seed, model=model)
+        self.api = SimApi(scene, seed=seed, model=model, realtime=realtime)
         self.clients = ClientTable(stepping_timeout=stepping_timeout, max_idle=max_idle)
         self.host = host
         self.heartbeat = heartbeat
@@ -316,7 +316,7 @@ class RemoteApiServer:
             self._send(envelope, _RET_NONE)
         elif not client.waiting:
             self._send(envelope, error_reply("_*executed*_ received, but no call is waiting"))
-        elif not self.api.running or client.desired_step <= self.api.step_count:
+        elif not self.api.advancing or client.desired_step <= self.api.step_count:
             client.waiting = False
             self._send(envelope, _RET_NONE)
         else:
@@ -335,12 +335,16 @@ class RemoteApiServer:
     def _pump(self, now: float) -> None:
         """Advance while every gating client has asked for the next step."""
         api = self.api
-        while api.running and self.clients.gate_open(api.step_count, now):
-            api.advance()
-            if self._observers:
-                self._notify(now)
-            for client in self.clients.done_waiting(api.step_count):
-                self._finish(client)
+        while api.advancing and self.clients.gate_open(api.step_count, now):
+            self._advance(now)
+
+    def _advance(self, now: float) -> None:
+        """One step; then answer every client whose awaited step it was."""
+        self.api.advance()
+        if self._observers:
+            self._notify(now)
+        for client in self.clients.done_waiting(self.api.step_count):
+            self._finish(client)
 
     def _forget(self, client: ClientState, why: str) -> None:
         self.clients.forget(client.uuid)
@@ -360,7 +364,7 @@ class RemoteApiServer:
         self._free_running = False
         if self._observers and now - self._last_notified >= _STILL_NOTIFY_S:
             self._notify(now)
-        if not api.running:
+        if not api.advancing:
             return
         if self.clients.gating(now):
             self._pump(now)  # a silent client may just have stopped gating
@@ -368,9 +372,7 @@ class RemoteApiServer:
         elif self.realtime:
             self._free_running = True
             if now >= self._next_free_step:
-                api.advance()
-                if self._observers:
-                    self._notify(now)
+                self._advance(now)
                 self._next_free_step += api.world.dt
                 if now - self._next_free_step > 1.0:  # fell behind: do not race to catch up
                     self._next_free_step = now + api.world.dt

@@ -137,6 +137,17 @@ class Arena:
 
 
 @dataclass(frozen=True)
+class Dummy:
+    """A named point of the scene that nothing collides with and no sensor sees: a goal,
+    a waypoint, a reference frame (CoppeliaSim's dummy object). ``x, y, z`` in m."""
+
+    name: str
+    x: float
+    y: float
+    z: float = 0.0
+
+
+@dataclass(frozen=True)
 class RobotSpec:
     """One robot: name, start pose (m, m, rad), controller spec, body colour, robot profile
     (:mod:`puckboard.profile`: ``epuck``, the physical robot, or ``epuck-vrep``, V-REP's
@@ -219,6 +230,7 @@ class Scene:
     floor_colour: Colour = (235, 235, 225)
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
     goal: Goal = field(default_factory=Goal)
+    dummies: tuple[Dummy, ...] = ()
 
     def with_profile(self, profile: str) -> Scene:
         """This scene with every robot given robot profile ``profile`` (by name)."""

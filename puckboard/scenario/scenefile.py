@@ -34,6 +34,7 @@ from .scene import (
     GOAL_KINDS,
     Arena,
     CircleObstacle,
+    Dummy,
     Goal,
     Noise,
     PolygonObstacle,
@@ -489,6 +490,16 @@ def _obstacle(
     return PolygonObstacle(vertices, colour=colour, name=name)
 
 
+def _dummy(reader: _Reader, index: int, frame: _TrackFrame | None) -> Dummy:
+    name = reader.string("name", f"Dummy{index}" if index else "Dummy")
+    if not name or not all(c.isalnum() or c in "_-" for c in name):
+        reader.fail("name", "a name of letters, digits, '_' and '-' (it becomes an object path)", name)
+    x, y, _ = _place(reader, frame, "dummy")
+    z = reader.number("z", 0.0, unit="m above the floor", low=-10.0, high=10.0)
+    reader.finish()
+    return Dummy(name, x, y, z)
+
+
 def _signed_area(v: np.ndarray) -> float:
     x, y = v[:, 0], v[:, 1]
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
@@ -556,6 +567,11 @@ def scene_from_dict(
     for i, item in enumerate(top.table_list("obstacles")):
         obstacles.append(_obstacle(_Reader(item, f"obstacles[{i}]", source), i, frame))
 
+    dummies = []
+    for i, item in enumerate(top.table_list("dummies")):
+        dummies.append(_dummy(_Reader(item, f"dummies[{i}]", source), i, frame))
+    _unique_names([d.name for d in dummies], "dummies", source)
+
     if not top.has("robots"):
         top.fail("robots", "", message="missing; a scene needs at least one [[robots]] entry")
     robot_items = top.table_list("robots")
@@ -566,13 +582,7 @@ def scene_from_dict(
     robots = []
     for i, item in enumerate(robot_items):
         robots.append(_robot(_Reader(item, f"robots[{i}]", source), i, frame, default_profile))
-    seen: set[str] = set()
-    for i, r in enumerate(robots):
-        if r.name in seen:
-            raise SceneError(
-                f"{source}: robots[{i}].name: {r.name!r} is used twice; names must be unique"
-            )
-        seen.add(r.name)
+    _unique_names([r.name for r in robots], "robots", source)
 
     noise = Noise()
     noise_reader = top.sub("noise")
@@ -614,7 +624,18 @@ def scene_from_dict(
         floor_colour=floor,
         camera_size=camera_size,
         goal=goal,
+        dummies=tuple(dummies),
     )
+
+
+def _unique_names(names: list[str], table: str, source: str) -> None:
+    seen: set[str] = set()
+    for i, name in enumerate(names):
+        if name in seen:
+            raise SceneError(
+                f"{source}: {table}[{i}].name: {name!r} is used twice; names must be unique"
+            )
+        seen.add(name)
 
 
 def scene_to_dict(scene: Scene) -> dict[str, Any]:
@@ -669,6 +690,10 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
             )  # fmt: skip
     if obstacles:
         out["obstacles"] = obstacles
+    if scene.dummies:
+        out["dummies"] = [
+            {"name": d.name, "x": num(d.x), "y": num(d.y), "z": num(d.z)} for d in scene.dummies
+        ]
     out["robots"] = [
         {"name": r.name, "x": num(r.x), "y": num(r.y), "theta": float(r.theta),
          "controller": r.controller, "colour": list(r.colour), "profile": r.profile}

@@ -35,13 +35,17 @@ def raw_request(port: int, message: dict | bytes) -> dict:
         sock.close(0)
 
 
-def test_discovery_lists_only_served_functions_and_constants(server, make_client):
+def test_discovery_lists_coppeliasims_whole_sim_namespace(server, make_client):
     client = make_client()
     sim = client.require("sim")
     info = client.call("zmqRemoteApi.info", ["sim"])
     functions = {k for k, v in info.items() if "func" in v}
-    assert {"getObject", "setJointTargetVelocity", "readProximitySensor", "step"} <= functions
-    assert functions == {name.removeprefix("sim.") for name in server.api.functions}
+    served = {name.removeprefix("sim.") for name in server.api.functions}
+    assert {"getObject", "setJointTargetVelocity", "readProximitySensor", "step"} <= served
+    assert served <= functions
+    # CoppeliaSim's names we do not serve are listed too, so they reach the server
+    assert {"addDrawingObject", "checkCollision", "getShapeColor"} <= functions - served
+    assert len(functions) > 400
     assert sim.handle_world == -1
     assert isinstance(sim.simulation_stopped, int)
     assert sim.getSimulationState() == sim.simulation_stopped
@@ -80,7 +84,7 @@ def test_bad_arguments_are_refused_with_the_parameter_named(server, make_client)
         sim.getObject(42)
     with pytest.raises(Exception, match="is a proximity sensor, not a joint"):
         sim.setJointTargetVelocity(sim.getObject("ePuck_proxSensor1"), 1.0)
-    with pytest.raises(Exception, match="handle 99999 does not exist"):
+    with pytest.raises(Exception, match=r"object does not exist \(handle 99999\)"):
         sim.getJointPosition(99999)
     with pytest.raises(Exception, match="object does not exist: '/ePuk'.*ePuck#0"):
         sim.getObject("/ePuk")
@@ -138,8 +142,9 @@ def test_sensor_functions_return_what_the_world_computed(server, make_client):
     frame = np.frombuffer(image, np.uint8).reshape(h, w, 3)
     np.testing.assert_array_equal(frame, world.render_camera(1)[::-1])  # bottom row first
     grey, res = sim.getVisionSensorImg(sim.getObject("/ePuck[1]/lightSensor"), 1)
-    assert res == [3, 1]
-    np.testing.assert_allclose(np.frombuffer(grey, np.uint8) / 255, world.ground[1], atol=0.5 / 255)
+    assert res == [16, 2]  # the stock model's light sensor
+    stock = np.frombuffer(grey, np.uint8)[[0, 7, 31]]  # where the stock script reads it
+    np.testing.assert_allclose(stock / 255, world.ground[1], atol=0.5 / 255)
 
 
 def test_stepping_waits_for_every_stepping_client(server, make_client):
