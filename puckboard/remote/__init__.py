@@ -10,7 +10,10 @@ simulation to a whole class (``puckboard serve``).
 One concept per module:
 
 * :mod:`.codec` — frames: CBOR decoding and validation of requests, encoding of replies;
-* :mod:`.objects` — the served scene's objects: handles, deprecated names, alias paths;
+* :mod:`.objects` — the served scene's object tree: handles, deprecated names, alias paths;
+* :mod:`.frames` — 3-D rigid transforms in CoppeliaSim's forms (matrix, quaternion, Euler);
+* :mod:`.seen` — which object a proximity sensor sees, and where;
+* :mod:`.vision` — the served vision sensors' images, byte for byte;
 * :mod:`.simapi` — the dispatch table: the only ``sim.*`` functions a client can reach;
 * :mod:`.clients` — per-client state and the stepping gate;
 * :mod:`.server` — the ZeroMQ socket loop (:class:`RemoteApiServer`);

@@ -65,6 +65,11 @@ class RemoteApiServer:
     background thread; ``serve_forever()`` in the calling thread (Ctrl-C ends it). The
     server stands in for CoppeliaSim, so its robots are V-REP's e-puck model
     (``epuck-vrep``) unless ``profile`` names another (``None`` keeps the scene's).
+    ``script_functions=False`` leaves puckboard's sense-all and set-wheels functions out
+    of the e-puck's script, as in a CoppeliaSim whose model lacks them.
+    ``stepping_timeout=None`` (CoppeliaSim's behaviour) lets a silent stepping client hold
+    the simulation until its idle timeout (``max_idle`` at most); a number frees the
+    others after that many silent seconds.
     """
 
     def __init__(
@@ -80,12 +85,15 @@ class RemoteApiServer:
         heartbeat: float = 0.25,
         realtime: bool = True,
         profile: str | None = "epuck-vrep",
+        script_functions: bool = True,
     ) -> None:
         if heartbeat <= 0:
             raise ValueError(f"heartbeat must be positive seconds, got {heartbeat}")
         if profile is not None:
             scene = scene.with_profile(get_profile(profile).name)
-        self.api = SimApi(scene, seed=seed, model=model, realtime=realtime)
+        self.api = SimApi(
+            scene, seed=seed, model=model, realtime=realtime, script_functions=script_functions
+        )
         self.clients = ClientTable(stepping_timeout=stepping_timeout, max_idle=max_idle)
         self.host = host
         self.heartbeat = heartbeat

@@ -222,11 +222,20 @@ class SimApi:
     """
 
     def __init__(
-        self, scene: Scene, *, seed: int = 0, model: str = "ePuck", realtime: bool = True
+        self,
+        scene: Scene,
+        *,
+        seed: int = 0,
+        model: str = "ePuck",
+        realtime: bool = True,
+        script_functions: bool = True,
     ) -> None:
         from ..sim.world import World
 
         self.scene = scene
+        #: Whether the e-puck's script has puckboard's functions; without them the server
+        #: is the stock model in CoppeliaSim, and clients must read sensor by sensor.
+        self.script_functions = script_functions
         self.seed = seed
         self.realtime = realtime
         self._world_class = World
@@ -1032,6 +1041,11 @@ class SimApi:
                 raise ApiError(f"{func}: script handle {script} does not exist")
             robot = obj.robot
         assert robot is not None
+        if not self.script_functions:
+            raise ApiError(
+                f"{func}: the e-puck's script has no function {name!r} (this server serves "
+                "the stock model's script, as CoppeliaSim does without puckboard's additions)"
+            )
         if name == SENSE_ALL:
             return [self.sense_all(robot)]
         if name == SET_WHEELS:

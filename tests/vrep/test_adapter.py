@@ -374,3 +374,22 @@ def test_a_model_without_camera_drives_without_that_sensor(server, caplog):
         assert Sensor.POSE in robot.sense_all()
     finally:
         robot.close()
+
+
+def test_epuckvrep_reads_sensor_by_sensor_from_a_stock_model(caplog):
+    """A CoppeliaSim whose e-puck script lacks puckboardSenseAll: the adapter notices, reads
+    each sensor with its own call, and the run goes as the embedded one does."""
+    from puckboard.control.episode import run_episode
+
+    srv = start_server(script_functions=False)
+    try:
+        kwargs = {"controller": "improved", "duration": 6.0}
+        with caplog.at_level(logging.INFO, logger="puckboard.adapters.vrep"):
+            remote = run_episode(SCENE, backend="coppeliasim", port=srv.port, **kwargs).to_dict()
+        local = run_episode(SCENE, **kwargs).to_dict()
+    finally:
+        stop_server(srv)
+    assert "reading each sensor with its own calls" in caplog.text
+    for r, e in zip(remote["robots"], local["robots"]):
+        assert r["distance_m"] == pytest.approx(e["distance_m"], abs=0.01)
+        assert r["on_line_fraction"] == pytest.approx(e["on_line_fraction"], abs=0.05)

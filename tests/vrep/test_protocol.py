@@ -278,3 +278,17 @@ def test_a_forgotten_client_has_its_robot_stopped():
     finally:
         client.socket.close(0)
         stop_server(srv)
+
+
+def test_docs_table_lists_exactly_the_served_functions():
+    import re
+    from pathlib import Path
+
+    from puckboard.remote.simapi import SimApi
+
+    text = (Path(__file__).parents[2] / "docs" / "coppeliasim.md").read_text(encoding="utf-8")
+    section = text.split("### Every served function", 1)[1].split("\n## ", 1)[0]
+    rows = [line.split("|")[1] for line in section.splitlines() if line.startswith("| `sim.")]
+    documented = {m for row in rows for m in re.findall(r"`(sim\.[A-Za-z0-9]+)", row)}
+    served = set(SimApi(load_scene("two-robot-pass")).functions)
+    assert documented == served, (served - documented, documented - served)
