@@ -6,7 +6,9 @@ coppeliasim``. Each robot of the scene is served as a copy of the stock e-puck m
 (ePuck, ePuck#0, ePuck#1 ...), keeps its start pose from the scene, and moves only when
 a client commands it. The simulation starts when a client calls sim.startSimulation;
 while clients are in stepping mode it advances when every one of them has called
-sim.step, otherwise in real time. sim.stopSimulation restores the scene.
+sim.step, otherwise in real time. sim.stopSimulation restores the scene. As in
+CoppeliaSim, a silent stepping client holds the others until its idle timeout; for a
+class, --stepping-timeout frees them sooner.
 
 Serving a classroom: bind all interfaces explicitly with --host 0.0.0.0 and give the
 students this machine's address. Nothing a client sends is executed: only the listed
@@ -31,7 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "examples:\n"
             "  puckboard serve two-robot-pass\n"
             "  puckboard run two-robot-pass --backend coppeliasim --port 23000\n"
-            "  puckboard serve my-scene.toml --host 0.0.0.0 --port 23000   # a whole class\n"
+            "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   # a whole class\n"
         ),
     )
     p.add_argument(
@@ -60,9 +62,29 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--stepping-timeout",
         type=float,
-        default=10.0,
+        default=None,
         metavar="S",
-        help="a stepping client silent this long stops holding the others back (default 10 s)",
+        help="a stepping client silent this long stops holding the others back (default: "
+        "none, as CoppeliaSim: it holds them until its idle timeout; 10 suits a class)",
+    )
+    p.add_argument(
+        "--idle-timeout",
+        type=float,
+        default=600.0,
+        metavar="S",
+        help="forget a client silent this long and stop its robots (default 600 s, the "
+        "Python client's own; a client asking for less gets less)",
+    )
+    p.add_argument(
+        "--stock-script",
+        action="store_true",
+        help="serve the e-puck's script without puckboard's sense-all and set-wheels "
+        "functions, as a plain CoppeliaSim model (clients read sensor by sensor)",
+    )
+    p.add_argument(
+        "--functions",
+        action="store_true",
+        help="list the served sim.* functions and exit",
     )
     p.set_defaults(func=main)
 
@@ -74,9 +96,13 @@ def main(args: argparse.Namespace) -> int:
     from ..profile import get_profile
     from ..scenario.scenefile import load_scene
 
+    if args.functions:
+        return _list_functions()
     check_port(args.port)
-    if args.stepping_timeout <= 0:
+    if args.stepping_timeout is not None and args.stepping_timeout <= 0:
         raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
+    if args.idle_timeout <= 0:
+        raise CliError(f"--idle-timeout must be positive seconds, got {args.idle_timeout}")
     try:
         from ..remote.server import RemoteApiServer
     except ImportError as exc:
@@ -93,7 +119,9 @@ def main(args: argparse.Namespace) -> int:
             port=args.port,
             seed=args.seed,
             stepping_timeout=args.stepping_timeout,
+            max_idle=args.idle_timeout,
             profile=profile,
+            script_functions=not args.stock_script,
         )
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
@@ -141,4 +169,23 @@ def main(args: argparse.Namespace) -> int:
             f"({server.errors} answered with an error), t={server.api.world.time:.2f} s",
             file=out,
         )
+    return 0
+
+
+def _list_functions() -> int:
+    """Print the served functions, one per line (the docs' table has their semantics)."""
+    try:
+        from ..remote.simapi import SimApi
+    except ImportError as exc:
+        raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
+    from ..scenario.scenefile import load_scene
+
+    names = sorted(SimApi(load_scene("two-robot-pass")).functions)
+    for name in names:
+        print(name)
+    print(
+        f"{len(names)} functions; their CoppeliaSim semantics and differences: "
+        "docs/coppeliasim.md, 'Every served function'",
+        file=sys.stderr,
+    )
     return 0

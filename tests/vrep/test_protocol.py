@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 import threading
 import uuid
 
@@ -292,3 +294,20 @@ def test_docs_table_lists_exactly_the_served_functions():
     documented = {m for row in rows for m in re.findall(r"`(sim\.[A-Za-z0-9]+)", row)}
     served = set(SimApi(load_scene("two-robot-pass")).functions)
     assert documented == served, (served - documented, documented - served)
+
+
+def test_serve_lists_its_functions_and_checks_its_timeouts():
+    done = subprocess.run(
+        [sys.executable, "-m", "puckboard", "serve", "--functions"],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert done.returncode == 0
+    listed = done.stdout.split()
+    assert "sim.readProximitySensor" in listed and "sim.getObjectsInTree" in listed
+    assert "docs/coppeliasim.md" in done.stderr
+    for option in ("--idle-timeout", "--stepping-timeout"):
+        bad = subprocess.run(
+            [sys.executable, "-m", "puckboard", "serve", option, "0"],
+            capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+        assert bad.returncode == 2 and f"{option} must be positive seconds" in bad.stderr
