@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..blackboard import Blackboard, Namespace
+from ..blackboard import Blackboard, MissingValueError, Namespace
 from ..errors import AdapterError, ConnectionLostError
 from ..profile import EPUCK2, RobotProfile, get_profile
 from ..records import (
@@ -633,13 +633,36 @@ class EPuckVRep(RobotAdapter):
                 [SET_WHEELS_FUNCTION, self._script, left, right],
                 last_try=last_try,
             )
+        else:
+            self.link.call(
+                "sim.setJointTargetVelocity", [self.handles["left"], left], last_try=last_try
+            )
+            self.link.call(
+                "sim.setJointTargetVelocity", [self.handles["right"], right], last_try=last_try
+            )
+        if not last_try:
+            self._publish_layer()
+
+    def _publish_layer(self) -> None:
+        """Tell the simulation which layer drives this robot, as the string signal
+        ``<model name>.layer`` (``ePuck#0.layer``), so a viewer of the served world (the
+        web view of ``puckboard serve --web``) can show it. One call, only when the layer
+        changes; a simulator without signals or names simply never gets it."""
+        try:
+            layer = self.ns.get("command/layer").value
+        except MissingValueError:
             return
-        self.link.call(
-            "sim.setJointTargetVelocity", [self.handles["left"], left], last_try=last_try
-        )
-        self.link.call(
-            "sim.setJointTargetVelocity", [self.handles["right"], right], last_try=last_try
-        )
+        if layer == self._published_layer:
+            return
+        self._published_layer = layer
+        try:
+            if self._model_name is None:
+                self._model_name = str(self.link.call("sim.getObjectName", [self.handles["base"]]))
+            self.link.call("sim.setStringSignal", [f"{self._model_name}.layer", layer])
+        except ConnectionLostError:
+            raise
+        except AdapterError as exc:
+            log.debug("layer signal not published: %s", exc)
 
     def _read_camera(self) -> CameraImage:
         image, res = self.link.call("sim.getVisionSensorImg", [self.handles["camera"]])
@@ -657,6 +680,8 @@ class EPuckVRep(RobotAdapter):
 
     _closing = False
     _wheels_function = False
+    _published_layer: str | None = None
+    _model_name: str | None = None
 
     def close(self) -> None:
         self._closing = True

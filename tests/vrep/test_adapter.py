@@ -393,3 +393,18 @@ def test_epuckvrep_reads_sensor_by_sensor_from_a_stock_model(caplog):
     for r, e in zip(remote["robots"], local["robots"]):
         assert r["distance_m"] == pytest.approx(e["distance_m"], abs=0.01)
         assert r["on_line_fraction"] == pytest.approx(e["on_line_fraction"], abs=0.05)
+
+
+def test_the_layer_in_control_is_published_as_a_signal(server):
+    """puckboard's CoppeliaSim backend tells the served world which layer drives each
+    robot (what the web view shows for remote clients), as the string signal
+    '<model name>.layer'."""
+    from puckboard.control.episode import run_episode
+
+    seen: list[dict] = []
+    server.add_step_observer(lambda srv: seen.append(dict(srv.api.signals.string)))
+    run_episode(SCENE, controller="improved", duration=2.0, backend="coppeliasim", port=server.port)
+    published = {k: v for snapshot in seen for k, v in snapshot.items()}
+    assert set(published) == {"ePuck.layer", "ePuck#0.layer"}
+    layers = {"FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"}  # improved's
+    assert set(published.values()) <= layers and "LineFollow" in published.values()
