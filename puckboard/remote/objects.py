@@ -371,7 +371,8 @@ class SceneObjects:
         others = [o.name for o in self._children[None] if o.robot is None]
         scene = f"; and in the scene: {', '.join(others)}" if others else ""
         return (
-            f"object does not exist: {path!r}{which}. This server serves "
+            f"object does not exist, or alias/path is ill formatted: {path!r}{which}. "
+            f"This server serves "
             f"{len(self.bases)} e-puck(s): {self.summary()}{scene}"
         )
 
