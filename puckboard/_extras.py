@@ -24,6 +24,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "pydot": "viz",
     "imageio_ffmpeg": "video",
     "rich": "cli",
+    "aiohttp": "web",
     "dask": "dask",
     "distributed": "dask",
     "pyarrow": "dask",

@@ -41,6 +41,7 @@ SUITES: dict[str, str] = {
     "estimation": "puckboard.bench.estimation:run_suite",
     "emulator": "puckboard.bench.emulator:run_suite",
     "scale": "puckboard.bench.scale:run_suite",
+    "web": "puckboard.bench.web:run_suite",
 }
 
 #: Suites run when none is named.

@@ -18,7 +18,7 @@ import re
 import socket
 import sys
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from .._extras import missing_package_message
 from .._version import __version__
@@ -272,3 +272,37 @@ def _silence_stdout() -> None:
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
+
+
+def add_web_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--web``, ``--web-host`` and ``--web-port``, the same for ``run`` and ``serve``."""
+    parser.add_argument(
+        "--web", action="store_true",
+        help="also serve a live view of the simulation in the browser (needs puckboard[web])",
+    )  # fmt: skip
+    parser.add_argument(
+        "--web-host", default="127.0.0.1", metavar="HOST",
+        help="address of the web view (default 127.0.0.1, this machine only; 0.0.0.0 for a "
+        "class)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--web-port", type=int, default=8080, metavar="PORT",
+        help="port of the web view (default 8080; 0 = any free port)",
+    )  # fmt: skip
+
+
+def start_web_view(start: Any, args: argparse.Namespace) -> Any:
+    """Start a web view with ``start()``; a missing aiohttp or a taken port is one line."""
+    try:
+        return start()
+    except ImportError as exc:
+        raise missing_extra(exc, "--web") from None
+    except OSError as exc:
+        raise CliError(bind_error_message(exc, args.web_host, args.web_port)) from None
+
+
+def web_url(view: Any, host: str) -> str:
+    """The URL to share: on every interface, the machine's name stands in for 0.0.0.0."""
+    if host in ("0.0.0.0", "*", "::"):
+        return f"http://{socket.gethostname()}:{view.port}/  (or this machine's address)"
+    return str(view.url)

@@ -16,7 +16,17 @@ import sys
 import traceback
 from typing import Any
 
-from . import CliError, check_seconds, missing_extra, require, seed_type
+from . import (
+    CliError,
+    add_web_arguments,
+    check_port,
+    check_seconds,
+    missing_extra,
+    require,
+    seed_type,
+    start_web_view,
+    web_url,
+)
 
 #: A run longer than this (wall seconds) gets a progress indicator on stderr.
 PROGRESS_AFTER_S = 0.5
@@ -92,6 +102,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--monitor", action="store_true", help="live table of every robot's blackboard"
     )
+    add_web_arguments(parser)
+    parser.add_argument(
+        "--speed", type=float, default=None, metavar="X",
+        help="with --web: run at X times real time so people can watch (default 1; 0 = as "
+        "fast as it goes); the outcome is the same at any speed",
+    )  # fmt: skip
     parser.set_defaults(func=main)
 
 
@@ -131,6 +147,11 @@ def main(args: argparse.Namespace) -> int:
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     check_seconds(args.duration)
+    check_port(args.web_port, "--web-port")
+    if args.speed is not None and not args.web:
+        raise CliError("--speed paces the run for the web view; use it with --web")
+    if args.speed is not None and (args.speed < 0 or args.speed != args.speed):
+        raise CliError(f"--speed must be 0 (as fast as it goes) or a positive factor, got {args.speed}")
     if args.monitor:
         require("rich", "--monitor")
     backend_options = {
@@ -196,6 +217,20 @@ def main(args: argparse.Namespace) -> int:
         except ValueError as exc:
             episode.connection.close()
             raise CliError(_first_line(exc)) from None
+    web = None
+    if args.web:
+        from ..web import watch_episode
+
+        speed = 1.0 if args.speed is None else (args.speed or None)
+        try:
+            web = start_web_view(
+                lambda: watch_episode(episode, host=args.web_host, port=args.web_port, speed=speed),
+                args,
+            )
+        except BaseException:
+            episode.connection.close()
+            raise
+        print(f"live view: {web_url(web, args.web_host)}", file=sys.stderr, flush=True)
     progress = None if args.json and not sys.stderr.isatty() else _Progress(duration)
     if progress is not None and not args.monitor:
         episode.add_observer(progress.update)
@@ -222,7 +257,26 @@ def main(args: argparse.Namespace) -> int:
         print(format_summary(result))
     for path in getattr(outputs, "written", None) or ():
         print(f"wrote {path}", file=sys.stderr)
+    if web is not None:
+        _keep_web_view(web)
     return 0
+
+
+def _keep_web_view(web: Any) -> None:
+    """Keep the page (and its verdict) up after the run until Ctrl-C."""
+    import time
+
+    print(
+        f"the live view stays at {web.url} with the verdict; Ctrl-C ends it",
+        file=sys.stderr, flush=True,
+    )  # fmt: skip
+    try:
+        while True:
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        web.close()
 
 
 def _first_line(exc: BaseException) -> str:

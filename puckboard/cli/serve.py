@@ -20,7 +20,17 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import CliError, bind_error_message, check_port, help_text, missing_extra, seed_type
+from . import (
+    CliError,
+    add_web_arguments,
+    bind_error_message,
+    check_port,
+    help_text,
+    missing_extra,
+    seed_type,
+    start_web_view,
+    web_url,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -34,6 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "  puckboard serve two-robot-pass\n"
             "  puckboard run two-robot-pass --backend coppeliasim --port 23000\n"
             "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   # a whole class\n"
+            "  puckboard serve arena --web                   # and watch it at http://127.0.0.1:8080/\n"
         ),
     )
     p.add_argument(
@@ -81,6 +92,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="serve the e-puck's script without puckboard's sense-all and set-wheels "
         "functions, as a plain CoppeliaSim model (clients read sensor by sensor)",
     )
+    add_web_arguments(p)
     p.add_argument(
         "--functions",
         action="store_true",
@@ -99,6 +111,7 @@ def main(args: argparse.Namespace) -> int:
     if args.functions:
         return _list_functions()
     check_port(args.port)
+    check_port(args.web_port, "--web-port")
     if args.stepping_timeout is not None and args.stepping_timeout <= 0:
         raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
     if args.idle_timeout <= 0:
@@ -127,6 +140,16 @@ def main(args: argparse.Namespace) -> int:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     except OSError as exc:
         raise CliError(bind_error_message(exc, args.host, args.port)) from None
+    web = None
+    if args.web:
+        try:
+            from ..web import watch_server
+
+            web = start_web_view(lambda: watch_server(server, host=args.web_host,
+                                                      port=args.web_port), args)  # fmt: skip
+        except BaseException:
+            server.close()
+            raise
     shown_host = "127.0.0.1" if args.host in ("127.0.0.1", "localhost") else args.host
     out = sys.stdout
     print(
@@ -152,6 +175,8 @@ def main(args: argparse.Namespace) -> int:
         f"EPuckVRep(object_path='ePuck', host='{shown_host}', port={server.port})",
         file=out,
     )
+    if web is not None:
+        print(f"live view for the class: {web_url(web, args.web_host)}", file=out)
     print(
         "Ctrl-C stops the server; clients coming and going are logged below", file=out, flush=True
     )
@@ -164,6 +189,8 @@ def main(args: argparse.Namespace) -> int:
         pass
     finally:
         server.close()
+        if web is not None:
+            web.close()
         print(
             f"server stopped after {server.requests} requests "
             f"({server.errors} answered with an error), t={server.api.world.time:.2f} s",

@@ -295,6 +295,7 @@ class Episode:
             raise
         self.observers: list[EpisodeObserver] = []
         self.close_observers: list[EpisodeObserver] = []
+        self.result_observers: list[EpisodeObserver] = []
         self.result: EpisodeResult | None = None
         self.wall_s = 0.0
         self.loop.add_observer(self._after_cycle)
@@ -314,6 +315,11 @@ class Episode:
     def add_close_observer(self, observer: EpisodeObserver) -> None:
         """``observer(episode)`` once when the run ends, however it ends."""
         self.close_observers.append(observer)
+
+    def add_result_observer(self, observer: EpisodeObserver) -> None:
+        """``observer(episode)`` once the run completed and the judge's verdict is final
+        (:attr:`result` is set); not called when the run ends on an error or Ctrl-C."""
+        self.result_observers.append(observer)
 
     def _feed_judge(self) -> None:
         if self.world is not None:
@@ -405,6 +411,11 @@ class Episode:
             robots=self.judge.metrics(),
             events=sorted(self.judge.events, key=lambda e: e.time_s),
         )
+        for obs in self.result_observers:
+            try:
+                obs(self)
+            except Exception:
+                log.exception("episode result observer %r failed", obs)
         return self.result
 
 

@@ -138,3 +138,15 @@ def test_scale_suite_reports_every_robot_count():
     assert list(rows) == ["2 robots", "10 robots", "30 robots", "50 robots"]
     for row in rows.values():
         assert row["steps_per_s"] > 0 and row["us_per_robot_step"] > 0
+
+
+def test_web_suite_measures_with_and_without_stream_clients():
+    pytest.importorskip("aiohttp")
+    from puckboard.bench.web import run_suite
+
+    out = run_suite(steps=60, clients=3)
+    assert out["with_clients"]["connected"] == 3
+    assert out["without_clients"]["frames_per_s_per_client"] is None
+    assert out["with_clients"]["frames_per_s_per_client"] > 0  # every stream got frames
+    for key in ("without_web_view", "without_clients", "with_clients"):
+        assert out[key]["realtime_factor"] > 0

@@ -90,7 +90,7 @@ def test_dependencies_point_one_way(subpackage, forbidden):
 
 
 @pytest.mark.parametrize(
-    "subpackage", ["adapters", "remote", "emulator", "control", "viz", "sweep"]
+    "subpackage", ["adapters", "remote", "emulator", "control", "viz", "sweep", "web"]
 )
 def test_backends_use_the_engine_only_through_its_world(subpackage):
     """Outside the engine, only ``World`` is imported: the rest of sim/ is its internals."""
@@ -118,7 +118,7 @@ def test_no_core_module_imports_the_cli():
 def test_import_puckboard_loads_no_heavy_or_optional_package():
     code = (
         "import sys, puckboard\n"
-        "heavy = ['numpy', 'py_trees', 'matplotlib', 'zmq', 'serial', 'rich', 'dask', 'filterpy']\n"
+        "heavy = ['numpy', 'py_trees', 'matplotlib', 'zmq', 'serial', 'rich', 'dask', 'filterpy', 'aiohttp']\n"
         "print(','.join(m for m in heavy if m in sys.modules))\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -1,0 +1,106 @@
+"""The web view under a class: does a room of browsers slow the simulation?
+
+Runs the two-robot pass as fast as it goes (no pacing): without the web view, with it
+and no browser, then with ``clients`` Server-Sent-Events streams open on the
+loopback interface (held by a separate process, like real browsers, so their reading
+does not count as the simulation's CPU time). Reports the simulation's real-time factor
+both ways, the CPU seconds the simulating process spent per simulated second, and how
+many frames each stream received per second.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from typing import Any
+
+__all__ = ["run_suite"]
+
+# A stand-in for a classroom of browsers: N threads each reading the event stream,
+# counting frames, until stdin closes.
+_READERS = r"""
+import sys, threading, urllib.request
+url, n = sys.argv[1], int(sys.argv[2])
+counts = [0] * n
+def read(k):
+    try:
+        with urllib.request.urlopen(url + "stream") as r:
+            for line in r:
+                if line.startswith(b"event: frame"):
+                    counts[k] += 1
+    except Exception:
+        pass
+for k in range(n):
+    threading.Thread(target=read, args=(k,), daemon=True).start()
+print("ready", flush=True)
+sys.stdin.read()
+print(" ".join(map(str, counts)), flush=True)
+"""
+
+
+def _bare_run(duration: float) -> dict[str, Any]:
+    from ..control.episode import Episode
+
+    episode = Episode("two-robot-pass", seed=0)
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    episode.run(duration, stop_early=False)
+    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    return {"realtime_factor": round(duration / wall, 1),
+            "cpu_s_per_sim_s": round(cpu / duration, 4)}  # fmt: skip
+
+
+def _one_run(duration: float, clients: int) -> dict[str, Any]:
+    from ..control.episode import Episode
+    from ..web import watch_episode
+
+    episode = Episode("two-robot-pass", seed=0)
+    view = watch_episode(episode, port=0, speed=None)
+    readers = None
+    try:
+        if clients:
+            readers = subprocess.Popen(
+                [sys.executable, "-c", _READERS, view.url, str(clients)],
+                stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+            )  # fmt: skip
+            assert readers.stdout is not None
+            readers.stdout.readline()
+            deadline = time.monotonic() + 10.0
+            while view.clients < clients and time.monotonic() < deadline:
+                time.sleep(0.02)
+        wall0, cpu0 = time.perf_counter(), time.process_time()
+        episode.run(duration, stop_early=False)
+        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+        frames: list[int] = []
+        if readers is not None:
+            out, _ = readers.communicate("", timeout=30)
+            frames = [int(v) for v in out.split()]
+        return {
+            "connected": view.clients if clients else 0,
+            "realtime_factor": round(duration / wall, 1),
+            "cpu_s_per_sim_s": round(cpu / duration, 4),
+            "frames_per_s_per_client": round(sum(frames) / max(1, len(frames)) / wall, 1)
+            if frames else None,
+        }  # fmt: skip
+    finally:
+        if readers is not None and readers.poll() is None:
+            readers.kill()
+        view.close()
+
+
+def run_suite(steps: int | None = None, clients: int = 30) -> dict[str, Any]:
+    """Real-time factor of a free-running two-robot pass with and without ``clients``
+    streams; ``steps`` simulation steps per run (default 2400, two simulated minutes)."""
+    steps = steps or 2400
+    duration = steps * 0.05
+    bare = _bare_run(duration)
+    alone = _one_run(duration, 0)
+    watched = _one_run(duration, clients)
+    return {
+        "sim_seconds": duration,
+        "clients": clients,
+        "without_web_view": bare,
+        "without_clients": alone,
+        "with_clients": watched,
+        "slowdown": round(alone["realtime_factor"] / watched["realtime_factor"], 3),
+    }

@@ -1,0 +1,57 @@
+"""A live browser view of a simulation, for the projector and every student's laptop.
+
+``puckboard serve SCENE --web`` and ``puckboard run SCENE --web`` also serve a web page
+drawing the arena live: every robot with its name, heading, trail and IR readings, the
+simulation time and real-time factor, per robot the layer in control, its wheel command
+and who drives it, the judge's events and verdict; click a robot for its blackboard keys
+and its arbitration timeline. The page is plain HTML and JavaScript shipped in the
+package (no CDN: it works offline) and read-only.
+
+* :mod:`.state` — what the page shows, built from a run or a served world;
+* :mod:`.server` — the aiohttp server: the page, a Server-Sent Events stream.
+
+Needs the ``web`` extra (``pip install "puckboard[web]"``, aiohttp).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["watch_episode", "watch_server"]
+
+
+def watch_episode(
+    episode: Any, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
+) -> Any:
+    """Serve a live view of ``episode`` (before :meth:`run`); returns the started
+    :class:`~puckboard.web.server.WebView`. ``speed`` paces the run to the wall clock
+    (1 = real time, ``None`` = as fast as it goes) so people can watch it; pacing only
+    waits between cycles, the run's results are the same."""
+    from ..control.pacing import RealTimePacer
+    from .server import WebView
+    from .state import EpisodeFollower
+
+    view = WebView(host=host, port=port).start()
+    follower = EpisodeFollower(episode, view.publish)
+    view.follow_trails(follower.trails_json)
+    episode.add_observer(follower)
+    episode.add_close_observer(follower.close)
+    episode.add_result_observer(follower.close)  # again, with the judge's final verdict
+    if speed is not None:
+        episode.add_observer(RealTimePacer(speed))
+    view.follower = follower  # type: ignore[attr-defined]
+    return view
+
+
+def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
+    """Serve a live view of a :class:`~puckboard.remote.server.RemoteApiServer`'s world;
+    returns the started :class:`~puckboard.web.server.WebView`."""
+    from .server import WebView
+    from .state import ServerFollower
+
+    view = WebView(host=host, port=port).start()
+    follower = ServerFollower(server, view.publish)
+    view.follow_trails(follower.trails_json)
+    server.add_step_observer(follower)
+    view.follower = follower  # type: ignore[attr-defined]
+    return view

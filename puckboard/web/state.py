@@ -1,0 +1,411 @@
+"""What the web page shows, as plain JSON-ready data, from a local run or a served world.
+
+The page draws three things, each sent as it changes:
+
+* the **scene**, once: arena, line, obstacles, dummies, and per robot its name, colour
+  and IR sensor poses (so the page can draw the readings as rays from the right places);
+* a **frame**, up to :data:`FRAME_RATE` times a second: simulation time, real-time
+  factor, per robot its pose, IR distances, wheel command, layer in control (with the
+  layer's colour) and who drives it, the judge's events so far and, at the end, its
+  verdict;
+* a robot's **details** when someone opens its panel: its blackboard keys with values and
+  ages (what ``puckboard monitor`` shows), or, for a served world whose controllers run in
+  other processes, the served sensor values; and its arbitration timeline so far.
+
+:class:`EpisodeFollower` builds them from a :class:`~puckboard.control.episode.Episode`
+(``puckboard run --web``) reading only the blackboard and the scene, like every other
+visual tool; :class:`ServerFollower` from a
+:class:`~puckboard.remote.server.RemoteApiServer` (``puckboard serve --web``), where the
+layer in control is what each client publishes as the string signal ``<model>.layer``.
+Both only read: the simulation is the same with or without a page watching it.
+
+Colours and event words come from :mod:`puckboard.viz.style`, as in the other figures.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..profile import get_profile
+from ..records import PROX_NAMES
+from ..viz.style import event_label, layer_colour, robot_colours
+
+if TYPE_CHECKING:
+    from ..scenario.judge import Judge
+    from ..scenario.scene import Scene
+
+__all__ = ["FRAME_RATE", "EpisodeFollower", "ServerFollower", "describe_scene"]
+
+#: Frames a second sent to the page (the simulation may step far faster).
+FRAME_RATE = 20.0
+#: Details (blackboard tables) a second: heavier, and read by one panel at a time.
+DETAIL_RATE = 4.0
+#: Trail points kept per robot (one each time it moved 5 mm).
+TRAIL_POINTS = 4000
+_TRAIL_STEP = 0.005
+
+Publish = Callable[[str, Any], None]
+
+
+def _r(value: float, digits: int = 4) -> float:
+    return round(float(value), digits)
+
+
+def describe_scene(scene: Scene, *, driver: str) -> dict[str, Any]:
+    """The static part of the picture (JSON-ready); ``driver`` says what runs it."""
+    from ..scenario.scene import CircleObstacle
+
+    names = [r.name for r in scene.robots]
+    colours = robot_colours(names, {r.name: r.colour for r in scene.robots})
+    robots = []
+    for spec in scene.robots:
+        profile = get_profile(spec.profile)
+        robots.append({
+            "name": spec.name,
+            "colour": colours[spec.name],
+            "profile": profile.name,
+            "radius": profile.body_radius,
+            "sensors": [[_r(p.x), _r(p.y), _r(p.heading)] for p in profile.prox_poses],
+            "sensor_names": list(PROX_NAMES),
+            "range": profile.prox_range,
+        })  # fmt: skip
+    obstacles: list[dict[str, Any]] = []
+    for ob in scene.obstacles:
+        if isinstance(ob, CircleObstacle):
+            obstacles.append({"name": ob.name, "circle": [ob.x, ob.y, ob.radius],
+                              "colour": _hex(ob.colour)})  # fmt: skip
+        else:
+            obstacles.append({"name": ob.name, "polygon": ob.vertices.round(4).tolist(),
+                              "colour": _hex(ob.colour)})  # fmt: skip
+    out: dict[str, Any] = {
+        "name": scene.name,
+        "description": scene.description,
+        "driver": driver,
+        "dt": scene.dt,
+        "duration": scene.duration,
+        "floor": _hex(scene.floor_colour),
+        "robots": robots,
+        "obstacles": obstacles,
+        "dummies": [{"name": d.name, "x": d.x, "y": d.y} for d in scene.dummies],
+        "arena": None,
+        "track": None,
+    }
+    if scene.arena is not None:
+        a = scene.arena
+        out["arena"] = {"xmin": a.xmin, "ymin": a.ymin, "xmax": a.xmax, "ymax": a.ymax,
+                        "colour": _hex(a.colour)}  # fmt: skip
+    if scene.track is not None:
+        t = scene.track
+        out["track"] = {"points": t.points.round(4).tolist(), "width": t.width,
+                        "closed": t.closed, "colour": _hex(t.colour)}  # fmt: skip
+    xs, ys = _extent(out)
+    out["bounds"] = [min(xs), min(ys), max(xs), max(ys)]
+    return out
+
+
+def _extent(scene: dict[str, Any]) -> tuple[list[float], list[float]]:
+    xs: list[float] = []
+    ys: list[float] = []
+    if scene["arena"]:
+        a = scene["arena"]
+        xs += [a["xmin"], a["xmax"]]
+        ys += [a["ymin"], a["ymax"]]
+    if scene["track"]:
+        pts = np.array(scene["track"]["points"])
+        xs += [float(pts[:, 0].min()), float(pts[:, 0].max())]
+        ys += [float(pts[:, 1].min()), float(pts[:, 1].max())]
+    for ob in scene["obstacles"]:
+        if "circle" in ob:
+            x, y, r = ob["circle"]
+            xs += [x - r, x + r]
+            ys += [y - r, y + r]
+        else:
+            xs += [p[0] for p in ob["polygon"]]
+            ys += [p[1] for p in ob["polygon"]]
+    if not xs:
+        xs, ys = [-0.5, 0.5], [-0.5, 0.5]
+    return xs, ys
+
+
+def _hex(rgb: Sequence[int]) -> str:
+    r, g, b = (max(0, min(255, int(c))) for c in rgb[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
+
+
+class _Follower:
+    """What both followers share: throttling, trails, layer timelines, real-time factor."""
+
+    def __init__(self, scene: Scene, publish: Publish, *, driver: str) -> None:
+        self.scene = scene
+        self.publish = publish
+        self.names = [r.name for r in scene.robots]
+        self.scene_json = describe_scene(scene, driver=driver)
+        self.trails: list[deque[tuple[float, float]]] = [
+            deque(maxlen=TRAIL_POINTS) for _ in self.names
+        ]
+        #: per robot, the layer changes so far: [time (s), layer]
+        self.timelines: list[list[tuple[float, str]]] = [[] for _ in self.names]
+        self._next_frame = 0.0
+        self._next_detail = 0.0
+        self._rtf_window: deque[tuple[float, float]] = deque(maxlen=int(2 * FRAME_RATE))
+        self.frames = 0
+        publish("scene", self.scene_json)
+
+    def _track(self, t: float, poses: np.ndarray, layers: Sequence[str | None]) -> None:
+        """Every step: layer changes (for complete timelines) and trail points."""
+        for i, layer in enumerate(layers):
+            if layer is None:
+                continue
+            line = self.timelines[i]
+            if not line or line[-1][1] != layer:
+                line.append((round(t, 3), layer))
+        for i, trail in enumerate(self.trails):
+            x, y = float(poses[i, 0]), float(poses[i, 1])
+            if not trail or math.hypot(x - trail[-1][0], y - trail[-1][1]) >= _TRAIL_STEP:
+                trail.append((round(x, 4), round(y, 4)))
+
+    def _due(self, now: float, *, force: bool = False) -> bool:
+        if not force and now < self._next_frame:
+            return False
+        self._next_frame = now + 1.0 / FRAME_RATE
+        return True
+
+    def _rtf(self, t: float, now: float) -> float | None:
+        window = self._rtf_window
+        if window and t < window[-1][0]:
+            window.clear()  # the simulation was restarted
+        window.append((t, now))
+        (t0, w0), (t1, w1) = window[0], window[-1]
+        return round((t1 - t0) / (w1 - w0), 2) if w1 - w0 > 0.2 else None
+
+    def _frame(
+        self, t: float, now: float, robots: list[dict[str, Any]], judge: Judge | None,
+        status: str,
+    ) -> dict[str, Any]:  # fmt: skip
+        self.frames += 1
+        frame: dict[str, Any] = {
+            "t": round(t, 3),
+            "rtf": self._rtf(t, now),
+            "status": status,
+            "robots": robots,
+            "events": [],
+            "verdict": None,
+        }
+        if judge is not None:
+            frame["events"] = [
+                {"t": round(e.time_s, 2), "robot": e.robot, "kind": e.kind,
+                 "text": event_label(e.kind)}
+                for e in sorted(judge.events, key=lambda e: e.time_s)
+            ]  # fmt: skip
+            if judge.decided:
+                frame["verdict"] = {
+                    "success": bool(judge.success),
+                    "failure": judge.failure,
+                    "robot": judge.failure_robot,
+                    "text": "success" if judge.success else event_label(judge.failure or ""),
+                }
+        return frame
+
+    def trails_json(self) -> dict[str, Any]:
+        return {name: list(trail) for name, trail in zip(self.names, self.trails)}
+
+    def timeline(self, i: int) -> list[dict[str, Any]]:
+        return [{"t": t, "layer": layer, "colour": layer_colour(layer)}
+                for t, layer in list(self.timelines[i])]  # fmt: skip
+
+
+def _robot_entry(
+    name: str, pose: Sequence[float], prox: Sequence[float] | None, wheels: Sequence[float] | None,
+    layer: str | None, driver: str,
+) -> dict[str, Any]:  # fmt: skip
+    return {
+        "name": name,
+        "pose": [_r(pose[0]), _r(pose[1]), _r(pose[2])],
+        "prox": None if prox is None else [_r(d) for d in prox],
+        "wheels": None if wheels is None else [_r(w, 3) for w in wheels],
+        "layer": layer,
+        "layer_colour": layer_colour(layer),
+        "driver": driver,
+    }
+
+
+class EpisodeFollower(_Follower):
+    """Follows a local run; register it with ``episode.add_observer`` (and as a close
+    observer, for the final frame)."""
+
+    def __init__(self, episode: Any, publish: Publish) -> None:
+        super().__init__(episode.scene, publish, driver="puckboard run")
+        self.episode = episode
+        self.adapters = [episode.connection.adapters[n] for n in self.names]
+        self.finished = False
+        self._order: list[int] | None = None
+
+    def _layers(self) -> list[str | None]:
+        """The layer each controller chose this cycle (one record read per robot: this
+        runs every cycle, for complete timelines)."""
+        out: list[str | None] = []
+        for a in self.adapters:
+            try:
+                out.append(a.ns.get("command/layer").value)
+            except KeyError:  # no cycle yet
+                out.append(None)
+        return out
+
+    def _poses(self) -> np.ndarray:
+        ep = self.episode
+        if ep.world is not None:
+            if self._order is None:
+                self._order = [ep.world.index(n) for n in self.names]
+            return np.asarray(ep.world.poses)[self._order]
+        out = np.zeros((len(self.names), 3))
+        for i, a in enumerate(self.adapters):
+            try:
+                pose = a.ns.get("pose").value
+            except KeyError:
+                continue
+            out[i] = (pose.x, pose.y, pose.theta)
+        return out
+
+    def __call__(self, episode: Any = None) -> None:
+        self.update(force=False)
+
+    def close(self, episode: Any = None) -> None:
+        self.finished = True
+        self.update(force=True)
+
+    def update(self, *, force: bool) -> None:
+        ep = self.episode
+        layers = self._layers()
+        poses = self._poses()
+        t = float(ep.time)
+        self._track(t, poses, layers)
+        now = time.monotonic()
+        if not self._due(now, force=force):
+            return
+        snaps = [a.ns.snapshot() for a in self.adapters]
+        robots = []
+        for i, name in enumerate(self.names):
+            prox = snaps[i].value("proximity")
+            cmd = snaps[i].value("command/wheels")
+            robots.append(_robot_entry(
+                name, poses[i].tolist(), None if prox is None else prox.distance.tolist(),
+                None if cmd is None else (cmd.left, cmd.right), layers[i], "puckboard run",
+            ))  # fmt: skip
+        status = "finished" if self.finished else "running"
+        self.publish("frame", self._frame(t, now, robots, ep.judge, status))
+        if force or now >= self._next_detail:
+            self._next_detail = now + 1.0 / DETAIL_RATE
+            self.publish("details", {n: self._detail(i, snaps[i]) for i, n in enumerate(self.names)})
+
+    def _detail(self, i: int, snap: Any) -> dict[str, Any]:
+        from ..viz.monitor import format_value
+
+        keys = []
+        for key in sorted(snap):
+            rec = snap.record(key)
+            if rec is None:
+                keys.append({"key": key, "value": "—", "age": None, "status": "missing"})
+                continue
+            keys.append({
+                "key": key, "value": format_value(rec.value), "age": round(snap.now - rec.stamp, 3),
+                "status": snap.status(key),
+            })  # fmt: skip
+        return {"keys": keys, "timeline": self.timeline(i), "source": "blackboard"}
+
+
+class ServerFollower(_Follower):
+    """Follows a served world; register it with ``server.add_step_observer``. The judge
+    of the scene watches the served world too (restarted when a client restarts it)."""
+
+    def __init__(self, server: Any, publish: Publish) -> None:
+        api = server.api
+        super().__init__(api.world.scene, publish, driver="puckboard serve")
+        self.server = server
+        self._world_id = id(api.world)
+        self.judge = self._new_judge()
+        self._model_names = [b.name for b in api.objects.bases]
+
+    def _new_judge(self) -> Judge:
+        from ..scenario.judge import Judge
+
+        return Judge(self.scene)
+
+    def __call__(self, server: Any) -> None:
+        api = server.api
+        world = api.world
+        if id(world) != self._world_id and world.step_count > 0:
+            # a new run after sim.stopSimulation restored the scene: until it steps, the
+            # page keeps showing how the last run went
+            self._world_id = id(world)
+            self.judge = self._new_judge()
+            for trail in self.trails:
+                trail.clear()
+            for line in self.timelines:
+                line.clear()
+        poses = np.asarray(world.poses)
+        signals = api.signals.string
+        layers = [_text(signals.get(f"{m}.layer")) for m in self._model_names]
+        fresh = id(world) == self._world_id
+        if api.running and world.step_count > 0:
+            self.judge.update(world.time, poses, world.collisions)
+        if fresh:
+            self._track(float(world.time), poses, layers)
+        now = time.monotonic()
+        if not self._due(now):
+            return
+        drivers = self._drivers(now)
+        robots = [
+            _robot_entry(name, poses[i].tolist(), np.asarray(world.prox_distance[i]).tolist(),
+                         api.targets[i].tolist(), layers[i], drivers[i])
+            for i, name in enumerate(self.names)
+        ]  # fmt: skip
+        status = (
+            "paused" if api.running and api.paused else "running" if api.running else "stopped"
+        )
+        judge = self.judge if self.judge.started else None
+        self.publish("frame", self._frame(float(world.time), now, robots, judge, status))
+        if now >= self._next_detail:
+            self._next_detail = now + 1.0 / DETAIL_RATE
+            self.publish("details", {n: self._detail(i) for i, n in enumerate(self.names)})
+
+    def _drivers(self, now: float) -> list[str]:
+        out = ["no client"] * len(self.names)
+        for client in self.server.clients:
+            silent = now - client.last_seen
+            mode = "stepping" if client.stepping > 0 else "free-running"
+            state = "idle" if silent > 2.0 and client.parked is None else mode
+            for robot in client.robots:
+                out[robot] = f"client {client.short} · {state}"
+        return out
+
+    def _detail(self, i: int) -> dict[str, Any]:
+        w = self.server.api.world
+        prox = ", ".join(
+            f"{n} {100 * d:.1f}" for n, d in zip(PROX_NAMES, w.prox_distance[i].tolist())
+            if d < w.profiles[i].prox_range
+        )  # fmt: skip
+        ground = "L {:.2f}  C {:.2f}  R {:.2f}".format(*w.ground[i].tolist())
+        left, right = w.wheel_speeds[i].tolist()
+        x, y, th = w.poses[i].tolist()
+        keys = [
+            {"key": "proximity", "value": f"{prox} cm" if prox else "nothing in range",
+             "age": 0.0, "status": "fresh"},
+            {"key": "ground", "value": ground, "age": 0.0, "status": "fresh"},
+            {"key": "wheel_speeds", "value": f"L {left:+.2f}  R {right:+.2f} rad/s",
+             "age": 0.0, "status": "fresh"},
+            {"key": "pose", "value": f"x {x:+.3f} m  y {y:+.3f} m  θ {math.degrees(th):+6.1f}°",
+             "age": 0.0, "status": "fresh"},
+        ]  # fmt: skip
+        return {"keys": keys, "timeline": self.timeline(i), "source": "served sensors"}
+
+
+def _text(value: Any) -> str | None:
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return value if isinstance(value, str) else None

@@ -1,0 +1,7 @@
+"""Web view tests need aiohttp; browser tests also need a Chromium binary."""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("aiohttp")

@@ -1,0 +1,155 @@
+"""The web view over plain HTTP: what it serves, that it is read-only, that it streams."""
+
+from __future__ import annotations
+
+import http.client
+import json
+import time
+import urllib.error
+import urllib.request
+
+import pytest
+
+from puckboard.control.episode import Episode, run_episode
+from puckboard.web import watch_episode, watch_server
+
+
+def get(url: str) -> tuple[int, bytes]:
+    try:
+        with urllib.request.urlopen(url, timeout=10) as r:
+            return r.status, r.read()
+    except urllib.error.HTTPError as exc:
+        return exc.code, b""
+
+
+def request(view, method: str, path: str) -> int:
+    conn = http.client.HTTPConnection("127.0.0.1", view.port, timeout=10)
+    try:
+        conn.request(method, path)
+        return conn.getresponse().status
+    finally:
+        conn.close()
+
+
+def stream_frames(view, count: int, timeout: float = 10.0) -> list[dict]:
+    """The first ``count`` frames of /stream, as a browser's EventSource sees them."""
+    frames = []
+    conn = http.client.HTTPConnection("127.0.0.1", view.port, timeout=timeout)
+    try:
+        conn.request("GET", "/stream")
+        response = conn.getresponse()
+        assert response.getheader("Content-Type").startswith("text/event-stream")
+        kind = None
+        deadline = time.monotonic() + timeout
+        while len(frames) < count and time.monotonic() < deadline:
+            line = response.fp.readline().decode().rstrip("\n")
+            if line.startswith("event: "):
+                kind = line[7:]
+            elif line.startswith("data: ") and kind == "frame":
+                frames.append(json.loads(line[6:]))
+    finally:
+        conn.close()
+    return frames
+
+
+@pytest.fixture
+def finished_run():
+    episode = Episode("two-robot-pass", seed=0)
+    view = watch_episode(episode, port=0, speed=None)
+    result = episode.run(30.0)
+    yield view, result
+    view.close()
+
+
+def test_page_scene_and_final_frame(finished_run):
+    view, result = finished_run
+    status, page = get(view.url)
+    assert status == 200 and b'<canvas id="arena"' in page and b"/view.js" in page
+    assert get(view.url + "view.js")[0] == 200 and get(view.url + "view.css")[0] == 200
+    scene = json.loads(get(view.url + "scene.json")[1])
+    assert [r["name"] for r in scene["robots"]] == ["left", "right"]
+    assert len(scene["obstacles"]) == 2 and scene["track"]["closed"]
+    frame = json.loads(get(view.url + "frame.json")[1])
+    assert frame["status"] == "finished" and frame["t"] == pytest.approx(result.sim_time_s)
+    assert [e["kind"] for e in frame["events"]] == [e.kind for e in sorted(result.events, key=lambda e: e.time_s)]
+    assert frame["verdict"]["success"] == result.success
+    for r in frame["robots"]:
+        assert r["layer"] in {"FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"}
+        assert r["layer_colour"].startswith("#") and len(r["prox"]) == 8
+    details = json.loads(get(view.url + "details.json")[1])
+    keys = {k["key"] for k in details["left"]["keys"]}
+    assert {"proximity", "ground", "command/layer", "command/wheels"} <= keys
+    timeline = details["left"]["timeline"]
+    assert timeline[0]["t"] <= 0.1 and [c["t"] for c in timeline] == sorted(c["t"] for c in timeline)
+    trails = json.loads(get(view.url + "trails.json")[1])
+    assert len(trails["left"]) > 50
+
+
+def test_the_view_is_read_only_and_serves_nothing_else(finished_run):
+    view, _ = finished_run
+    for method in ("POST", "PUT", "DELETE"):
+        assert request(view, method, "/") == 405
+        assert request(view, method, "/stream") == 405
+    for path in ("/static/view.js", "/../pyproject.toml", "/view.js/../../setup.py",
+                 "/%2e%2e/%2e%2e/etc/passwd", "/puckboard/web/server.py", "/admin"):  # fmt: skip
+        assert request(view, "GET", path) == 404, path
+
+
+def test_the_stream_carries_advancing_time():
+    episode = Episode("two-robot-pass", seed=0)
+    view = watch_episode(episode, port=0, speed=4.0)  # paced, so frames arrive while it runs
+    import threading
+
+    runner = threading.Thread(target=episode.run, args=(3.0,), daemon=True)
+    try:
+        runner.start()
+        frames = stream_frames(view, 8)
+    finally:
+        runner.join(10)
+        view.close()
+    times = [f["t"] for f in frames]
+    assert len(times) == 8 and times == sorted(times) and times[-1] > times[0]
+
+
+def test_the_same_seed_gives_the_same_run_watched_or_not():
+    plain = run_episode("two-robot-pass", seed=3, duration=40.0).to_dict()
+    episode = Episode("two-robot-pass", seed=3)
+    view = watch_episode(episode, port=0, speed=None)
+    try:
+        watched = episode.run(40.0).to_dict()
+    finally:
+        view.close()
+    for d in (plain, watched):
+        d.pop("wall_s")
+        d.pop("realtime_factor")
+    assert watched == plain
+
+
+def test_a_served_world_shows_its_clients_layers_and_judge():
+    pytest.importorskip("zmq")
+    from puckboard.remote.server import RemoteApiServer
+    from puckboard.scenario.scenefile import load_scene
+
+    server = RemoteApiServer(load_scene("two-robot-pass"), host="127.0.0.1", port=0).start()
+    view = watch_server(server, port=0)
+    try:
+        stopped = json.loads(get(view.url + "frame.json")[1] or b"null")
+        deadline = time.monotonic() + 5
+        while stopped is None and time.monotonic() < deadline:  # observers run 4x/s when still
+            time.sleep(0.1)
+            stopped = json.loads(get(view.url + "frame.json")[1])
+        assert stopped["status"] == "stopped" and stopped["t"] == 0.0
+        result = run_episode(
+            "two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port
+        )
+        time.sleep(0.3)
+        details = json.loads(get(view.url + "details.json")[1])
+        assert details["left"]["source"] == "served sensors"
+    finally:
+        view.close()
+        server.close()
+    assert result.sim_time_s == pytest.approx(8.0, abs=0.06)
+    frames = view.follower.frames
+    assert frames > 0
+    timeline = details["right"]["timeline"]
+    assert timeline and timeline[0]["layer"] in {"LineFollow", "Cruise"}  # from the signals
