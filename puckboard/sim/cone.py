@@ -23,7 +23,9 @@ M×K arrays (M sensors, K objects), a handful of numpy calls per step.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +39,37 @@ FloatArray = npt.NDArray[np.float64]
 
 #: Slack (rad) on the sector's half-angle, so a point exactly on an edge counts as inside.
 _EDGE_SLACK = 1e-9
+
+
+#: Where the padding of a robot's candidate list sits: a circle of radius 0 and a
+#: zero-length segment this far away (m) are always seen beyond any sensor's range.
+_FAR = 1e9
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What one set of active cone robots and their candidates needs, built once.
+
+    ``M`` = 8 × active robots sensors; each sensor tests its robot's candidate circles
+    (M×C indices into the circle table, padded with the far circle) and segments (M×S).
+    Without candidates every circle is tested (1×K) and a robot's own body is masked.
+    """
+
+    chosen: npt.NDArray[np.intp]  # world indices of the active robots
+    chosen_list: tuple[int, ...]
+    local_x: FloatArray
+    local_y: FloatArray
+    local_heading: FloatArray
+    low: FloatArray
+    high: FloatArray
+    nothing: FloatArray  # k×1
+    cos_half: FloatArray  # M×1
+    edge_offsets: FloatArray  # M×2: the sector's two edges relative to its heading
+    circle_index: npt.NDArray[np.intp]  # M×C, or 1×K for every circle
+    radii: FloatArray  # same shape
+    radii_sq: FloatArray  # M×1×C (or 1×1×K)
+    own_body: npt.NDArray[np.bool_] | None
+    seg_index: npt.NDArray[np.intp] | None  # M×S
 
 
 class ConeSensors:
@@ -85,6 +118,20 @@ class ConeSensors:
         for c, i in enumerate(robots):
             own[c * 8 : (c + 1) * 8, k_static + i] = True
         self.own_body = own
+        # circle and segment tables, with the far padding entry last; robot centres are
+        # written each step
+        k = k_static + self.n_robots
+        self._k_static = k_static
+        self._cx = np.full(k + 1, _FAR)
+        self._cy = np.full(k + 1, _FAR)
+        self._cx[:k_static] = self.static[:, 0]
+        self._cy[:k_static] = self.static[:, 1]
+        self._radii = np.concatenate([self.static[:, 2], self.body_radii, [0.0]])
+        self._seg_ax = np.append(self.seg_a[:, 0], _FAR)
+        self._seg_ay = np.append(self.seg_a[:, 1], _FAR)
+        self._seg_ex = np.append(self.seg_e[:, 0], 0.0)
+        self._seg_ey = np.append(self.seg_e[:, 1], 0.0)
+        self._plans: dict[Any, _Plan] = {}
 
     # -- the step ------------------------------------------------------------------------------
     def sense(
@@ -93,12 +140,17 @@ class ConeSensors:
         distance: FloatArray,
         raw: FloatArray,
         near: Sequence[int] | None = None,
+        candidates: Mapping[int, tuple[tuple[int, ...], tuple[int, ...]]] | None = None,
     ) -> None:
         """Write the cone robots' rows of ``distance`` (N×8 m) and ``raw`` for ``poses``.
 
         ``near`` (world robot indices) says which cone robots have anything within reach,
         from the ray sensors' conservative broad phase; the others read nothing without a
-        single geometric test, which is most steps of a line-following run.
+        single geometric test, which is most steps of a line-following run. With it,
+        ``candidates`` may give, per near robot, the circles (static ones first, then
+        robots) and segments it may see: only those are tested. A nearest distance is a
+        minimum over objects, and an object left out lies beyond every sensor's reach,
+        so the readings are those of testing every object.
         """
         if not len(self.robots):
             return
@@ -106,7 +158,8 @@ class ConeSensors:
         distance[rows] = self.nothing
         raw[rows] = self.nothing_raw
         if near is None:
-            active = np.arange(len(self.robots))
+            picked = list(range(len(self.robots)))
+            candidates = None
         else:
             if not near:
                 return  # nothing within any cone robot's reach (most steps)
@@ -114,75 +167,121 @@ class ConeSensors:
             picked = [cone_index[i] for i in near if i in cone_index]
             if not picked:
                 return
-            active = np.array(picked, dtype=np.intp)
-        rows = self.robots
-        p = np.asarray(poses, dtype=float)
-        own = p[rows[active]]
-        lx, ly, lh = self.local_x[active], self.local_y[active], self.local_heading[active]
-        sensors = (active[:, None] * 8 + np.arange(8)).reshape(-1)
+        plan = self._plan(picked, candidates)
+        k_static = self._k_static
+        if candidates is None:
+            for i in range(self.n_robots):
+                self._cx[k_static + i], self._cy[k_static + i] = poses[i][0], poses[i][1]
+        else:
+            for c in {c for i in plan.chosen_list for c in candidates[i][0]}:
+                if c >= k_static:
+                    pose = poses[c - k_static]
+                    self._cx[c], self._cy[c] = pose[0], pose[1]
+        own = np.array([poses[i] for i in plan.chosen_list], dtype=float)
         c, s = np.cos(own[:, 2:3]), np.sin(own[:, 2:3])
-        apex_x = (own[:, 0:1] + c * lx - s * ly).reshape(-1)
-        apex_y = (own[:, 1:2] + s * lx + c * ly).reshape(-1)
-        heading = (own[:, 2:3] + lh).reshape(-1)
-        nearest = np.minimum(
-            self._circles(p, apex_x, apex_y, heading, sensors),
-            self._segments(apex_x, apex_y, heading, sensors),
-        )
-        low, high = self.min_distance[sensors], self.max_distance[sensors]
-        reading = np.where((nearest >= low) & (nearest <= high), nearest, np.inf).reshape(-1, 8)
+        apex_x = (own[:, 0:1] + c * plan.local_x - s * plan.local_y).reshape(-1)
+        apex_y = (own[:, 1:2] + s * plan.local_x + c * plan.local_y).reshape(-1)
+        heading = (own[:, 2:3] + plan.local_heading).reshape(-1)
+        nearest = self._circles(plan, apex_x, apex_y, heading)
+        if plan.seg_index is not None:
+            nearest = np.minimum(nearest, self._segments(plan, apex_x, apex_y, heading))
+        reading = np.where((nearest >= plan.low) & (nearest <= plan.high), nearest, np.inf)
+        reading = reading.reshape(-1, 8)
         seen = np.isfinite(reading)
-        chosen = rows[active]
-        distance[chosen] = np.where(seen, reading, self.nothing[active])
-        raw[chosen] = np.where(seen, raw_from_distance(reading), self.nothing_raw)
+        distance[plan.chosen] = np.where(seen, reading, plan.nothing)
+        raw[plan.chosen] = np.where(seen, raw_from_distance(reading), self.nothing_raw)
+
+    def _plan(
+        self,
+        picked: list[int],
+        candidates: Mapping[int, tuple[tuple[int, ...], tuple[int, ...]]] | None,
+    ) -> _Plan:
+        """The arrays for these active robots and candidates, cached: the set changes only
+        every few dozen steps."""
+        chosen_list = tuple(int(self.robots[c]) for c in picked)
+        key: Any = (
+            chosen_list
+            if candidates is None
+            else tuple((i, candidates[i][0], candidates[i][1]) for i in chosen_list)
+        )
+        plan = self._plans.get(key)
+        if plan is not None:
+            return plan
+        active = np.array(picked, dtype=np.intp)
+        sensors = (active[:, None] * 8 + np.arange(8)).reshape(-1)
+        half = self.half[sensors]
+        if candidates is None:
+            circle_index = np.arange(self._k_static + self.n_robots)[None, :]
+            own_body: npt.NDArray[np.bool_] | None = self.own_body[sensors]
+            seg_index = np.arange(len(self.seg_a))[None, :] if len(self.seg_a) else None
+        else:
+            circle_index = _padded([candidates[i][0] for i in chosen_list], len(self._cx) - 1)
+            own_body = None
+            segs = [candidates[i][1] for i in chosen_list]
+            seg_index = _padded(segs, len(self._seg_ax) - 1) if any(segs) else None
+        radii = self._radii[circle_index]
+        plan = _Plan(
+            chosen=np.array(chosen_list, dtype=np.intp),
+            chosen_list=chosen_list,
+            local_x=self.local_x[active],
+            local_y=self.local_y[active],
+            local_heading=self.local_heading[active],
+            low=self.min_distance[sensors],
+            high=self.max_distance[sensors],
+            nothing=self.nothing[active],
+            cos_half=self.cos_half[sensors][:, None],
+            edge_offsets=np.stack([-half, half], axis=1),
+            circle_index=circle_index,
+            radii=radii,
+            radii_sq=(radii * radii)[:, None, :],
+            own_body=own_body,
+            seg_index=seg_index,
+        )
+        if len(self._plans) > 1024:
+            self._plans.clear()
+        self._plans[key] = plan
+        return plan
 
     def _circles(
-        self,
-        poses: FloatArray,
-        apex_x: FloatArray,
-        apex_y: FloatArray,
-        heading: FloatArray,
-        sensors: npt.NDArray[np.intp],
+        self, plan: _Plan, apex_x: FloatArray, apex_y: FloatArray, heading: FloatArray
     ) -> FloatArray:
-        """M nearest in-sector distances to any circle (inf where none is inside)."""
-        centres = np.concatenate([self.static[:, :2], poses[:, :2]])
-        radii = np.concatenate([self.static[:, 2], self.body_radii])
-        vx = centres[None, :, 0] - apex_x[:, None]  # M×K
-        vy = centres[None, :, 1] - apex_y[:, None]
+        """M nearest in-sector distances to any candidate circle (inf where none is inside)."""
+        if plan.circle_index.shape[1] == 0:
+            return np.full(len(apex_x), np.inf)
+        vx = self._cx[plan.circle_index] - apex_x[:, None]  # M×C
+        vy = self._cy[plan.circle_index] - apex_y[:, None]
+        radii = plan.radii
         dist = np.hypot(vx, vy)
         ux, uy = np.cos(heading)[:, None], np.sin(heading)[:, None]
         # the circle's nearest point lies along the direction to its centre
-        half = self.half[sensors]
-        towards = vx * ux + vy * uy >= dist * self.cos_half[sensors][:, None]
+        towards = vx * ux + vy * uy >= dist * plan.cos_half
         best = np.where(towards, np.maximum(dist - radii, 0.0), np.inf)
         best = np.where(dist <= radii, 0.0, best)  # the sensor inside the circle
         # both edges of the sector at once (axis 1): where each first enters the circle
-        edges = heading[:, None] + np.stack([-half, half], axis=1)  # M×2
+        edges = heading[:, None] + plan.edge_offsets  # M×2
         bx, by = np.cos(edges)[:, :, None], np.sin(edges)[:, :, None]
-        along = vx[:, None, :] * bx + vy[:, None, :] * by  # M×2×K
-        disc = radii * radii - ((dist * dist)[:, None, :] - along * along)
+        along = vx[:, None, :] * bx + vy[:, None, :] * by  # M×2×C
+        disc = plan.radii_sq - ((dist * dist)[:, None, :] - along * along)
         root = np.sqrt(np.maximum(disc, 0.0))
         enters = (disc >= 0.0) & (along + root >= 0.0)
         on_edges = np.where(enters, np.maximum(along - root, 0.0), np.inf).min(axis=1)
         best = np.minimum(best, on_edges)
-        best[self.own_body[sensors]] = np.inf
-        return best.min(axis=1) if best.shape[1] else np.full(len(apex_x), np.inf)
+        if plan.own_body is not None:
+            best[plan.own_body] = np.inf
+        return best.min(axis=1)  # type: ignore[no-any-return]
 
     def _segments(
-        self,
-        apex_x: FloatArray,
-        apex_y: FloatArray,
-        heading: FloatArray,
-        sensors: npt.NDArray[np.intp],
+        self, plan: _Plan, apex_x: FloatArray, apex_y: FloatArray, heading: FloatArray
     ) -> FloatArray:
-        """M nearest in-sector distances to any segment (inf where none is inside)."""
-        if not len(self.seg_a):
-            return np.full(len(apex_x), np.inf)
-        ax = self.seg_a[None, :, 0] - apex_x[:, None]  # segment start relative to the apex
-        ay = self.seg_a[None, :, 1] - apex_y[:, None]
-        ex, ey = self.seg_e[None, :, 0], self.seg_e[None, :, 1]
+        """M nearest in-sector distances to any candidate segment (inf where none is inside)."""
+        index = plan.seg_index
+        assert index is not None
+        ax = self._seg_ax[index] - apex_x[:, None]  # segment start relative to the apex
+        ay = self._seg_ay[index] - apex_y[:, None]
+        ex, ey = self._seg_ex[index], self._seg_ey[index]
         ux, uy = np.cos(heading)[:, None], np.sin(heading)[:, None]
-        cos_half = self.cos_half[sensors][:, None]
-        half = self.half[sensors]
+        cos_half = plan.cos_half
+        half = plan.edge_offsets[:, 1]
 
         def inside(px: FloatArray, py: FloatArray) -> FloatArray:
             d = np.hypot(px, py)
@@ -204,4 +303,13 @@ class ConeSensors:
             s_on = (ax * by - ay * bx) / safe
             crosses = (r >= 0.0) & (s_on >= 0.0) & (s_on <= 1.0)
             best = np.minimum(best, np.where(crosses, r, np.inf))
-        return best.min(axis=1)
+        return best.min(axis=1)  # type: ignore[no-any-return]
+
+
+def _padded(lists: list[tuple[int, ...]], pad: int) -> npt.NDArray[np.intp]:
+    """Each robot's candidate list repeated for its 8 sensors (M rows), padded with ``pad``."""
+    width = max(len(c) for c in lists)
+    out = np.full((8 * len(lists), width), pad, dtype=np.intp)
+    for r, c in enumerate(lists):
+        out[8 * r : 8 * r + 8, : len(c)] = c
+    return out

@@ -2,15 +2,29 @@
 
 Each sensor casts ``rays`` rays spread over its aperture (see docs/simulator.md for why).
 Casting them one by one from Python would cost tens of microseconds each, so all rays of
-all robots are tested against every object near them in one set of numpy calls per step
-(:func:`~puckboard.sim.geometry.segment_hits`, :func:`~puckboard.sim.geometry.circle_hits`), and
-only when something is near: a conservative broad phase in plain Python (a few
-microseconds) finds which robots can see anything and what they can see. Most steps of a
+all robots are tested against the objects near them in one set of numpy calls per step
+(:func:`~puckboard.sim.geometry.segment_hits`, :func:`~puckboard.sim.geometry.circle_hits`),
+and only when something is near: a conservative broad phase finds which robots can see
+anything and, for each of them, which circles and segments it may see. Most steps of a
 line-following run cast no ray at all.
+
+Each robot's rays are tested against *its own* candidates only, one row per (robot,
+candidate) pair, not against every object near anyone: with 50 robots that is a few
+objects per ray instead of thirty, and the cost per robot stays flat. The broad phase
+runs in plain Python for a few robots (a few microseconds, and the arrays it selects are
+cached per outcome), and in numpy for more: robot pairs from :mod:`.broadphase` and one
+array test per kind of static object. It also tells the cone sensors (:mod:`.cone`)
+which of their robots have something within their own, shorter reach, and what.
 
 Per sensor the model reports the nearest hit over its rays (V-REP's semantics: exactly
 the range when nothing is seen) and a raw e-puck value, the Gaussian-weighted mean of the
 rays' responses through the Webots table (:mod:`.ir`), with relative noise.
+
+Every hit is computed with the same arithmetic for each (ray, object) pair whatever else
+is cast with it, and a ray's nearest hit is a minimum, which does not depend on the order
+or the number of candidates: so the readings do not depend on how the broad phase groups
+the work (tests/sim/test_sim_broadphase.py compares the two broad phases, and the pinned
+references in tests/sim/test_stack_reference.py did not move).
 """
 
 from __future__ import annotations
@@ -19,17 +33,25 @@ import cmath
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from ..ir_response import _D, _RAW, _SIGMA, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
 from ..profile import RobotProfile
+from .broadphase import close_pairs
 from .geometry import circle_hits, segment_hits
 
-__all__ = ["PolygonBound", "ProximitySensors", "WallSegment"]
+__all__ = ["PYTHON_BROAD_PHASE_MAX", "PolygonBound", "ProximitySensors", "WallSegment"]
 
 FloatArray = npt.NDArray[np.float64]
+
+#: Up to this many robots the broad phase runs in plain Python (each outcome's arrays
+#: cached); above, in numpy (:meth:`ProximitySensors._cast_numpy`). Its ≈60 calls cost
+#: more than the loops for a few robots and less from about 30 (phase and cast, measured:
+#: Python 30, 62, 229, 415 µs at 3, 10, 30, 50 robots; numpy 79, 111, 218, 294 µs).
+PYTHON_BROAD_PHASE_MAX = 24
 
 
 @dataclass(frozen=True)
@@ -54,25 +76,32 @@ class WallSegment:
 
 
 @dataclass(frozen=True)
-class _Subset:
-    """Rays and objects selected by one broad-phase outcome.
+class _Cast:
+    """The rays to cast and the objects each robot may see, for one broad-phase outcome.
 
-    Objects lie along the first axis of the cast (a column per coordinate, one row per
-    segment or circle) and rays along the second, so the nearest hit of every ray is a
-    minimum over the first axis: an elementwise minimum of a few rows, several times
-    cheaper than a minimum over a short last axis.
+    ``k`` robots cast (``robots``, in increasing order), ``8·rays`` rays each. Every
+    (robot, candidate object) pair is one row: the object's data as P×1 columns, the
+    robot's rays gathered into that row, so each hit is tested once per ray of the robot
+    that may see the object and never for a robot that cannot (no padding to the longest
+    list: at 50 robots a quarter of the work of a padded layout). ``order`` groups the rows
+    of circles and segments by robot and ``starts`` says where each robot's rows begin, so
+    the nearest hit of every ray is one ``minimum.reduceat`` over the rows.
     """
 
     robots: npt.NDArray[np.intp]
+    robot_list: tuple[int, ...]
     local_origin: npt.NDArray[np.complex128]
     local_direction: npt.NDArray[np.complex128]
-    visible: npt.NDArray[np.bool_]
-    seg_ax: FloatArray
+    circle_rows: npt.NDArray[np.intp] | None  # which cast robot (0..k-1) each circle row is
+    circle_index: npt.NDArray[np.intp]  # which circle (static ones first, then robots)
+    circle_radii_sq: FloatArray  # P×1
+    seg_rows: npt.NDArray[np.intp] | None
+    seg_ax: FloatArray  # P×1 each
     seg_ay: FloatArray
     seg_ex: FloatArray
     seg_ey: FloatArray
-    circles: tuple[int, ...]
-    circle_radii_sq: FloatArray
+    order: npt.NDArray[np.intp] | None  # None: the rows are already grouped by robot
+    starts: npt.NDArray[np.intp] | None  # None: one row per robot
     weights: FloatArray
     range_col: FloatArray
     every_robot: bool
@@ -114,7 +143,9 @@ class ProximitySensors:
         self.robot_radii = [p.body_radius for p in profiles]
         # robots whose sensors are cones (V-REP's model) cast no rays: sim.cone computes them
         self.casts = [p.prox_model == "rays" for p in profiles]
+        self.any_rays = any(self.casts)
         self.cones_near: list[int] = []
+        self.cone_candidates: dict[int, tuple[tuple[int, ...], tuple[int, ...]]] = {}
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))
@@ -141,122 +172,311 @@ class ProximitySensors:
         self._local_origin = origin_x + 1j * origin_y
         self._local_direction = np.exp(1j * angle)
         self._weights = weights
-        # a robot's rays never see its own body (its sensors sit on or inside its outline)
-        ignore = np.zeros((n, 8 * rays, self.n_static + n), dtype=bool)
-        for i in range(n):
-            ignore[i, :, self.n_static + i] = True
-        self._ignore = ignore
         #: what a sensor reads when its rays hit nothing: the table's far baseline
         self.baseline_raw = (raw_from_distance(np.inf) * weights).sum(axis=2)
         # how far from a robot's centre its rays can reach
         offset = max(math.hypot(q.x, q.y) for p in profiles for q in p.prox_poses)
         self.reach = offset + self.cast_length
-        # squared broad-phase limits, computed once
-        reach = self.reach
-        self._circle_bounds = tuple(
-            (k, cx, cy, (reach + cr) * (reach + cr))
-            for k, (cx, cy, cr) in enumerate(self.static_circles)
-        )
-        self._robot_lim2 = [(reach + r) * (reach + r) for r in self.robot_radii]
-        self._polygon_bounds = tuple(
-            (p.x, p.y, (reach + p.radius) * (reach + p.radius), p.segments) for p in self.polygons
-        )
-        self._cache: dict[tuple[tuple[int, ...], ...], _Subset] = {}
+        # A cone sees nothing beyond its own maximum distance from its apex, so a cone
+        # robot's broad phase uses that (a third less than the rays' reach: fewer steps
+        # compute cones at all; what it leaves out would read "nothing" anyway).
+        self.reach_of = [
+            self.reach
+            if cast
+            else max(math.hypot(q.x, q.y) for q in p.prox_poses)
+            + p.prox_max_distance * (1.0 + 1e-9)
+            + 1e-9
+            for p, cast in zip(profiles, self.casts)
+        ]
+        # squared broad-phase limits, computed once per distinct reach (one for the rays)
+        by_reach: dict[float, tuple[tuple[Any, ...], tuple[Any, ...]]] = {}
+        for reach in set(self.reach_of):
+            by_reach[reach] = (
+                tuple(
+                    (k, cx, cy, (reach + cr) * (reach + cr))
+                    for k, (cx, cy, cr) in enumerate(self.static_circles)
+                ),
+                tuple(
+                    (p.x, p.y, (reach + p.radius) * (reach + p.radius), p.segments)
+                    for p in self.polygons
+                ),
+            )
+        self._circle_bounds_of = [by_reach[r][0] for r in self.reach_of]
+        self._polygon_bounds_of = [by_reach[r][1] for r in self.reach_of]
+        # i may see robot j within (reach of i + radius of j)
+        self._robot_lim2 = [
+            [(reach + r) * (reach + r) for r in self.robot_radii] for reach in self.reach_of
+        ]
+        self._cache: dict[tuple[tuple[int, tuple[int, ...], tuple[int, ...]], ...], _Cast] = {}
         self._far_sigma_noise = math.nan
         self._far_sigma_value = np.zeros((n, 8))
+        self._build_vector_tables()
+
+    def _build_vector_tables(self) -> None:
+        """The broad phase's limits and every object's data as arrays, built once.
+
+        Circles are the static ones, then the robots (their centres written each step).
+        Static circles and polygons' bounding circles are one table of bounds, so the
+        vectorised broad phase tests them in one N×K array test.
+        """
+        n, n_static = self.n, self.n_static
+        self._centres = np.zeros((n_static + n, 2))
+        if n_static:
+            self._centres[:n_static] = np.array([c[:2] for c in self.static_circles])
+        radii = self.circle_radii
+        self._radii_sq = radii * radii
+        self._n_segments = int(self.seg_start.shape[0])
+        # one row per segment (ax, ay, ex, ey): a candidate list gathers all four at once
+        self._segments = np.hstack([self.seg_start, self.seg_vector]).reshape(-1, 4)
+        # the same limits as the Python broad phase (the same floats: computed there)
+        self._reach_array = np.array(self.reach_of)
+        self._radius_array = np.array(self.robot_radii)
+        self._robot_pair_reach = max(self.reach_of) + max(self.robot_radii)
+        self._casts_array = np.array(self.casts, dtype=bool)
+        # static circles and polygons' bounding circles: centres (2×K), limits (N×K)
+        bounds = [(cx, cy, _r) for cx, cy, _r in self.static_circles]
+        bounds += [(p.x, p.y, p.radius) for p in self.polygons]
+        self._bounds = np.array(bounds, dtype=float).reshape(-1, 3)[:, :2].T.copy()
+        self._bounds_limit = np.array(
+            [
+                [b[3] for b in circles] + [b[2] for b in polys]
+                for circles, polys in zip(self._circle_bounds_of, self._polygon_bounds_of)
+            ],
+            dtype=float,
+        ).reshape(n, -1)
+        self._wall_reach2 = np.array([r * r for r in self.reach_of])[:, None]
+        polys = self.polygons
+        self._poly_segments = np.array([k for p in polys for k in p.segments], dtype=np.intp)
+        self._poly_owner = n_static + np.array(
+            [owner for owner, p in enumerate(polys) for _ in p.segments], dtype=np.intp
+        )
+        walls = self.walls
+        self._walls = np.array([w[:5] for w in walls], dtype=float).reshape(-1, 5).T.copy()
+        self._wall_segments = np.array([w[5] for w in walls], dtype=np.intp)
 
     # -- broad phase -----------------------------------------------------------------------
     def near(self, poses: Sequence[Sequence[float]]) -> tuple[list[int], list[int], list[int]]:
-        """Which robots can see anything, and which circles and segments they may see.
+        """Which robots can see anything, and which circles and segments any of them may
+        see (the union of :meth:`candidates`).
 
-        Conservative (bounding circles, exact wall distances), so it never drops a hit.
         Circle indices count static circles first, then robots.
         """
-        reach2 = self.reach * self.reach
+        robots, circles_of, segments_of = self.candidates(poses)
+        circles = sorted({c for i in robots for c in circles_of[i]})
+        segments = sorted({k for i in robots for k in segments_of[i]})
+        return robots, circles, segments
+
+    def candidates(
+        self, poses: Sequence[Sequence[float]]
+    ) -> tuple[list[int], list[list[int]], list[list[int]]]:
+        """The robots whose rays can see anything, and per robot the circles and segments
+        it may see, in plain Python.
+
+        Conservative (bounding circles, exact wall distances), so it never drops a hit.
+        Also sets :attr:`cones_near`, the robots without rays that have something within
+        reach. Circle indices count static circles first, then robots.
+        """
         robots: list[int] = []
         cones: list[int] = []
-        circles: set[int] = set()
-        segments: set[int] = set()
         n = self.n
         n_static = self.n_static
+        circles_of: list[list[int]] = [[] for _ in range(n)]
+        segments_of: list[list[int]] = [[] for _ in range(n)]
         # each robot pair's distance once: i may see j, and j may see i
-        sees = [False] * n
+        lim2 = self._robot_lim2
         for i in range(n):
             xi, yi = poses[i][0], poses[i][1]
             for j in range(i + 1, n):
                 dx, dy = xi - poses[j][0], yi - poses[j][1]
                 d2 = dx * dx + dy * dy
-                if d2 < self._robot_lim2[j]:
-                    circles.add(n_static + j)
-                    sees[i] = True
-                if d2 < self._robot_lim2[i]:
-                    circles.add(n_static + i)
-                    sees[j] = True
+                if d2 < lim2[i][j]:
+                    circles_of[i].append(n_static + j)
+                if d2 < lim2[j][i]:
+                    circles_of[j].append(n_static + i)
         for i in range(n):
             x, y = poses[i][0], poses[i][1]
-            found = sees[i]
-            for k, cx, cy, lim2 in self._circle_bounds:
+            circles = circles_of[i]
+            segments = segments_of[i]
+            reach = self.reach_of[i]
+            reach2 = reach * reach
+            for k, cx, cy, climit in self._circle_bounds_of[i]:
                 dx, dy = x - cx, y - cy
-                if dx * dx + dy * dy < lim2:
-                    circles.add(k)
-                    found = True
-            for px, py, lim2, poly_segments in self._polygon_bounds:
+                if dx * dx + dy * dy < climit:
+                    circles.append(k)
+            for px, py, plimit, poly_segments in self._polygon_bounds_of[i]:
                 dx, dy = x - px, y - py
-                if dx * dx + dy * dy < lim2:
-                    segments.update(poly_segments)
-                    found = True
+                if dx * dx + dy * dy < plimit:
+                    segments.extend(poly_segments)
             for ax, ay, ex, ey, len2, k in self.walls:
                 wx, wy = x - ax, y - ay
                 t = (wx * ex + wy * ey) / len2
                 t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
                 qx, qy = wx - t * ex, wy - t * ey
                 if qx * qx + qy * qy < reach2:
-                    segments.add(k)
-                    found = True
-            if found:
+                    segments.append(k)
+            if circles or segments:
                 (robots if self.casts[i] else cones).append(i)
-        #: robots without rays (V-REP's cone model) that have something within reach
+        #: robots without rays (V-REP's cone model) that have something within reach,
+        #: and the circles and segments each of them may see
         self.cones_near = cones
-        return robots, sorted(circles), sorted(segments)
+        self.cone_candidates = {i: (tuple(circles_of[i]), tuple(segments_of[i])) for i in cones}
+        return robots, circles_of, segments_of
 
-    def _subset(self, robots: list[int], circles: list[int], segments: list[int]) -> _Subset:
-        """The static arrays for one broad-phase outcome, prepared once and cached.
+    def _cast_python(self, poses: Sequence[Sequence[float]]) -> _Cast | None:
+        """The cast for this step from the Python broad phase (None: nobody casts).
 
         Which robots are near which objects changes only every few dozen steps, so the
-        fancy indexing that selects their rays and objects is done once per combination.
+        arrays of each outcome are built once and cached.
         """
-        key = (tuple(robots), tuple(circles), tuple(segments))
-        prep = self._cache.get(key)
-        if prep is None:
-            idx = np.array(robots, dtype=np.intp)
-            cidx = np.array(circles, dtype=np.intp)
-            sidx = np.array(segments, dtype=np.intp)
-            m = len(robots) * 8 * self.rays
-            seg_start = self.seg_start[sidx].reshape(-1, 2)
-            seg_vector = self.seg_vector[sidx].reshape(-1, 2)
-            radii = self.circle_radii[cidx]
-            prep = _Subset(
-                robots=idx,
-                local_origin=self._local_origin[idx],
-                local_direction=self._local_direction[idx],
-                # C×m: which circle each ray may see (never its own robot's body)
-                visible=np.ascontiguousarray(
-                    ~self._ignore[idx][:, :, cidx].reshape(m, len(cidx)).T
-                ),
-                seg_ax=seg_start[:, 0:1].copy(),
-                seg_ay=seg_start[:, 1:2].copy(),
-                seg_ex=seg_vector[:, 0:1].copy(),
-                seg_ey=seg_vector[:, 1:2].copy(),
-                circles=tuple(circles),
-                circle_radii_sq=(radii * radii)[:, None],
-                weights=self._weights[idx],
-                range_col=self.range[idx],
-                every_robot=len(robots) == self.n,
+        robots, circles_of, segments_of = self.candidates(poses)
+        if not robots:
+            return None
+        key = tuple((i, tuple(circles_of[i]), tuple(segments_of[i])) for i in robots)
+        cast = self._cache.get(key)
+        if cast is None:
+            circle_rows = [col for col, i in enumerate(robots) for _ in circles_of[i]]
+            circle_index = [c for i in robots for c in circles_of[i]]
+            seg_rows = [col for col, i in enumerate(robots) for _ in segments_of[i]]
+            seg_index = [k for i in robots for k in segments_of[i]]
+            cast = self._make_cast(
+                np.array(robots, dtype=np.intp),
+                np.array(circle_rows, dtype=np.intp),
+                np.array(circle_index, dtype=np.intp),
+                np.array(seg_rows, dtype=np.intp),
+                np.array(seg_index, dtype=np.intp),
             )
             if len(self._cache) > 1024:
                 self._cache.clear()
-            self._cache[key] = prep
-        return prep
+            self._cache[key] = cast
+        return cast
+
+    def _cast_numpy(self, xy: FloatArray) -> _Cast | None:
+        """The cast for this step from the vectorised broad phase (None: nobody casts).
+
+        The same tests as :meth:`candidates`, with the same arithmetic per pair, on
+        arrays: robot pairs from :func:`~.broadphase.close_pairs`, static objects in one
+        N×K test per kind (bounding circles, walls). Also sets :attr:`cones_near`.
+        """
+        n, n_static = self.n, self.n_static
+        x = xy[:, 0]
+        y = xy[:, 1]
+        rows: list[npt.NDArray[np.intp]] = []  # (robot, circle) candidates
+        cols: list[npt.NDArray[np.intp]] = []
+        i, j = close_pairs(x, y, self._robot_pair_reach)
+        if i.shape[0]:
+            dx = x[i] - x[j]
+            dy = y[i] - y[j]
+            d2 = dx * dx + dy * dy
+            # (reach of the seer + radius of the seen)², as the Python broad phase
+            reach, radius = self._reach_array, self._radius_array
+            i_lim = reach[i] + radius[j]
+            j_lim = reach[j] + radius[i]
+            i_sees_j = d2 < i_lim * i_lim
+            j_sees_i = d2 < j_lim * j_lim
+            rows += [i[i_sees_j], j[j_sees_i]]
+            cols += [j[i_sees_j] + n_static, i[j_sees_i] + n_static]
+        seg_hit = np.zeros((n, self._n_segments), dtype=bool)
+        if self._bounds.shape[1]:
+            bx, by = self._bounds
+            sx = x[:, None] - bx
+            sy = y[:, None] - by
+            bound_hit = sx * sx + sy * sy < self._bounds_limit
+            if n_static:
+                r, c = np.nonzero(bound_hit[:, :n_static])
+                rows.append(r)
+                cols.append(c)
+            if self._poly_segments.shape[0]:
+                seg_hit[:, self._poly_segments] = bound_hit[:, self._poly_owner]
+        if self._wall_segments.shape[0]:
+            ax, ay, ex, ey, len2 = self._walls
+            wx = x[:, None] - ax
+            wy = y[:, None] - ay
+            t = (wx * ex + wy * ey) / len2
+            np.maximum(t, 0.0, out=t)
+            np.minimum(t, 1.0, out=t)
+            qx = wx - t * ex
+            qy = wy - t * ey
+            seg_hit[:, self._wall_segments] = qx * qx + qy * qy < self._wall_reach2
+        circle_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
+        circle_cols = np.concatenate(cols) if cols else np.zeros(0, dtype=np.intp)
+        found: npt.NDArray[np.bool_] = np.any(seg_hit, axis=1)
+        found[circle_rows] = True
+        self.cones_near = np.flatnonzero(found & ~self._casts_array).tolist()
+        if self.cones_near:
+            self.cone_candidates = self._cone_candidates(circle_rows, circle_cols, seg_hit)
+        robots = np.flatnonzero(found & self._casts_array)
+        k = robots.shape[0]
+        if k == 0:
+            return None
+        if k < n:
+            # cast robot number (0..k-1) of each candidate row; the others see nothing
+            column = np.full(n, -1, dtype=np.intp)
+            column[robots] = np.arange(k)
+            circle_rows = column[circle_rows]
+            casting = circle_rows >= 0
+            circle_rows, circle_cols = circle_rows[casting], circle_cols[casting]
+            seg_hit = seg_hit[robots]
+        seg_rows, seg_index = np.nonzero(seg_hit)
+        return self._make_cast(robots, circle_rows, circle_cols, seg_rows, seg_index)
+
+    def _cone_candidates(
+        self,
+        circle_rows: npt.NDArray[np.intp],
+        circle_cols: npt.NDArray[np.intp],
+        seg_hit: npt.NDArray[np.bool_],
+    ) -> dict[int, tuple[tuple[int, ...], tuple[int, ...]]]:
+        """Per cone robot near something, the circles and segments it may see (sorted)."""
+        circles: dict[int, list[int]] = {i: [] for i in self.cones_near}
+        for i, c in zip(circle_rows.tolist(), circle_cols.tolist()):
+            if i in circles:
+                circles[i].append(c)
+        return {
+            i: (tuple(sorted(circles[i])), tuple(np.flatnonzero(seg_hit[i]).tolist()))
+            for i in self.cones_near
+        }
+
+    def _make_cast(
+        self,
+        robots: npt.NDArray[np.intp],
+        circle_rows: npt.NDArray[np.intp],
+        circle_index: npt.NDArray[np.intp],
+        seg_rows: npt.NDArray[np.intp],
+        seg_index: npt.NDArray[np.intp],
+    ) -> _Cast:
+        """The arrays of one cast: the rays of ``robots`` (k of them) and the candidate
+        pairs, circle ``circle_index[p]`` for cast robot ``circle_rows[p]`` (0..k-1) and
+        the same for segments."""
+        k = robots.shape[0]
+        rows = np.concatenate([circle_rows, seg_rows])
+        order: npt.NDArray[np.intp] | None = np.argsort(rows, kind="stable")
+        grouped = rows[order]
+        if np.array_equal(grouped, rows):
+            order = None  # already grouped by robot (one kind, or circles then segments)
+        starts = None
+        if rows.shape[0] != k:  # some robot has several candidates
+            counts = np.bincount(grouped, minlength=k)
+            starts = np.cumsum(counts) - counts
+        segments = self._segments[seg_index]
+        every = k == self.n
+        return _Cast(
+            robots=robots,
+            robot_list=tuple(robots.tolist()),
+            local_origin=self._local_origin if every else self._local_origin[robots],
+            local_direction=self._local_direction if every else self._local_direction[robots],
+            circle_rows=circle_rows if circle_rows.shape[0] else None,
+            circle_index=circle_index,
+            circle_radii_sq=self._radii_sq[circle_index][:, None],
+            seg_rows=seg_rows if seg_rows.shape[0] else None,
+            seg_ax=segments[:, 0:1],
+            seg_ay=segments[:, 1:2],
+            seg_ex=segments[:, 2:3],
+            seg_ey=segments[:, 3:4],
+            order=order,
+            starts=starts,
+            weights=self._weights if every else self._weights[robots],
+            range_col=self.range if every else self.range[robots],
+            every_robot=every,
+        )
 
     # -- the step --------------------------------------------------------------------------
     def sense(
@@ -274,10 +494,40 @@ class ProximitySensors:
         relative σ √(noise² + σ_table²), a seen distance by −½·noise·z (raw falls roughly
         as 1/d², so a high reading means "closer"); an empty reading stays at the range.
         """
-        robots, circles, segments = self.near(poses)
+        n_static = self.n_static
+        frames = None
+        if self.n <= PYTHON_BROAD_PHASE_MAX:
+            cast = self._cast_python(poses)
+            if cast is not None:
+                if cast.circle_rows is not None:
+                    for i in range(self.n):
+                        self._centres[n_static + i] = poses[i][:2]
+                # each casting robot's position and rotation as complex numbers
+                frames = np.array(
+                    [
+                        (complex(poses[i][0], poses[i][1]), cmath.exp(1j * poses[i][2]))
+                        for i in cast.robot_list
+                    ]
+                )
+        else:
+            pose_array = np.array(poses)
+            cast = self._cast_numpy(pose_array[:, :2])
+            self._centres[n_static : n_static + self.n] = pose_array[:, :2]
+            if cast is not None:
+                # the same values as the loop above: numpy's complex exp and cmath's
+                # both take libm's cos and sin (checked on two million angles)
+                cast_poses = pose_array[cast.robots]
+                frames = np.empty((cast_poses.shape[0], 2), dtype=complex)
+                frames[:, 0].real = cast_poses[:, 0]
+                frames[:, 0].imag = cast_poses[:, 1]
+                frames[:, 1] = np.exp(1j * cast_poses[:, 2])
+        if not self.any_rays:
+            # every robot senses with cones (V-REP's model), which write every row:
+            # only the broad phase above was needed, for them
+            return
         if noise <= 0:
             z = None
-        if not robots:
+        if cast is None:
             # Nothing near anyone (most steps of a line-following run): every sensor
             # reads the range and the far baseline, whose noise σ is fixed, so the
             # table look-ups and the "seen" test decide nothing and are skipped.
@@ -289,55 +539,67 @@ class ProximitySensors:
             else:
                 raw[:] = self.baseline_raw
         else:
-            prep = self._subset(robots, circles, segments)
             # rays as complex numbers: origin = position + rotation·local, direction =
             # rotation·local direction (fewer numpy calls than separate x and y)
-            frames = np.array(
-                [(complex(poses[i][0], poses[i][1]), cmath.exp(1j * poses[i][2])) for i in robots]
-            )
+            assert frames is not None
             position = frames[:, 0:1]
             rotation = frames[:, 1:2]
-            origin = (position + rotation * prep.local_origin).reshape(-1)
-            direction = (rotation * prep.local_direction).reshape(-1)
-            ox, oy, dx, dy = origin.real, origin.imag, direction.real, direction.imag
+            origin = position + rotation * cast.local_origin  # k robots × 8·rays
+            direction = rotation * cast.local_direction
+            # one row per (robot, candidate object): that robot's rays against it
             hits = []
-            if prep.seg_ax.shape[0]:
-                hits.append(
-                    segment_hits(ox, oy, dx, dy, prep.seg_ax, prep.seg_ay, prep.seg_ex, prep.seg_ey)
-                )
-            if prep.circles:
-                centres = self._circle_centres(poses, prep.circles)
+            if cast.circle_rows is not None:
+                rows = cast.circle_rows
+                o, d = origin[rows], direction[rows]
+                centres = self._centres[cast.circle_index]
                 hits.append(
                     circle_hits(
-                        ox,
-                        oy,
-                        dx,
-                        dy,
+                        o.real,
+                        o.imag,
+                        d.real,
+                        d.imag,
                         centres[:, 0:1],
                         centres[:, 1:2],
-                        prep.circle_radii_sq,
-                        prep.visible,
+                        cast.circle_radii_sq,
                     )
                 )
-            if not prep.every_robot:
+            if cast.seg_rows is not None:
+                rows = cast.seg_rows
+                o, d = origin[rows], direction[rows]
+                hits.append(
+                    segment_hits(
+                        o.real,
+                        o.imag,
+                        d.real,
+                        d.imag,
+                        cast.seg_ax,
+                        cast.seg_ay,
+                        cast.seg_ex,
+                        cast.seg_ey,
+                    )
+                )
+            if not cast.every_robot:
                 # the robots that cast no ray see nothing this step; the cast below
                 # overwrites only the rows of those that do
                 distance[:] = self.range
                 raw[:] = self.baseline_raw
-            if hits:
-                # K objects × R rays: the nearest hit of each ray over the objects
-                allt = hits[0] if len(hits) == 1 else np.concatenate(hits, axis=0)
-                nearest = allt[0] if allt.shape[0] == 1 else allt.min(axis=0)
-                dist = nearest.reshape(len(robots), 8, self.rays)
-                # Hits beyond the cast length need no masking: the table keeps its last
-                # value beyond TABLE_RANGE (as for ``inf``), and the distance is capped
-                # at the range, which the cast length is at least.
-                if prep.every_robot:
-                    np.minimum(dist.min(axis=2), self.range, out=distance)
-                    np.multiply(np.interp(dist, _D, _RAW), prep.weights).sum(axis=2, out=raw)
-                else:
-                    distance[prep.robots] = np.minimum(dist.min(axis=2), prep.range_col)
-                    raw[prep.robots] = (np.interp(dist, _D, _RAW) * prep.weights).sum(axis=2)
+            # the nearest hit of each ray over its robot's rows
+            allt = hits[0] if len(hits) == 1 else np.concatenate(hits, axis=0)
+            if cast.order is not None:
+                allt = allt[cast.order]
+            nearest = (
+                allt if cast.starts is None else np.minimum.reduceat(allt, cast.starts, axis=0)
+            )
+            dist = nearest.reshape(len(cast.robot_list), 8, self.rays)
+            # Hits beyond the cast length need no masking: the table keeps its last
+            # value beyond TABLE_RANGE (as for ``inf``), and the distance is capped
+            # at the range, which the cast length is at least.
+            if cast.every_robot:
+                np.minimum(dist.min(axis=2), self.range, out=distance)
+                np.multiply(np.interp(dist, _D, _RAW), cast.weights).sum(axis=2, out=raw)
+            else:
+                distance[cast.robots] = np.minimum(dist.min(axis=2), cast.range_col)
+                raw[cast.robots] = (np.interp(dist, _D, _RAW) * cast.weights).sum(axis=2)
             if z is not None:
                 seen = distance < self.range
                 # the table's own σ at the reported distance (the range if nothing is seen)
@@ -351,21 +613,6 @@ class ProximitySensors:
         # two ufuncs: np.clip's Python wrapper costs more than the clamping itself
         np.maximum(raw, 0.0, out=raw)
         np.minimum(raw, RAW_MAX, out=raw)
-
-    def _circle_centres(
-        self, poses: Sequence[Sequence[float]], circles: tuple[int, ...]
-    ) -> FloatArray:
-        """C×2 centres of ``circles`` (static circles first, then robots at ``poses``)."""
-        if not circles:
-            return np.zeros((0, 2))
-        n_static = self.n_static
-        static = self.static_circles
-        return np.array(
-            [
-                static[k][:2] if k < n_static else (poses[k - n_static][0], poses[k - n_static][1])
-                for k in circles
-            ]
-        )
 
     def _far_sigma(self, noise: float) -> FloatArray:
         """N×8 relative noise σ of sensors that see nothing (they read the range)."""

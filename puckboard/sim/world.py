@@ -186,8 +186,8 @@ class World:
         """One buffer for all sensor arrays; see the comment below for why."""
         n = self.n
         # The four sensor arrays are consecutive blocks of one buffer (each still a
-        # contiguous N×k array), so the read-only copy that records share is one copy
-        # per step, and a record's row is a slice of it.
+        # contiguous N×k array); a record's row is a slice of it, which the record's
+        # constructor copies.
         blocks = (("prox_distance", 8), ("prox_raw", 8), ("ground", 3), ("ground_raw", 3))
         self._sensor_buffer = np.zeros(n * sum(k for _, k in blocks))
         views = {}
@@ -205,11 +205,6 @@ class World:
         self._ground_flat = self._ground.reshape(-1)  # views, written in place
         self._ground_raw_flat = self._ground_raw.reshape(-1)
         self._sensor_rows = rows
-        # the read-only copy of the buffer, made once per sensor pass when a record
-        # first needs it: records share slices of it, which nobody can write
-        self._sense_count = 0
-        self._frozen_count = -1
-        self._frozen_buffer = self._sensor_buffer
 
     def _build_geometry(self) -> None:
         """Stack every static surface once: segments (polygon edges, walls) and circles."""
@@ -311,6 +306,8 @@ class World:
             for g, m in zip(self._ground_local, self._ground_mid)
             for q in g
         )
+        self._no_track = self.floor.seg_start.shape[0] == 0
+        self._floor_values = self.floor.brightness_values(np.zeros((3 * self.n, 2)))
 
     def _read_only_views(self) -> None:
         def ro(a: np.ndarray) -> np.ndarray:
@@ -571,7 +568,6 @@ class World:
     def _sense(self, z: FloatArray | None) -> None:
         """All IR and ground sensors of all robots for the current poses."""
         n = self.n
-        self._sense_count += 1
         # -- IR: the rays of every robot near something, in one cast ----------------------
         self.proximity.sense(
             self._pose_list,
@@ -581,23 +577,32 @@ class World:
             z=None if z is None else z[2 * n : 10 * n].reshape(n, 8),
         )
         self.cones.sense(
-            self._pose_list, self._prox_distance, self._prox_raw, near=self.proximity.cones_near
+            self._pose_list,
+            self._prox_distance,
+            self._prox_raw,
+            near=self.proximity.cones_near,
+            candidates=self.proximity.cone_candidates,
         )
         # -- ground: only the track segments near the robots ------------------------------
-        # three points per robot: plain floats are cheaper than a dozen numpy calls here
-        points: list[complex] = []
-        centres = []
-        for i, (x, y, th) in enumerate(self._pose_list):
-            c, s = math.cos(th), math.sin(th)
-            for lx, ly in self._ground_local[i]:
-                points.append(complex(x + c * lx - s * ly, y + s * lx + c * ly))
-            mx, my = self._ground_mid[i]
-            centres.append((x + c * mx - s * my, y + s * mx + c * my))
-        near = self.floor.segments_near(centres, self._ground_reach)
+        if self._no_track:
+            # no line on the floor (the swarm's arena): every sensor sees the floor, as
+            # the search below would find with no segment near any point
+            values = self._floor_values
+        else:
+            # three points per robot: plain floats are cheaper than a dozen numpy calls
+            points: list[complex] = []
+            centres = []
+            for i, (x, y, th) in enumerate(self._pose_list):
+                c, s = math.cos(th), math.sin(th)
+                for lx, ly in self._ground_local[i]:
+                    points.append(complex(x + c * lx - s * ly, y + s * lx + c * ly))
+                mx, my = self._ground_mid[i]
+                centres.append((x + c * mx - s * my, y + s * mx + c * my))
+            near = self.floor.segments_near(centres, self._ground_reach)
+            values = self.floor.brightness_values(np.array(points), near)
         # The 3N readings stay flat (robot-major, as the N×3 arrays store them). Noise,
         # clamping and the raw scale are a few float operations per reading: plain
         # floats, in the order the arrays would apply them, cost less than numpy calls.
-        values = self.floor.brightness_values(np.array(points), near)
         if z is not None and self._noise_ground > 0:
             sigma = self._noise_ground
             values = [v + sigma * zk for v, zk in zip(values, z[10 * n : 13 * n].tolist())]
@@ -617,23 +622,21 @@ class World:
             return self._records(i, sensors)
 
     def _records(self, i: int, sensors: frozenset[Sensor] | Sequence[Sensor]) -> dict[Sensor, Any]:
+        # Array records are given views of the live sensor buffer: their constructors
+        # copy the values into read-only arrays of their own, so a later step cannot
+        # change a record already handed out.
         out: dict[Sensor, Any] = {}
-        if self._frozen_count != self._sense_count:
-            frozen = self._sensor_buffer.copy()
-            frozen.flags.writeable = False
-            self._frozen_buffer = frozen
-            self._frozen_count = self._sense_count
-        frozen = self._frozen_buffer
+        buffer = self._sensor_buffer
         rows = self._sensor_rows[i]
         for sensor in sensors:
             if sensor is Sensor.PROXIMITY:
                 out[sensor] = Proximity(
-                    distance=frozen[rows["prox_distance"]],
-                    raw=frozen[rows["prox_raw"]],
+                    distance=buffer[rows["prox_distance"]],
+                    raw=buffer[rows["prox_raw"]],
                     range=self._range_list[i],
                 )
             elif sensor is Sensor.GROUND:
-                out[sensor] = Ground(value=frozen[rows["ground"]], raw=frozen[rows["ground_raw"]])
+                out[sensor] = Ground(value=buffer[rows["ground"]], raw=buffer[rows["ground_raw"]])
             elif sensor is Sensor.POSE:
                 x, y, theta = self._pose_list[i]
                 out[sensor] = Pose(x=x, y=y, theta=theta, ground_truth=True)
