@@ -25,6 +25,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "imageio_ffmpeg": "video",
     "rich": "cli",
     "aiohttp": "web",
+    "irsim": "compare",
     "dask": "dask",
     "distributed": "dask",
     "pyarrow": "dask",

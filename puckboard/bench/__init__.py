@@ -42,6 +42,7 @@ SUITES: dict[str, str] = {
     "emulator": "puckboard.bench.emulator:run_suite",
     "scale": "puckboard.bench.scale:run_suite",
     "web": "puckboard.bench.web:run_suite",
+    "compare": "puckboard.bench.compare:run_suite",
 }
 
 #: Suites run when none is named.

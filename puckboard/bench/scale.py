@@ -19,7 +19,7 @@ from typing import Any
 
 from .timing import REPEATS, median_seconds
 
-__all__ = ["ROBOT_COUNTS", "grid_robots", "run_suite", "swarm_with"]
+__all__ = ["PHASES", "ROBOT_COUNTS", "grid_robots", "run_suite", "swarm_with"]
 
 #: Robot counts measured by the suite.
 ROBOT_COUNTS: tuple[int, ...] = (2, 10, 30, 50)
@@ -80,7 +80,8 @@ def swarm_with(n: int) -> Any:
 
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
-    """Full-stack steps/s and µs per robot-step for each of :data:`ROBOT_COUNTS`."""
+    """Full-stack steps/s and µs per robot-step for each of :data:`ROBOT_COUNTS`, and
+    where a robot-step's time goes (CPU µs per robot-step in each phase of the cycle)."""
     from ..adapters.embedded import open_embedded
     from ..behaviours import load_controller
     from ..control.loop import ControlLoop
@@ -107,6 +108,48 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
             "steps_per_s": round(1.0 / seconds, 1),
             "realtime_factor": round(scene.dt / seconds, 1),
             "us_per_robot_step": round(seconds / n * 1e6, 1),
+            "cpu_us_per_robot_step": _phases(scene, cycles, n),
         }
     out["by_robot_count"] = rows
     return out
+
+
+#: The phases of a cycle as :func:`_phases` reports them.
+PHASES = (
+    "sensing (world.read, records, blackboard)",
+    "arbitration (py_trees tick, wheel command)",
+    "engine (world.step)",
+)
+
+
+def _phases(scene: Any, cycles: int, n: int) -> dict[str, float]:
+    """CPU µs per robot-step in each phase, from one run of ``cycles`` cycles driven by
+    hand as :meth:`ControlLoop.cycle` drives them (CPU time: other programs on the
+    machine disturb it much less than the wall clock)."""
+    from ..adapters.embedded import open_embedded
+    from ..behaviours import load_controller
+
+    conn = open_embedded(scene, seed=0)
+    try:
+        bindings = [(a, load_controller("improved")) for a in conn.adapters.values()]
+        world = conn.world
+        spent = [0.0, 0.0, 0.0]
+        clock = time.process_time
+        for k in range(20 + cycles):
+            t0 = clock()
+            for adapter, _ in bindings:
+                adapter.sense_all()
+            t1 = clock()
+            for adapter, controller in bindings:
+                cmd = controller.tick(adapter.ns)
+                adapter.set_wheel_speeds(cmd.left, cmd.right)
+            t2 = clock()
+            world.step()
+            t3 = clock()
+            if k >= 20:  # after the warm-up
+                spent[0] += t1 - t0
+                spent[1] += t2 - t1
+                spent[2] += t3 - t2
+    finally:
+        conn.close()
+    return {name: round(s / cycles / n * 1e6, 1) for name, s in zip(PHASES, spent)}
