@@ -137,13 +137,7 @@ def _irsim_rate(irsim: Any, n_steps: int) -> tuple[float, float]:
         env.step(actions, action_id=ids)
 
     try:
-        for _ in range(20):
-            step()
-        near[0] = 0
-        t0 = time.perf_counter()
-        for _ in range(n_steps):
-            step()
-        return n_steps / (time.perf_counter() - t0), near[0] / (2 * n_steps)
+        return _timed(step, near, n_steps)
     finally:
         with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
             env.end(0)
@@ -191,6 +185,12 @@ def _puckboard_rate(n_steps: int) -> tuple[float, float]:
                 world.set_wheel_speeds(i, *forward)
         world.step()
 
+    return _timed(step, near, n_steps)
+
+
+def _timed(step: Any, near: list[int], n_steps: int) -> tuple[float, float]:
+    """Both simulators are timed alike: 20 warm-up steps, then ``n_steps`` timed; returns
+    steps per second and the fraction of robot-steps (two robots) that saw something near."""
     for _ in range(20):
         step()
     near[0] = 0
