@@ -177,8 +177,9 @@ def _bind_cause(exc: BaseException) -> BaseException:
     return exc
 
 
-def bind_error_message(exc: BaseException, host: str, port: int) -> str:
-    """Why listening on ``host:port`` failed, and what to do, for ``serve`` and ``emulate``.
+def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--port") -> str:
+    """Why listening on ``host:port`` failed, and what to do, for ``serve``, ``emulate``
+    and the web view; ``flag`` is the option that chose the port.
 
     Blaming "another server using that port" for every failure sends a user after the
     wrong problem, so the three usual causes are told apart: the port is in use, the
@@ -197,20 +198,20 @@ def bind_error_message(exc: BaseException, host: str, port: int) -> str:
     if code in _IN_USE:
         return (
             f"{where}: the port is in use (by another server, or CoppeliaSim?); choose "
-            "another with --port, or --port 0 for any free one"
+            f"another with {flag}, or {flag} 0 for any free one"
         )
     privileged = 0 < port < 1024
     if code in _DENIED:
         if privileged:
             return (
                 f"{where}: permission denied; ports below 1024 need administrator rights, "
-                "use one from 1024 to 65535, e.g. --port 10000"
+                f"use one from 1024 to 65535, e.g. {flag} 10000"
             )
-        return f"{where}: permission denied by the system; choose another port with --port"
+        return f"{where}: permission denied by the system; choose another port with {flag}"
     if code in _BAD_HOST:
         return bad_host
     reason = getattr(cause, "strerror", None) or str(cause) or type(cause).__name__
-    hint = " (ports below 1024 need administrator rights; try --port 10000)" if privileged else ""
+    hint = f" (ports below 1024 need administrator rights; try {flag} 10000)" if privileged else ""
     return f"{where}: {reason}{hint}"
 
 
@@ -298,7 +299,7 @@ def start_web_view(start: Any, args: argparse.Namespace) -> Any:
     except ImportError as exc:
         raise missing_extra(exc, "--web") from None
     except OSError as exc:
-        raise CliError(bind_error_message(exc, args.web_host, args.web_port)) from None
+        raise CliError(bind_error_message(exc, args.web_host, args.web_port, "--web-port")) from None
 
 
 def web_url(view: Any, host: str) -> str:

@@ -153,3 +153,25 @@ def test_a_served_world_shows_its_clients_layers_and_judge():
     assert frames > 0
     timeline = details["right"]["timeline"]
     assert timeline and timeline[0]["layer"] in {"LineFollow", "Cruise"}  # from the signals
+
+
+def test_cli_web_errors_are_one_line(monkeypatch, capsys):
+    import socket
+
+    from puckboard.cli import main
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        assert main(["run", "--web", "--web-port", str(port), "--duration", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "in use" in err and "--web-port" in err and len(err.strip().splitlines()) == 1
+    import sys
+
+    monkeypatch.setitem(sys.modules, "aiohttp", None)  # as on a machine without the extra
+    monkeypatch.delitem(sys.modules, "puckboard.web.server", raising=False)
+    assert main(["run", "--web", "--duration", "1"]) == 2
+    assert "pip install 'puckboard[web]'" in capsys.readouterr().err
+    assert main(["run", "--speed", "2"]) == 2
+    assert "use it with --web" in capsys.readouterr().err
