@@ -100,6 +100,22 @@ class Frame:
         """``[x, y, z, qx, qy, qz, qw]``, as ``sim.getObjectPose`` returns it."""
         return [*self.position.tolist(), *self.quaternion()]
 
+    @classmethod
+    def from_pose7(cls, pose: list[float]) -> Frame:
+        """The frame of ``[x, y, z, qx, qy, qz, qw]`` (:meth:`pose7`'s inverse); the
+        quaternion is normalised first. Raises ``ValueError`` for a zero quaternion."""
+        x, y, z, qx, qy, qz, qw = pose
+        norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+        if norm == 0.0:
+            raise ValueError("the quaternion [qx, qy, qz, qw] must not be zero")
+        qx, qy, qz, qw = qx / norm, qy / norm, qz / norm, qw / norm
+        rotation = np.array([
+            [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
+            [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
+            [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)],
+        ])  # fmt: skip
+        return cls(rotation, np.array([x, y, z], dtype=float))
+
 
 def frame_from_axes(
     x_axis: tuple[float, float, float],

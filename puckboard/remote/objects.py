@@ -150,14 +150,12 @@ class SceneObjects:
         self.labels = (
             tuple(labels) if labels is not None else tuple(str(i) for i in range(len(profiles)))
         )
-        self.profiles = tuple(profiles)
         self._objects: list[ServedObject] = []
         self._by_handle: dict[int, ServedObject] = {}
         self._by_name: dict[str, ServedObject] = {}
         self._children: dict[int | None, list[ServedObject]] = {None: []}
         self.bases: list[ServedObject] = []
         self.joints: list[tuple[ServedObject, ServedObject]] = []
-        self.prox: list[list[ServedObject]] = []
         #: what a proximity sensor can see: ("robot"|"obstacle"|"wall", index) -> object
         self.detectable: dict[tuple[str, int], ServedObject] = {}
         for i, profile in enumerate(profiles):
@@ -221,7 +219,6 @@ class SceneObjects:
             )  # fmt: skip
             joints.append(joint)
         self.joints.append((joints[0], joints[1]))
-        sensors = []
         for k, ps in enumerate(VREP_ORDER):
             pose = p.prox_poses[ps]
             c, s = math.cos(pose.heading), math.sin(pose.heading)
@@ -229,11 +226,8 @@ class SceneObjects:
                 (-s, c, 0.0), (0.0, 0.0, 1.0), (c, s, 0.0),
                 position=(pose.x, pose.y, PROX_HEIGHT - axle_z),
             )  # z looks where the sensor looks, y up
-            sensors.append(
-                part(PROXIMITY_SENSOR, f"proxSensor{k + 1}", "proxSensor", base, frame,
-                     part="prox", index=k)
-            )  # fmt: skip
-        self.prox.append(sensors)
+            part(PROXIMITY_SENSOR, f"proxSensor{k + 1}", "proxSensor", base, frame,
+                 part="prox", index=k)  # fmt: skip
         ground_x = p.ground_poses[1].x
         part(
             VISION_SENSOR, "lightSensor", "lightSensor", base,
@@ -301,9 +295,6 @@ class SceneObjects:
     def tree(self, root: ServedObject | None) -> list[ServedObject]:
         """``root`` and everything under it, depth first (``None``: the whole scene)."""
         return ([] if root is None else [root]) + self._descendants(root)
-
-    def robot_objects(self, robot: int) -> list[ServedObject]:
-        return [o for o in self._objects if o.robot == robot]
 
     def resolve(self, path: str, index: int = 0) -> ServedObject:
         """The object named ``path`` (deprecated name or alias path); ``index`` picks the

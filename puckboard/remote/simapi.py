@@ -261,7 +261,6 @@ class SimApi:
         P = Param
         handle = P("objectHandle", _int)
         rel = P("relativeToObjectHandle", _int, HANDLE_WORLD)
-        name = P("signalName", _string)
         img_args = (
             P("sensorHandle", _int),
             P("options", _int, 0),
@@ -326,15 +325,9 @@ class SimApi:
             "sim.getFloatParam": (self.get_float_param, (P("parameter", _int),)),
             "sim.getBoolParam": (self.get_bool_param, (P("parameter", _int),)),
             # signals
-            "sim.setStringSignal": (self.set_string_signal, (name, P("signalValue", _buffer))),
-            "sim.getStringSignal": (self.get_string_signal, (name,)),
-            "sim.clearStringSignal": (self.clear_string_signal, (P("signalName", _string, ""),)),
-            "sim.setInt32Signal": (self.set_int32_signal, (name, P("signalValue", _int))),
-            "sim.getInt32Signal": (self.get_int32_signal, (name,)),
-            "sim.clearInt32Signal": (self.clear_int32_signal, (P("signalName", _string, ""),)),
-            "sim.setFloatSignal": (self.set_float_signal, (name, P("signalValue", _number))),
-            "sim.getFloatSignal": (self.get_float_signal, (name,)),
-            "sim.clearFloatSignal": (self.clear_float_signal, (P("signalName", _string, ""),)),
+            **_signal_functions("String", self.signals.string, _buffer),
+            **_signal_functions("Int32", self.signals.int32, _int),
+            **_signal_functions("Float", self.signals.float, _number),
             # the simulation
             "sim.getSimulationTime": (self.get_simulation_time, ()),
             "sim.getSimulationTimeStep": (self.get_simulation_time_step, ()),
@@ -539,18 +532,20 @@ class SimApi:
         assert parent is not None
         return self.world_frame(parent).compose(local)
 
+    def _reference(self, obj: ServedObject, rel: int, func: str) -> Frame | None:
+        """The frame a ``relativeToObjectHandle`` names for ``obj``: ``None`` for the world
+        (``sim.handle_world``, or ``sim.handle_parent`` of a root object), else the parent's
+        or that object's frame in the world."""
+        if rel == HANDLE_WORLD or (rel == HANDLE_PARENT and obj.parent is None):
+            return None
+        ref = self._object(obj.parent if rel == HANDLE_PARENT else rel, func)  # type: ignore[arg-type]
+        return self.world_frame(ref)
+
     def _frame(self, handle: int, rel: int, func: str) -> Frame:
         obj = self._object(handle, func)
         frame = self.world_frame(obj)
-        if rel == HANDLE_WORLD:
-            return frame
-        if rel == HANDLE_PARENT:
-            if obj.parent is None:
-                return frame
-            ref = self._object(obj.parent, func)
-        else:
-            ref = self._object(rel, func)
-        return frame.relative_to(self.world_frame(ref))
+        ref = self._reference(obj, rel, func)
+        return frame if ref is None else frame.relative_to(ref)
 
     def get_object_position(self, client: ClientState, handle: int, rel: int) -> list[Any]:
         return [self._frame(handle, rel, "sim.getObjectPosition").position.tolist()]
@@ -608,47 +603,31 @@ class SimApi:
     def _dummy_names(self) -> list[str]:
         return [o.name for o in self.objects if o.kind == DUMMY]
 
-    def _place(self, obj: ServedObject, rel: int, local: Frame, func: str) -> None:
-        if rel == HANDLE_WORLD or (rel == HANDLE_PARENT and obj.parent is None):
-            self.dummy_frames[obj.handle] = local
-        else:
-            ref = self._object(obj.parent if rel == HANDLE_PARENT else rel, func)  # type: ignore[arg-type]
-            self.dummy_frames[obj.handle] = self.world_frame(ref).compose(local)
-
     def set_object_position(
         self, client: ClientState, handle: int, position: Any, rel: Any
     ) -> list[Any]:
         func = "sim.setObjectPosition"
         obj, position, rel = self._movable(handle, func, position, rel)
         try:
-            xyz = _vector(3)(position)
+            xyz = np.array(_vector(3)(position))
         except TypeError:
             raise ApiError(f"bad argument #2 to '{func}' (position: array of 3 numbers expected)") from None
+        ref = self._reference(obj, rel, func)
         current = self.dummy_frames[obj.handle]
-        if rel in (HANDLE_WORLD, HANDLE_PARENT) and obj.parent is None:
-            self.dummy_frames[obj.handle] = Frame(current.rotation, np.array(xyz))
-        else:
-            ref = self.world_frame(self._object(rel, func))
-            self.dummy_frames[obj.handle] = Frame(current.rotation, ref.apply(np.array(xyz)))
+        self.dummy_frames[obj.handle] = Frame(current.rotation, xyz if ref is None else ref.apply(xyz))
         return []
 
     def set_object_pose(self, client: ClientState, handle: int, pose: Any, rel: Any) -> list[Any]:
         func = "sim.setObjectPose"
         obj, pose, rel = self._movable(handle, func, pose, rel)
         try:
-            x, y, z, qx, qy, qz, qw = _vector(7)(pose)
+            local = Frame.from_pose7(_vector(7)(pose))
         except TypeError:
             raise ApiError(f"bad argument #2 to '{func}' (pose: array of 7 numbers expected)") from None
-        norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-        if norm == 0.0:
-            raise ApiError(f"{func}: the quaternion [qx, qy, qz, qw] must not be zero")
-        qx, qy, qz, qw = qx / norm, qy / norm, qz / norm, qw / norm
-        rotation = np.array([
-            [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
-            [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
-            [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)],
-        ])  # fmt: skip
-        self._place(obj, rel, Frame(rotation, np.array([x, y, z])), func)
+        except ValueError as exc:
+            raise ApiError(f"{func}: {exc}") from None
+        ref = self._reference(obj, rel, func)
+        self.dummy_frames[obj.handle] = local if ref is None else ref.compose(local)
         return []
 
     # -- joints ------------------------------------------------------------------------------
@@ -779,21 +758,19 @@ class SimApi:
         self, client: ClientState, handle: int, x: int, y: int, sw: int, sh: int, _cutoff: float
     ) -> list[Any]:
         func = "sim.getVisionSensorCharImage"
-        greyscale = bool(handle & _C["handleflag_greyscale"]) if handle > 0 else False
         obj = self._object(handle, func, VISION_SENSOR)
         image = self._window(obj, func, (x, y), (sw, sh))
         w, h = self._resolution(obj)
-        return [encode_image(image, 1 if greyscale else 0), w, h]
+        return [encode_image(image, 1 if _greyscale(handle) else 0), w, h]
 
     def get_vision_sensor_image(
         self, client: ClientState, handle: int, x: int, y: int, sw: int, sh: int, ret: int
     ) -> list[Any]:
         """The deprecated float image (0..1 per channel), as the V-REP-era scripts read it."""
         func = "sim.getVisionSensorImage"
-        greyscale = bool(handle & _C["handleflag_greyscale"]) if handle > 0 else False
         obj = self._object(handle, func, VISION_SENSOR)
         image = self._window(obj, func, (x, y), (sw, sh)).astype(float) / 255.0
-        if greyscale:
+        if _greyscale(handle):
             image = image.mean(axis=2)
         if ret == 1:
             return [np.rint(image * 255.0).astype(np.uint8).tobytes()]
@@ -875,37 +852,6 @@ class SimApi:
             f"sim.getBoolParam: parameter {param} is not served; served: "
             "sim.boolparam_realtime_simulation"
         )
-
-    # -- signals -----------------------------------------------------------------------------
-    def set_string_signal(self, client: ClientState, name: str, value: str | bytes) -> list[Any]:
-        self.signals.string[name] = value
-        return []
-
-    def get_string_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [self.signals.string.get(name)]
-
-    def clear_string_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [_clear(self.signals.string, name)]
-
-    def set_int32_signal(self, client: ClientState, name: str, value: int) -> list[Any]:
-        self.signals.int32[name] = value
-        return []
-
-    def get_int32_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [self.signals.int32.get(name)]
-
-    def clear_int32_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [_clear(self.signals.int32, name)]
-
-    def set_float_signal(self, client: ClientState, name: str, value: float) -> list[Any]:
-        self.signals.float[name] = value
-        return []
-
-    def get_float_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [self.signals.float.get(name)]
-
-    def clear_float_signal(self, client: ClientState, name: str) -> list[Any]:
-        return [_clear(self.signals.float, name)]
 
     # -- simulation --------------------------------------------------------------------------
     def get_simulation_time(self, client: ClientState) -> list[Any]:
@@ -1089,14 +1035,38 @@ class SimApi:
         }
 
 
-def _clear(signals: dict[str, Any], name: str) -> int:
-    """Clear one signal, or every signal of the kind when ``name`` is empty (CoppeliaSim's
-    ``sim.clear*Signal()`` without a name); returns how many were cleared."""
-    if not name:
-        count = len(signals)
-        signals.clear()
-        return count
-    return 1 if signals.pop(name, None) is not None else 0
+def _greyscale(handle: int) -> bool:
+    """Whether a handle carries ``sim.handleflag_greyscale`` (the deprecated image calls)."""
+    return handle > 0 and bool(handle & _C["handleflag_greyscale"])
+
+
+def _signal_functions(
+    kind: str, store: dict[str, Any], check: Callable[[Any], Any]
+) -> dict[str, tuple[Handler, tuple[Param, ...]]]:
+    """``sim.set/get/clear<kind>Signal`` over one of :class:`Signals`' name spaces."""
+
+    def set_signal(client: ClientState, name: str, value: Any) -> list[Any]:
+        store[name] = value
+        return []
+
+    def get_signal(client: ClientState, name: str) -> list[Any]:
+        return [store.get(name)]  # None when unset, as CoppeliaSim's nil
+
+    def clear_signal(client: ClientState, name: str) -> list[Any]:
+        """One signal, or every signal of the kind when ``name`` is empty (CoppeliaSim's
+        ``sim.clear*Signal()`` without a name); returns how many were cleared."""
+        if not name:
+            count = len(store)
+            store.clear()
+            return [count]
+        return [1 if store.pop(name, None) is not None else 0]
+
+    name = Param("signalName", _string)
+    return {
+        f"sim.set{kind}Signal": (set_signal, (name, Param("signalValue", check))),
+        f"sim.get{kind}Signal": (get_signal, (name,)),
+        f"sim.clear{kind}Signal": (clear_signal, (Param("signalName", _string, ""),)),
+    }
 
 
 def _type_name(value: Any) -> str:
