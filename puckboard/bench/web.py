@@ -39,13 +39,17 @@ print(" ".join(map(str, counts)), flush=True)
 """
 
 
+def _timed_run(episode: Any, duration: float) -> tuple[float, float]:
+    """Wall and CPU seconds (this process, all its threads) of a full-length run."""
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    episode.run(duration, stop_early=False)
+    return time.perf_counter() - wall0, time.process_time() - cpu0
+
+
 def _bare_run(duration: float) -> dict[str, Any]:
     from ..control.episode import Episode
 
-    episode = Episode("two-robot-pass", seed=0)
-    wall0, cpu0 = time.perf_counter(), time.process_time()
-    episode.run(duration, stop_early=False)
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    wall, cpu = _timed_run(Episode("two-robot-pass", seed=0), duration)
     return {"realtime_factor": round(duration / wall, 1),
             "cpu_s_per_sim_s": round(cpu / duration, 4)}  # fmt: skip
 
@@ -68,9 +72,7 @@ def _one_run(duration: float, clients: int) -> dict[str, Any]:
             deadline = time.monotonic() + 10.0
             while view.clients < clients and time.monotonic() < deadline:
                 time.sleep(0.02)
-        wall0, cpu0 = time.perf_counter(), time.process_time()
-        episode.run(duration, stop_early=False)
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+        wall, cpu = _timed_run(episode, duration)
         frames: list[int] = []
         if readers is not None:
             out, _ = readers.communicate("", timeout=30)

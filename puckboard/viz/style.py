@@ -20,6 +20,7 @@ __all__ = [
     "LINE",
     "NO_DATA_COLOUR",
     "event_label",
+    "hex_colour",
     "layer_colour",
     "layer_colours",
     "robot_colours",
@@ -122,7 +123,7 @@ def robot_colours(names: Sequence[str], given: Mapping[str, Any] | None = None) 
     out: dict[str, str] = {}
     for i, name in enumerate(names):
         rgb = given.get(name)
-        colour = _hex(rgb) if rgb is not None else _ROBOT_PALETTE[i % len(_ROBOT_PALETTE)]
+        colour = hex_colour(rgb) if rgb is not None else _ROBOT_PALETTE[i % len(_ROBOT_PALETTE)]
         if colour in out.values():
             colour = next(
                 (c for c in _ROBOT_PALETTE if c not in out.values()),
@@ -138,6 +139,7 @@ def rgb01(colour: Sequence[int]) -> tuple[float, float, float]:
     return (r, g, b)
 
 
-def _hex(rgb: Sequence[int]) -> str:
+def hex_colour(rgb: Sequence[int]) -> str:
+    """A 0..255 RGB triple (as scenes store colours) as ``#rrggbb``, clamped to the range."""
     r, g, b = (max(0, min(255, int(c))) for c in rgb[:3])
     return f"#{r:02x}{g:02x}{b:02x}"

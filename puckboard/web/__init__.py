@@ -33,13 +33,12 @@ def watch_episode(
 
     view = WebView(host=host, port=port).start()
     follower = EpisodeFollower(episode, view.publish)
-    view.follow_trails(follower.trails_json)
+    view.follow(follower)
     episode.add_observer(follower)
     episode.add_close_observer(follower.close)
     episode.add_result_observer(follower.close)  # again, with the judge's final verdict
     if speed is not None:
         episode.add_observer(RealTimePacer(speed))
-    view.follower = follower  # type: ignore[attr-defined]
     return view
 
 
@@ -51,7 +50,6 @@ def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> A
 
     view = WebView(host=host, port=port).start()
     follower = ServerFollower(server, view.publish)
-    view.follow_trails(follower.trails_json)
+    view.follow(follower)
     server.add_step_observer(follower)
-    view.follower = follower  # type: ignore[attr-defined]
     return view

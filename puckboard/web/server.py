@@ -41,8 +41,7 @@ class WebView:
     """A live view served at ``http://host:port/``; ``port=0`` picks a free port.
 
     ``publish(kind, data)`` sends ``scene``, ``frame`` or ``details`` messages; the page
-    fetches the newest scene, trails and details on connect. ``trails`` is a callable
-    returning the trail history (called from the web thread).
+    fetches the newest scene, trails and details on connect.
     """
 
     def __init__(self, *, host: str = "127.0.0.1", port: int = DEFAULT_WEB_PORT) -> None:
@@ -50,9 +49,9 @@ class WebView:
         self.requested_port = port
         self.port = port
         self.clients = 0
-        self.messages = 0
+        #: what feeds the view (a follower of :mod:`.state`), set by :meth:`follow`
+        self.follower: Any = None
         self._latest: dict[str, bytes] = {}
-        self._trails: Any = None
         self._event: asyncio.Event | None = None
         self._data = b""
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -144,9 +143,10 @@ class WebView:
             await self._runner.cleanup()
 
     # -- publishing (any thread) ---------------------------------------------------------------
-    def follow_trails(self, trails: Any) -> None:
-        """Where ``/trails.json`` comes from: a callable returning name -> points."""
-        self._trails = trails
+    def follow(self, follower: Any) -> None:
+        """Show what ``follower`` (a :mod:`.state` follower) publishes; ``/trails.json``
+        answers its trails so far."""
+        self.follower = follower
 
     def publish(self, kind: str, data: Any) -> None:
         """Send ``{"kind": kind, "data": data}`` to every page (encoded here, once)."""
@@ -161,7 +161,6 @@ class WebView:
 
     def _deliver(self, kind: str, body: bytes, message: bytes) -> None:
         self._latest[kind] = body
-        self.messages += 1
         if kind == "details":
             return  # fetched by the panel when open, not streamed
         self._data = message
@@ -182,7 +181,7 @@ class WebView:
         return handler
 
     async def _trails_json(self, request: web.Request) -> web.Response:
-        trails = self._trails() if self._trails is not None else {}
+        trails = self.follower.trails_json() if self.follower is not None else {}
         return web.json_response(trails)
 
     async def _stream(self, request: web.Request) -> web.StreamResponse:

@@ -34,7 +34,8 @@ import numpy as np
 
 from ..profile import get_profile
 from ..records import PROX_NAMES
-from ..viz.style import event_label, layer_colour, robot_colours
+from ..viz.scene_art import scene_bounds
+from ..viz.style import event_label, hex_colour, layer_colour, robot_colours
 
 if TYPE_CHECKING:
     from ..scenario.judge import Judge
@@ -79,17 +80,17 @@ def describe_scene(scene: Scene, *, driver: str) -> dict[str, Any]:
     for ob in scene.obstacles:
         if isinstance(ob, CircleObstacle):
             obstacles.append({"name": ob.name, "circle": [ob.x, ob.y, ob.radius],
-                              "colour": _hex(ob.colour)})  # fmt: skip
+                              "colour": hex_colour(ob.colour)})  # fmt: skip
         else:
             obstacles.append({"name": ob.name, "polygon": ob.vertices.round(4).tolist(),
-                              "colour": _hex(ob.colour)})  # fmt: skip
+                              "colour": hex_colour(ob.colour)})  # fmt: skip
     out: dict[str, Any] = {
         "name": scene.name,
         "description": scene.description,
         "driver": driver,
         "dt": scene.dt,
         "duration": scene.duration,
-        "floor": _hex(scene.floor_colour),
+        "floor": hex_colour(scene.floor_colour),
         "robots": robots,
         "obstacles": obstacles,
         "dummies": [{"name": d.name, "x": d.x, "y": d.y} for d in scene.dummies],
@@ -99,43 +100,14 @@ def describe_scene(scene: Scene, *, driver: str) -> dict[str, Any]:
     if scene.arena is not None:
         a = scene.arena
         out["arena"] = {"xmin": a.xmin, "ymin": a.ymin, "xmax": a.xmax, "ymax": a.ymax,
-                        "colour": _hex(a.colour)}  # fmt: skip
+                        "colour": hex_colour(a.colour)}  # fmt: skip
     if scene.track is not None:
         t = scene.track
         out["track"] = {"points": t.points.round(4).tolist(), "width": t.width,
-                        "closed": t.closed, "colour": _hex(t.colour)}  # fmt: skip
-    xs, ys = _extent(out)
-    out["bounds"] = [min(xs), min(ys), max(xs), max(ys)]
+                        "closed": t.closed, "colour": hex_colour(t.colour)}  # fmt: skip
+    xmin, xmax, ymin, ymax = scene_bounds(scene, margin=0.0)  # as the other figures frame it
+    out["bounds"] = [xmin, ymin, xmax, ymax]
     return out
-
-
-def _extent(scene: dict[str, Any]) -> tuple[list[float], list[float]]:
-    xs: list[float] = []
-    ys: list[float] = []
-    if scene["arena"]:
-        a = scene["arena"]
-        xs += [a["xmin"], a["xmax"]]
-        ys += [a["ymin"], a["ymax"]]
-    if scene["track"]:
-        pts = np.array(scene["track"]["points"])
-        xs += [float(pts[:, 0].min()), float(pts[:, 0].max())]
-        ys += [float(pts[:, 1].min()), float(pts[:, 1].max())]
-    for ob in scene["obstacles"]:
-        if "circle" in ob:
-            x, y, r = ob["circle"]
-            xs += [x - r, x + r]
-            ys += [y - r, y + r]
-        else:
-            xs += [p[0] for p in ob["polygon"]]
-            ys += [p[1] for p in ob["polygon"]]
-    if not xs:
-        xs, ys = [-0.5, 0.5], [-0.5, 0.5]
-    return xs, ys
-
-
-def _hex(rgb: Sequence[int]) -> str:
-    r, g, b = (max(0, min(255, int(c))) for c in rgb[:3])
-    return f"#{r:02x}{g:02x}{b:02x}"
 
 
 class _Follower:
