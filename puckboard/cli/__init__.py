@@ -104,6 +104,12 @@ def check_seconds(value: float | None, flag: str = "--duration") -> None:
         raise CliError(f"{flag} must be a finite positive number of seconds, got {value:g}")
 
 
+def check_speed(value: float | None, flag: str = "--speed") -> None:
+    """Refuse a playback speed that is not a finite number ≥ 0 (0 = as fast as it goes)."""
+    if value is not None and not (math.isfinite(value) and value >= 0):
+        raise CliError(f"{flag} must be a finite number ≥ 0 (0 = unpaced), got {value}")
+
+
 def check_port(port: int | None, flag: str = "--port") -> None:
     """Refuse a TCP port outside 0..65535 before binding: the socket layer reports it
     as an ``OverflowError`` that names neither the option nor the range."""
@@ -271,10 +277,6 @@ def _silence_stdout() -> None:
         pass  # not a real file (a test's capture): nothing left to flush
 
 
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
-
-
 def add_web_arguments(parser: argparse.ArgumentParser) -> None:
     """``--web``, ``--web-host`` and ``--web-port``, the same for ``run`` and ``serve``."""
     parser.add_argument(
@@ -307,3 +309,7 @@ def web_url(view: Any, host: str) -> str:
     if host in ("0.0.0.0", "*", "::"):
         return f"http://{socket.gethostname()}:{view.port}/  (or this machine's address)"
     return str(view.url)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import math
 
-from . import CliError, check_seconds, require, seed_type
+from . import CliError, check_seconds, check_speed, require, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -66,8 +65,7 @@ def main(args: argparse.Namespace) -> int:
 
     if args.refresh <= 0:
         raise CliError("--refresh must be positive")
-    if not (math.isfinite(args.speed) and args.speed >= 0):
-        raise CliError(f"--speed must be a finite number ≥ 0 (0 = unpaced), got {args.speed}")
+    check_speed(args.speed)
     if args.still and args.controller:
         raise CliError("--still and --controller exclude each other")
     check_seconds(args.duration)

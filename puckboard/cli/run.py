@@ -21,6 +21,7 @@ from . import (
     add_web_arguments,
     check_port,
     check_seconds,
+    check_speed,
     missing_extra,
     require,
     seed_type,
@@ -150,8 +151,7 @@ def main(args: argparse.Namespace) -> int:
     check_port(args.web_port, "--web-port")
     if args.speed is not None and not args.web:
         raise CliError("--speed paces the run for the web view; use it with --web")
-    if args.speed is not None and (args.speed < 0 or args.speed != args.speed):
-        raise CliError(f"--speed must be 0 (as fast as it goes) or a positive factor, got {args.speed}")
+    check_speed(args.speed)
     if args.monitor:
         require("rich", "--monitor")
     backend_options = {

@@ -25,6 +25,7 @@ from . import (
     add_web_arguments,
     bind_error_message,
     check_port,
+    check_seconds,
     help_text,
     missing_extra,
     seed_type,
@@ -112,10 +113,8 @@ def main(args: argparse.Namespace) -> int:
         return _list_functions()
     check_port(args.port)
     check_port(args.web_port, "--web-port")
-    if args.stepping_timeout is not None and args.stepping_timeout <= 0:
-        raise CliError(f"--stepping-timeout must be positive seconds, got {args.stepping_timeout}")
-    if args.idle_timeout <= 0:
-        raise CliError(f"--idle-timeout must be positive seconds, got {args.idle_timeout}")
+    check_seconds(args.stepping_timeout, "--stepping-timeout")
+    check_seconds(args.idle_timeout, "--idle-timeout")
     try:
         from ..remote.server import RemoteApiServer
     except ImportError as exc:
