@@ -69,9 +69,10 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 FORMAT_NAME = "puckboard-recording"
-#: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.scenefile); 1 tagged
-#: each scene dataclass with its type. Both are read.
+#: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.scenefile).
 FORMAT_VERSION = 2
+#: The oldest format :func:`load_recording` reads (format 1 predates the first release).
+OLDEST_FORMAT_VERSION = 2
 """Bumped whenever the on-disk layout changes incompatibly."""
 
 RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels", "command/layer")
@@ -183,8 +184,7 @@ class Recording:
         """The recorded :class:`~puckboard.scenario.scene.Scene` (``None`` if none was recorded)."""
         if self._scene is _UNSET:
             data = self.meta.get("scene")
-            version = int(self.meta.get("version", FORMAT_VERSION))
-            self._scene = None if data is None else scene_from_json(data, version=version)
+            self._scene = None if data is None else scene_from_json(data)
         return self._scene
 
     @property
@@ -206,8 +206,6 @@ class Recording:
             raise ValueError(f"recordings are saved as .npz files, got {str(path)!r}")
         path.parent.mkdir(parents=True, exist_ok=True)
         meta = dict(self.meta)
-        if meta.get("scene") is not None and int(meta.get("version", FORMAT_VERSION)) < 2:
-            meta["scene"] = scene_to_json(self.scene)  # an older recording, saved anew
         meta.update(format=FORMAT_NAME, version=FORMAT_VERSION)
         fd, tmp = _create_beside(path)
         try:
@@ -294,6 +292,12 @@ def load_recording(path: str | os.PathLike[str]) -> Recording:
         raise ValueError(
             f"{str(path)!r} uses recording format {meta['version']}; this puckboard reads "
             f"up to {FORMAT_VERSION}: upgrade puckboard"
+        )
+    if int(meta.get("version", 0)) < OLDEST_FORMAT_VERSION:
+        raise ValueError(
+            f"{str(path)!r} uses recording format {meta.get('version')}, which this puckboard "
+            f"no longer reads (formats {OLDEST_FORMAT_VERSION} to {FORMAT_VERSION}): record "
+            "the run again"
         )
     missing = {"time", "pose", "wheels", "layer", "proximity", "ground"} - set(arrays)
     if missing:
@@ -574,35 +578,9 @@ def scene_to_json(scene: Any) -> dict[str, Any]:
     return scene_to_dict(scene)
 
 
-def scene_from_json(data: Mapping[str, Any], *, version: int = FORMAT_VERSION) -> Any:
-    """Rebuild the recorded :class:`~puckboard.scenario.scene.Scene`.
+def scene_from_json(data: Mapping[str, Any]) -> Any:
+    """Rebuild the recorded :class:`~puckboard.scenario.scene.Scene` from the scene file's
+    own form, read (and validated) by :func:`~puckboard.scenario.scenefile.scene_from_dict`."""
+    from ..scenario.scenefile import scene_from_dict
 
-    ``version`` is the recording's format: 2 and later store the scene file's form, read
-    (and validated) by :func:`~puckboard.scenario.scenefile.scene_from_dict`; format 1
-    recordings are still read, with their type-tagged dataclasses.
-    """
-    if version >= 2:
-        from ..scenario.scenefile import scene_from_dict
-
-        return scene_from_dict(data, source="recording")
-    return _scene_from_v1(data)
-
-
-def _scene_from_v1(data: Mapping[str, Any]) -> Any:
-    """Format 1: each dataclass tagged with its ``type``; unknown fields are ignored, so an
-    older puckboard can still draw a newer recording's floor."""
-    from ..scenario import scene as scene_module
-
-    def decode(value: Any) -> Any:
-        if isinstance(value, dict) and "type" in value:
-            cls = getattr(scene_module, value["type"], None)
-            if cls is None or not dataclasses.is_dataclass(cls):
-                log.warning("recording holds an unknown scene part %r; ignoring it", value["type"])
-                return None
-            known = {f.name for f in dataclasses.fields(cls)}
-            return cls(**{k: decode(v) for k, v in value.items() if k in known})  # type: ignore[operator]
-        if isinstance(value, list):
-            return tuple(d for d in (decode(v) for v in value) if d is not None)
-        return value
-
-    return decode(dict(data))
+    return scene_from_dict(data, source="recording")

@@ -138,15 +138,3 @@ def test_library_code_never_prints():
 
 def test_package_is_typed():
     assert (PKG / "py.typed").is_file()
-
-
-def test_no_module_imports_a_deprecated_alias():
-    from test_moved_modules import MOVED
-
-    offenders = [
-        f"{p.relative_to(PKG.parent)} imports {n}"
-        for p in PKG.rglob("*.py")
-        for n in imported_puckboard_modules(p)
-        if n in MOVED
-    ]
-    assert offenders == []

@@ -1,5 +1,0 @@
-"""Deprecated alias of :mod:`puckboard.scenario.scenefile`, kept for one release; import that instead."""
-
-from .._moved import alias_module
-
-alias_module(__name__, "puckboard.scenario.scenefile")
