@@ -1,4 +1,4 @@
-"""Regenerate ``puckboard/remote/coppeliasim_sim.json``: the names of CoppeliaSim's ``sim`` API.
+"""Regenerate ``puckboard/backends/coppeliasim/server/coppeliasim_sim.json``: the names of CoppeliaSim's ``sim`` API.
 
 ``puckboard serve`` lists CoppeliaSim's whole ``sim`` namespace to a client (the official
 client only creates ``sim.<name>`` for names the server lists), so a call to a function

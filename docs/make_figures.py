@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Rectangle
 
-from puckboard.adapters import FakeAdapter
+from puckboard.backends import FakeAdapter
 from puckboard.behaviours import (
     Controller,
     Cruise,
@@ -108,7 +108,7 @@ def save(fig, name: str) -> None:  # type: ignore[no-untyped-def]
     path = IMG / f"{name}.png"
     fig.savefig(path, dpi=DPI, bbox_inches="tight", facecolor="white")
     plt.close(fig)
-    print(f"wrote {path.relative_to(IMG.parent.parent)}")  # noqa: T201 (a script)
+    print(f"wrote {path.relative_to(IMG.parent.parent)}")
 
 
 # -- figures ------------------------------------------------------------------------------
@@ -554,7 +554,7 @@ def fig_task_tree() -> None:
     png = render_tree(module.mission(), "png")
     assert isinstance(png, bytes)
     (IMG / "task-tree.png").write_bytes(png)
-    print(f"wrote {(IMG / 'task-tree.png').relative_to(IMG.parent.parent)}")  # noqa: T201
+    print(f"wrote {(IMG / 'task-tree.png').relative_to(IMG.parent.parent)}")
 
 
 FIGURES: dict[str, Callable[[], None]] = {

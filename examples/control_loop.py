@@ -23,7 +23,7 @@ Run it: ``python examples/control_loop.py``
 
 from __future__ import annotations
 
-from puckboard.adapters.embedded import open_embedded
+from puckboard.backends.embedded import open_embedded
 from puckboard.records import Sensor
 from puckboard.scenario.judge import Judge
 from puckboard.scenario.scenefile import load_scene

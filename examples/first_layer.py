@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from puckboard.adapters import FakeAdapter
+from puckboard.backends import FakeAdapter
 from puckboard.behaviours import Controller, Cruise, Frame, Layer
 from puckboard.control.episode import run_episode
 from puckboard.records import WheelCommand

@@ -53,19 +53,19 @@ _LAZY = {
     "improved": "puckboard.behaviours",
     "stock": "puckboard.behaviours",
     "load_controller": "puckboard.behaviours",
-    "FakeAdapter": "puckboard.adapters",
-    "RobotAdapter": "puckboard.adapters",
+    "FakeAdapter": "puckboard.backends",
+    "RobotAdapter": "puckboard.backends",
     "WheelCommand": "puckboard.records",
     "load_scene": "puckboard.scenario",
-    "open_backend": "puckboard.adapters.registry",
-    "open_embedded": "puckboard.adapters.embedded",
+    "open_backend": "puckboard.backends.registry",
+    "open_embedded": "puckboard.backends.embedded",
     "run_episode": "puckboard.control.episode",
 }
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .adapters import FakeAdapter, RobotAdapter
-    from .adapters.embedded import open_embedded
-    from .adapters.registry import open_backend
+    from .backends import FakeAdapter, RobotAdapter
+    from .backends.embedded import open_embedded
+    from .backends.registry import open_backend
     from .behaviours import Controller, Layer, improved, load_controller, stock
     from .blackboard import Blackboard
     from .control import ControlLoop

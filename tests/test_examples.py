@@ -178,7 +178,7 @@ def test_switch_backend_runs_embedded_by_default() -> None:
 def test_switch_backend_documents_only_backends_that_exist() -> None:
     import re
 
-    from puckboard.adapters.registry import BACKENDS
+    from puckboard.backends.registry import BACKENDS
 
     example = load("switch_backend")
     named = set(re.findall(r'BACKEND, OPTIONS = "([\w-]+)"', example.__doc__))
@@ -208,7 +208,7 @@ def test_switch_backend_coppeliasim_line_drives_a_served_simulation() -> None:
     pytest.importorskip("zmq")
     pytest.importorskip("cbor2")
     pytest.importorskip("coppeliasim_zmqremoteapi_client")
-    from puckboard.remote.server import serve_scene
+    from puckboard.backends.coppeliasim.server.server import serve_scene
 
     example = load("switch_backend")
     server = serve_scene("line-follow", host="127.0.0.1", port=0)

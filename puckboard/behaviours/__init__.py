@@ -1,7 +1,7 @@
 """Behaviour layers, the subsumption arbiter, and the ready-made controllers.
 
 A layer knows the blackboard and nothing of the backend behind it: this package imports
-neither :mod:`puckboard.adapters` nor :mod:`puckboard.sim`.
+neither :mod:`puckboard.backends` nor :mod:`puckboard.sim`.
 """
 
 from .controller import NO_LAYER, Controller

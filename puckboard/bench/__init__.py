@@ -36,7 +36,7 @@ log = logging.getLogger(__name__)
 SUITES: dict[str, str] = {
     "core": "puckboard.bench:core_suite",
     "sim": "puckboard.bench:sim_suite",
-    "coppeliasim": "puckboard.bench.remote:run_suite",
+    "coppeliasim": "puckboard.bench.coppeliasim:run_suite",
     "sweep": "puckboard.bench.sweep:run_suite",
     "estimation": "puckboard.bench.estimation:run_suite",
     "emulator": "puckboard.bench.emulator:run_suite",
@@ -138,7 +138,7 @@ def core_suite(steps: int | None = None) -> dict[str, Any]:
     import numpy as np
     import py_trees
 
-    from ..adapters.base import declare_robot_keys
+    from ..backends.base import declare_robot_keys
     from ..behaviours import load_controller
     from ..blackboard import Blackboard
     from ..records import Ground, Pose, Proximity, Sensor
@@ -247,7 +247,7 @@ def _bench_scene() -> Any:
 
 
 def _build_stack(scene: Any, seed: int = 0) -> tuple[Any, Any]:
-    from ..adapters.embedded import EmbeddedAdapter
+    from ..backends.embedded import EmbeddedAdapter
     from ..behaviours import load_controller
     from ..blackboard import Blackboard
     from ..control.loop import ControlLoop

@@ -32,7 +32,7 @@ def _median_ms(fn: Callable[[], Any], calls: int) -> float:
 
 
 def _carriers() -> list[tuple[str, str | None]]:
-    from ..emulator.servers import pty_available
+    from ..backends.epuck.emulator.servers import pty_available
 
     out: list[tuple[str, str | None]] = [("wifi", None), ("sercom", "tcp")]
     if pty_available():
@@ -42,8 +42,8 @@ def _carriers() -> list[tuple[str, str | None]]:
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """Exchange times per protocol and carrier (median of 5 repeats, ms per call)."""
-    from ..adapters.real import open_sercom, open_wifi
-    from ..emulator.emulation import Emulation
+    from ..backends.epuck import open_sercom, open_wifi
+    from ..control.emulation import Emulation
 
     calls = steps or 200
     out: dict[str, Any] = {"calls_per_repeat": calls, "repeats": REPEATS, "unit": "ms per call"}

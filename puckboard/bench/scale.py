@@ -82,7 +82,7 @@ def swarm_with(n: int) -> Any:
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """Full-stack steps/s and µs per robot-step for each of :data:`ROBOT_COUNTS`, and
     where a robot-step's time goes (CPU µs per robot-step in each phase of the cycle)."""
-    from ..adapters.embedded import open_embedded
+    from ..backends.embedded import open_embedded
     from ..behaviours import load_controller
     from ..control.loop import ControlLoop
 
@@ -126,7 +126,7 @@ def _phases(scene: Any, cycles: int, n: int) -> dict[str, float]:
     """CPU µs per robot-step in each phase, from one run of ``cycles`` cycles driven by
     hand as :meth:`ControlLoop.cycle` drives them (CPU time: other programs on the
     machine disturb it much less than the wall clock)."""
-    from ..adapters.embedded import open_embedded
+    from ..backends.embedded import open_embedded
     from ..behaviours import load_controller
 
     conn = open_embedded(scene, seed=0)

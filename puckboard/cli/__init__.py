@@ -9,31 +9,16 @@ import only ``argparse`` at the top and load the heavy parts inside ``func``, so
 from __future__ import annotations
 
 import argparse
-import errno
 import importlib
 import logging
-import math
 import os
-import re
-import socket
 import sys
 from collections.abc import Sequence
-from typing import Any, NoReturn
 
-from .._extras import missing_package_message
 from .._version import __version__
+from .common import CliError, _ArgumentError, _SubcommandParser
 
-__all__ = [
-    "COMMANDS",
-    "CliError",
-    "bind_error_message",
-    "check_port",
-    "check_seconds",
-    "main",
-    "missing_extra",
-    "require",
-    "seed_type",
-]
+__all__ = ["COMMANDS", "build_parser", "main"]
 
 #: Subcommands in the order ``--help`` lists them.
 COMMANDS: tuple[str, ...] = (
@@ -50,175 +35,6 @@ COMMANDS: tuple[str, ...] = (
     "examples",
     "docs",
 )
-
-
-def help_text(docstring: str | None) -> str:
-    """A module docstring as ``--help`` shows it: reST's ``double backticks`` become
-    'quotes', which read as code in a terminal where backticks are noise."""
-    return re.sub(r"``(.+?)``", r"'\1'", docstring or "", flags=re.S)
-
-
-class CliError(Exception):
-    """Bad input on the command line: printed as one line, exit status 2."""
-
-
-class _ArgumentError(CliError):
-    """A value argparse refused in a subcommand's options (``prog`` is ``puckboard CMD``)."""
-
-    def __init__(self, prog: str, message: str) -> None:
-        super().__init__(message)
-        self.prog = prog
-
-
-class _SubcommandParser(argparse.ArgumentParser):
-    """A subcommand's parser whose refusals end like every other bad input: one line
-    ``puckboard CMD: error: ...`` and status 2 from :func:`main`, not argparse's usage
-    block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage."""
-
-    def error(self, message: str) -> NoReturn:
-        flag, sep, detail = message.partition(": ")
-        if sep and flag.startswith("argument ") and detail.startswith(flag[9:] + " "):
-            message = detail  # the type's message names the option already (seed_type)
-        raise _ArgumentError(self.prog, message)
-
-
-# -- shared checks and messages ---------------------------------------------------------------
-def seed_type(text: str) -> int:
-    """argparse type of every ``--seed``: a whole number >= 0, which is what numpy's
-    generators accept; without it ``--seed -1`` fails deep inside numpy with a message
-    ("expected non-negative integer") that does not say which option was wrong."""
-    try:
-        seed = int(text)
-    except ValueError:
-        seed = -1
-    if seed < 0:
-        raise argparse.ArgumentTypeError(f"--seed must be a whole number ≥ 0, got {text}")
-    return seed
-
-
-def check_seconds(value: float | None, flag: str = "--duration") -> None:
-    """Refuse a time option that is not a finite positive number of seconds. ``inf``
-    passes a plain ``> 0`` test and then overflows when it is turned into a number of
-    steps, and ``nan`` compares false with everything."""
-    if value is not None and not (math.isfinite(value) and value > 0):
-        raise CliError(f"{flag} must be a finite positive number of seconds, got {value:g}")
-
-
-def check_speed(value: float | None, flag: str = "--speed") -> None:
-    """Refuse a playback speed that is not a finite number ≥ 0 (0 = as fast as it goes)."""
-    if value is not None and not (math.isfinite(value) and value >= 0):
-        raise CliError(f"{flag} must be a finite number ≥ 0 (0 = unpaced), got {value}")
-
-
-def check_port(port: int | None, flag: str = "--port") -> None:
-    """Refuse a TCP port outside 0..65535 before binding: the socket layer reports it
-    as an ``OverflowError`` that names neither the option nor the range."""
-    if port is not None and not 0 <= port <= 65535:
-        raise CliError(f"{flag} must be 0..65535, got {port}")
-
-
-def missing_extra(exc: ImportError, what: str) -> CliError:
-    """One line for a missing optional package that names the extra to install.
-
-    Library code that already worded its ImportError for users (it names a
-    ``puckboard[...]`` extra) keeps its words; a bare ``No module named 'rich'`` becomes
-    ``"<what> needs a missing package: rich (install it with: pip install
-    'puckboard[cli]')"``, the wording of ``puckboard run --backend coppeliasim``.
-    """
-    text = (str(exc).strip().splitlines() or [""])[0]
-    if "puckboard[" in text:
-        return CliError(text)
-    return CliError(missing_package_message(what, exc))
-
-
-def require(module: str, what: str) -> None:
-    """Import ``module`` now, so that a missing optional package is reported before a
-    backend (perhaps a real robot) is opened and not halfway through a command."""
-    try:
-        importlib.import_module(module)
-    except ImportError as exc:
-        raise missing_extra(exc, what) from None
-
-
-def _errnos(*names: str) -> frozenset[int]:
-    """The error numbers called ``names`` on this system: POSIX names, and Windows'
-    WSA* twins, which its socket errors carry instead."""
-    return frozenset(
-        code
-        for name in names
-        for mod in (errno, socket)
-        if isinstance(code := getattr(mod, name, None), int)
-    )
-
-
-_IN_USE = _errnos("EADDRINUSE", "WSAEADDRINUSE")
-_DENIED = _errnos("EACCES", "EPERM", "WSAEACCES")
-#: The host is not an address of this machine, or no address at all: bind()'s own
-#: errors, the one ZeroMQ gives for a host it cannot resolve (ENODEV), and the
-#: resolver's (socket.create_server re-raises those as a plain OSError, and on some
-#: systems their numbers overlap errno's: checked after _IN_USE and _DENIED).
-_BAD_HOST = _errnos(
-    "EADDRNOTAVAIL",
-    "WSAEADDRNOTAVAIL",
-    "ENODEV",
-    "EINVAL",
-    "EAFNOSUPPORT",
-    "EAI_NONAME",
-    "EAI_NODATA",
-    "EAI_AGAIN",
-    "EAI_FAIL",
-)
-
-
-def _bind_cause(exc: BaseException) -> BaseException:
-    """The socket-level error behind ``exc``: servers wrap it in an error of their own
-    (``raise OSError(...) from exc``), and only the original carries the errno."""
-    seen: set[int] = set()
-    current: BaseException | None = exc
-    while current is not None and id(current) not in seen:
-        if isinstance(current, socket.gaierror) or isinstance(getattr(current, "errno", None), int):
-            return current
-        seen.add(id(current))
-        current = current.__cause__ or current.__context__
-    return exc
-
-
-def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--port") -> str:
-    """Why listening on ``host:port`` failed, and what to do, for ``serve``, ``emulate``
-    and the web view; ``flag`` is the option that chose the port.
-
-    Blaming "another server using that port" for every failure sends a user after the
-    wrong problem, so the three usual causes are told apart: the port is in use, the
-    port needs rights the user lacks (below 1024 on most systems), or the host is not
-    an address of this machine. Anything else keeps the system's reason.
-    """
-    cause = _bind_cause(exc)
-    code = getattr(cause, "errno", None)
-    where = f"cannot listen on {host}:{port}"
-    bad_host = (
-        f"{where}: {host!r} is not an address of this machine; use 127.0.0.1 (this machine "
-        "only), 0.0.0.0 (every interface) or one of this machine's addresses"
-    )
-    if isinstance(cause, socket.gaierror):
-        return bad_host
-    if code in _IN_USE:
-        return (
-            f"{where}: the port is in use (by another server, or CoppeliaSim?); choose "
-            f"another with {flag}, or {flag} 0 for any free one"
-        )
-    privileged = 0 < port < 1024
-    if code in _DENIED:
-        if privileged:
-            return (
-                f"{where}: permission denied; ports below 1024 need administrator rights, "
-                f"use one from 1024 to 65535, e.g. {flag} 10000"
-            )
-        return f"{where}: permission denied by the system; choose another port with {flag}"
-    if code in _BAD_HOST:
-        return bad_host
-    reason = getattr(cause, "strerror", None) or str(cause) or type(cause).__name__
-    hint = f" (ports below 1024 need administrator rights; try {flag} 10000)" if privileged else ""
-    return f"{where}: {reason}{hint}"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -275,40 +91,6 @@ def _silence_stdout() -> None:
         os.dup2(devnull, sys.stdout.fileno())
     except (OSError, ValueError, AttributeError):
         pass  # not a real file (a test's capture): nothing left to flush
-
-
-def add_web_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--web``, ``--web-host`` and ``--web-port``, the same for ``run`` and ``serve``."""
-    parser.add_argument(
-        "--web", action="store_true",
-        help="also serve a live view of the simulation in the browser (needs puckboard[web])",
-    )  # fmt: skip
-    parser.add_argument(
-        "--web-host", default="127.0.0.1", metavar="HOST",
-        help="address of the web view (default 127.0.0.1, this machine only; 0.0.0.0 for a "
-        "class)",
-    )  # fmt: skip
-    parser.add_argument(
-        "--web-port", type=int, default=8080, metavar="PORT",
-        help="port of the web view (default 8080; 0 = any free port)",
-    )  # fmt: skip
-
-
-def start_web_view(start: Any, args: argparse.Namespace) -> Any:
-    """Start a web view with ``start()``; a missing aiohttp or a taken port is one line."""
-    try:
-        return start()
-    except ImportError as exc:
-        raise missing_extra(exc, "--web") from None
-    except OSError as exc:
-        raise CliError(bind_error_message(exc, args.web_host, args.web_port, "--web-port")) from None
-
-
-def web_url(view: Any, host: str) -> str:
-    """The URL to share: on every interface, the machine's name stands in for 0.0.0.0."""
-    if host in ("0.0.0.0", "*", "::"):
-        return f"http://{socket.gethostname()}:{view.port}/  (or this machine's address)"
-    return str(view.url)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from . import CliError
+from .common import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from . import CliError
+from .common import CliError
 
 #: Python modules the build needs, with the distribution that provides each.
 REQUIRED_MODULES: dict[str, str] = {

@@ -13,10 +13,10 @@ import argparse
 import json
 import sys
 
-from . import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
+from .common import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
 
 #: The robot uses 1000, which needs administrator rights to bind; kept equal to
-#: adapters.real.backends.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.
+#: backends.epuck.factories.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.
 DEFAULT_WIFI_PORT = 10000
 
 
@@ -85,7 +85,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..emulator import Emulation, pty_available
+    from ..backends.epuck.emulator import pty_available
+    from ..control.emulation import Emulation
     from ..errors import SceneError
 
     check_seconds(args.duration)

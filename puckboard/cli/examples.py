@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 
-from . import CliError
+from .common import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

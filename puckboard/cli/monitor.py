@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from . import CliError, check_seconds, check_speed, require, seed_type
+from .common import CliError, check_seconds, check_speed, require, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

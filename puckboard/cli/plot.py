@@ -6,7 +6,7 @@ import argparse
 import math
 from pathlib import Path
 
-from . import CliError
+from .common import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

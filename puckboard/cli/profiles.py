@@ -7,7 +7,7 @@ import json
 import math
 from typing import Any
 
-from . import CliError
+from .common import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -2,7 +2,7 @@
 
 ``puckboard run`` with no arguments runs the thesis's two-robot pass with the improved
 controller in the embedded simulator. ``--json`` prints exactly one JSON object on
-stdout (the fields of :meth:`puckboard.control.episode.EpisodeResult.to_dict`) and nothing else,
+stdout (the fields of :meth:`puckboard.scenario.result.EpisodeResult.to_dict`) and nothing else,
 so scripts can pipe it. The exit status is 0 whenever the run completed, whatever its
 outcome; bad input (unknown scenario, unreadable scene, bad controller, bad ``--set``)
 exits with 2 and one line on stderr.
@@ -16,7 +16,7 @@ import sys
 import traceback
 from typing import Any
 
-from . import (
+from .common import (
     CliError,
     add_web_arguments,
     check_port,
@@ -160,7 +160,7 @@ def main(args: argparse.Namespace) -> int:
         if value is not None
     }
     try:
-        from ..adapters.registry import default_backend
+        from ..backends.registry import default_backend
 
         args.backend = args.backend or default_backend()
     except ValueError as exc:
@@ -285,7 +285,7 @@ def _first_line(exc: BaseException) -> str:
 
 
 def format_summary(result: Any) -> str:
-    """A readable summary of an :class:`~puckboard.control.episode.EpisodeResult`."""
+    """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
     d = result.to_dict()
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "

@@ -20,7 +20,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import (
+from .common import (
     CliError,
     add_web_arguments,
     bind_error_message,
@@ -116,7 +116,7 @@ def main(args: argparse.Namespace) -> int:
     check_seconds(args.stepping_timeout, "--stepping-timeout")
     check_seconds(args.idle_timeout, "--idle-timeout")
     try:
-        from ..remote.server import RemoteApiServer
+        from ..backends.coppeliasim.server.server import RemoteApiServer
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     try:
@@ -179,7 +179,7 @@ def main(args: argparse.Namespace) -> int:
     print(
         "Ctrl-C stops the server; clients coming and going are logged below", file=out, flush=True
     )
-    remote_log = logging.getLogger("puckboard.remote")
+    remote_log = logging.getLogger("puckboard.backends.coppeliasim.server")
     if remote_log.getEffectiveLevel() > logging.INFO:
         remote_log.setLevel(logging.INFO)  # a lecturer wants to see who connects
     try:
@@ -201,7 +201,7 @@ def main(args: argparse.Namespace) -> int:
 def _list_functions() -> int:
     """Print the served functions, one per line (the docs' table has their semantics)."""
     try:
-        from ..remote.simapi import SimApi
+        from ..backends.coppeliasim.server.simapi import SimApi
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     from ..scenario.scenefile import load_scene

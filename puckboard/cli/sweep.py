@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from . import CliError, check_seconds
+from .common import CliError, check_seconds
 
 DEFAULT_SCENARIO = "two-robot-pass"
 

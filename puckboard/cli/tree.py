@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import CliError
+from .common import CliError
 
 FORMATS = ("ascii", "unicode", "dot", "png", "svg")
 

@@ -29,19 +29,19 @@ import logging
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..adapters.registry import default_backend, open_backend
+from ..backends.registry import default_backend, open_backend
 from ..behaviours.controller import Controller
 from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
 from ..errors import SceneError
 from ..profile import get_profile
-from ..scenario.judge import Event, Judge, RobotMetrics
+from ..scenario.judge import Judge
+from ..scenario.result import EpisodeResult
 from ..scenario.scene import Scene
 from .loop import ControlLoop
 
@@ -49,7 +49,6 @@ __all__ = [
     "MAX_STEPS",
     "OVERRIDE_NAMES",
     "Episode",
-    "EpisodeResult",
     "apply_scene_overrides",
     "check_steps",
     "run_episode",
@@ -79,49 +78,6 @@ OVERRIDE_NAMES = (
 """The dotted names :class:`Episode` accepts in ``overrides``."""
 
 EpisodeObserver = Callable[["Episode"], None]
-
-
-@dataclass
-class EpisodeResult:
-    """The outcome of an episode; :meth:`to_dict` is the ``puckboard run --json`` object."""
-
-    scenario: str
-    controller: str
-    seed: int
-    dt_s: float
-    steps: int
-    sim_time_s: float
-    wall_s: float
-    success: bool
-    failure: str | None
-    robots: list[RobotMetrics] = field(default_factory=list)
-    events: list[Event] = field(default_factory=list)
-    #: every failure the judge detected, in order (``failure`` is the one reported)
-    failures: list[str] = field(default_factory=list)
-
-    @property
-    def realtime_factor(self) -> float:
-        """Simulated seconds per wall-clock second."""
-        return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
-
-    def to_dict(self) -> dict[str, Any]:
-        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
-        rtf = self.realtime_factor
-        return {
-            "scenario": self.scenario,
-            "controller": self.controller,
-            "seed": self.seed,
-            "dt_s": self.dt_s,
-            "steps": self.steps,
-            "sim_time_s": round(self.sim_time_s, 6),
-            "wall_s": round(self.wall_s, 6),
-            "realtime_factor": round(rtf, 3) if np.isfinite(rtf) else None,
-            "success": self.success,
-            "failure": self.failure,
-            "failures": list(self.failures),
-            "robots": [m.to_dict() for m in self.robots],
-            "events": [e.to_dict() for e in self.events],
-        }
 
 
 def check_steps(duration: float, dt: float) -> int:

@@ -19,7 +19,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from ..adapters.base import RobotAdapter, Stepper, declare_robot_keys
+from ..backends.base import RobotAdapter, Stepper, declare_robot_keys
 from ..behaviours.controller import Controller
 from ..records import Sensor
 

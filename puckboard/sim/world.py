@@ -1,7 +1,7 @@
 """The embedded simulator's world: robots, floor, obstacles, walls, sensors, one clock.
 
 A :class:`World` is built from a :class:`~puckboard.scenario.scene.Scene` and stepped
-synchronously (it satisfies the stepping protocol, :class:`~puckboard.adapters.base.Stepper`, every embedded robot
+synchronously (it satisfies the stepping protocol, :class:`~puckboard.backends.base.Stepper`, every embedded robot
 shares). Each :meth:`World.step`:
 
 1. turns each robot's wheel command into actual wheel speeds (clamped to the profile's

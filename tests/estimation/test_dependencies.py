@@ -33,5 +33,5 @@ def test_knowledge_imports_only_the_blackboard():
 
 def test_estimation_knows_no_adapter_or_simulator_and_loads_filterpy_on_use():
     mods = _modules_after("import puckboard.estimation")
-    assert not [m for m in mods if m.startswith(("puckboard.adapters", "puckboard.sim"))]
+    assert not [m for m in mods if m.startswith(("puckboard.backends", "puckboard.sim"))]
     assert "filterpy" not in mods and "scipy" not in mods  # imported when a filter is built

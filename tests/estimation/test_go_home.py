@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from puckboard.adapters.fake import FakeAdapter, FakeClock
+from puckboard.backends.fake import FakeAdapter, FakeClock
 from puckboard.behaviours import Controller, Cruise, GoHome
 from puckboard.blackboard import Blackboard
 from puckboard.control.loop import ControlLoop

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from puckboard.adapters.embedded import open_embedded
+from puckboard.backends.embedded import open_embedded
 from puckboard.bench.estimation import run_case
 from puckboard.blackboard import Blackboard
 from puckboard.estimation import GYRO_KEY, OdometrySource

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from puckboard.adapters.fake import FakeAdapter, FakeClock
+from puckboard.backends.fake import FakeAdapter, FakeClock
 from puckboard.behaviours import Controller, Cruise, Frame, Layer
 from puckboard.blackboard import Blackboard
 from puckboard.control.loop import ControlLoop

@@ -65,7 +65,7 @@ def test_start_jitter_is_drawn_once_from_the_seed():
 
 
 def test_the_full_stack_with_a_shipped_scene_is_reproducible():
-    from puckboard.adapters.embedded import open_embedded
+    from puckboard.backends.embedded import open_embedded
     from puckboard.behaviours import load_controller
     from puckboard.control.loop import ControlLoop
 
@@ -79,7 +79,7 @@ def test_the_full_stack_with_a_shipped_scene_is_reproducible():
 
 
 def test_a_camera_thread_rendering_during_the_run_changes_nothing():
-    from puckboard.adapters.embedded import open_embedded
+    from puckboard.backends.embedded import open_embedded
     from puckboard.behaviours import load_controller
     from puckboard.control.loop import ControlLoop
 

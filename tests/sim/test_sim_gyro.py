@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from simworld_helpers import empty_scene, robot
 
-from puckboard.adapters.embedded import EmbeddedAdapter, open_embedded
+from puckboard.backends.embedded import EmbeddedAdapter, open_embedded
 from puckboard.errors import NotSupportedError
 from puckboard.profile import EPUCK2
 from puckboard.records import AngularVelocity, Sensor

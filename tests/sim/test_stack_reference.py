@@ -14,7 +14,7 @@ import collections
 
 import pytest
 
-from puckboard.adapters.embedded import open_embedded
+from puckboard.backends.embedded import open_embedded
 from puckboard.behaviours import load_controller
 from puckboard.control.loop import ControlLoop
 from puckboard.scenario import load_scene

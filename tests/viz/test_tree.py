@@ -92,7 +92,7 @@ def test_the_tree_shown_in_the_docs_is_what_puckboard_tree_prints():
 
 def test_the_status_markers_the_tutorial_explains_are_py_trees_own():
     """docs/tutorial.md explains [o], -->, [-], [*] and [x]: they must be what prints."""
-    from puckboard.adapters import FakeAdapter
+    from puckboard.backends import FakeAdapter
 
     controller = improved()
     fresh = controller.ascii_tree()

@@ -1,0 +1,41 @@
+"""The ZeroMQ remote API (protocol version 2), served by the embedded simulator.
+
+CoppeliaSim's add-on "ZMQ remote API server" lets a client in any language call
+``sim.*`` functions over a ZeroMQ REQ/REP pair, one CBOR map per message. This package
+speaks that protocol for a served :class:`~puckboard.sim.world.World`, so the official
+client (``coppeliasim-zmqremoteapi-client``) and :class:`~puckboard.backends.coppeliasim.adapter.EPuckVRep`
+drive our simulator exactly as they would drive CoppeliaSim, and a lecturer can serve one
+simulation to a whole class (``puckboard serve``).
+
+One concept per module:
+
+* :mod:`.codec` — frames: CBOR decoding and validation of requests, encoding of replies;
+* :mod:`.objects` — the served scene's object tree: handles, deprecated names, alias paths;
+* :mod:`.frames` — 3-D rigid transforms in CoppeliaSim's forms (matrix, quaternion, Euler);
+* :mod:`.seen` — which object a proximity sensor sees, and where;
+* :mod:`.vision` — the served vision sensors' images, byte for byte;
+* :mod:`.simapi` — the dispatch table: the only ``sim.*`` functions a client can reach;
+* :mod:`.clients` — per-client state and the stepping gate;
+* :mod:`.server` — the ZeroMQ socket loop (:class:`RemoteApiServer`);
+* :mod:`.perf` — the thesis's performance scenarios as a benchmark.
+
+Nothing here is imported by ``import puckboard``; ``zmq`` and ``cbor2`` load with
+:mod:`.server` and :mod:`.codec`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+__all__ = ["RemoteApiServer", "serve_scene"]
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .server import RemoteApiServer, serve_scene
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from . import server
+
+        return getattr(server, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

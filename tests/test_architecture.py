@@ -1,0 +1,235 @@
+"""The dependency rules of ARCHITECTURE.md, checked on the source, and a light import."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import puckboard
+
+PKG = Path(puckboard.__file__).parent
+
+
+def imported_puckboard_modules(path: Path) -> set[str]:
+    """Absolute names of the puckboard modules a file imports (relative imports resolved).
+
+    ``from pkg import name`` gives ``pkg.name``, and ``pkg`` too unless ``pkg.name`` is a
+    module of its own (then the package's ``__init__`` is only passed through)."""
+    rel = path.relative_to(PKG.parent).with_suffix("")
+    parts = list(rel.parts)
+    package = parts[:-1]  # the package a module (or __init__) lives in
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names if a.name.startswith("puckboard"))
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - node.level + 1]
+                name = ".".join(base + ([node.module] if node.module else []))
+            else:
+                name = node.module or ""
+            if name.startswith("puckboard"):
+                subs = {f"{name}.{a.name}" for a in node.names}
+                out.update(subs)
+                if not all(_is_module(s) for s in subs):
+                    out.add(name)
+    return out
+
+
+def _is_module(name: str) -> bool:
+    rel = Path(*name.split(".")[1:])
+    return (PKG / rel).with_suffix(".py").is_file() or (PKG / rel / "__init__.py").is_file()
+
+
+def files_of(subpackage: str) -> list[Path]:
+    root = PKG / subpackage
+    return sorted(root.rglob("*.py")) if root.is_dir() else [PKG / f"{subpackage}.py"]
+
+
+@pytest.mark.parametrize(
+    ("subpackage", "forbidden"),
+    [
+        ("blackboard", ("puckboard.",)),  # imports nothing else of puckboard
+        (
+            "behaviours",
+            ("puckboard.backends", "puckboard.sim", "puckboard.control", "puckboard.cli"),
+        ),
+        (
+            "sim",
+            (
+                "puckboard.behaviours",
+                "puckboard.control",
+                "puckboard.cli",
+                "puckboard.backends",
+            ),
+        ),
+        (
+            "scenario",
+            (
+                "puckboard.sim",
+                "puckboard.backends",
+                "puckboard.behaviours",
+                "puckboard.control",
+                "puckboard.cli",
+            ),
+        ),
+        # a backend holds both ends of its wire and nothing that runs a controller
+        ("backends", ("puckboard.cli", "puckboard.behaviours", "puckboard.control")),
+        ("control", ("puckboard.cli",)),
+        ("records", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
+        ("profile", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
+    ],
+)
+def test_dependencies_point_one_way(subpackage, forbidden):
+    offenders = []
+    for path in files_of(subpackage):
+        for name in imported_puckboard_modules(path):
+            if subpackage == "blackboard" and name.startswith("puckboard.blackboard"):
+                continue
+            if any(
+                name == f.rstrip(".")
+                or name.startswith(f.rstrip(".") + ".")
+                or (f.endswith(".") and name.startswith(f))
+                for f in forbidden
+            ):
+                offenders.append(f"{path.relative_to(PKG.parent)} imports {name}")
+    assert offenders == []
+
+
+@pytest.mark.parametrize("subpackage", ["backends", "control", "viz", "sweep", "web"])
+def test_backends_use_the_engine_only_through_its_world(subpackage):
+    """Outside the engine, only ``World`` is imported: the rest of sim/ is its internals."""
+    allowed = {"puckboard.sim.world", "puckboard.sim.world.World"}
+    offenders = [
+        f"{p.relative_to(PKG.parent)} imports {n}"
+        for p in files_of(subpackage)
+        for n in imported_puckboard_modules(p)
+        if (n == "puckboard.sim" or n.startswith("puckboard.sim.")) and n not in allowed
+    ]
+    assert offenders == []
+
+
+def _module_name(path: Path) -> str:
+    rel = path.relative_to(PKG.parent).with_suffix("")
+    parts = list(rel.parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Module → the puckboard modules it imports (any import: top, function or TYPE_CHECKING).
+
+    ``from pkg import name`` counts as importing ``pkg.name`` when that is a module, else
+    ``pkg``. A package's ``__init__`` re-exporting its own submodules is left out: that
+    is how a package presents itself, not a dependency running back up.
+    """
+    modules = {_module_name(p): p for p in PKG.rglob("*.py")}
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        targets = set()
+        for imported in imported_puckboard_modules(path):
+            while imported and imported not in modules:
+                imported = imported.rpartition(".")[0]
+            if imported and imported != name:
+                targets.add(imported)
+        if path.name == "__init__.py":
+            targets = {t for t in targets if not t.startswith(name + ".")}
+        graph[name] = targets
+    return graph
+
+
+def test_the_import_graph_has_no_circle():
+    graph = _import_graph()
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles: list[list[str]] = []
+
+    def visit(v: str) -> None:  # Tarjan's strongly connected components
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    sys.setrecursionlimit(10_000)
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    assert circles == []
+
+
+def test_no_module_imports_its_own_package_init():
+    """A module that imports the ``__init__`` of a package it lives in runs back up."""
+    offenders = []
+    for path in PKG.rglob("*.py"):
+        if path.name == "__init__.py":
+            continue
+        name = _module_name(path)
+        packages = {name.rsplit(".", k)[0] for k in range(1, name.count(".") + 1)}
+        for imported in imported_puckboard_modules(path):
+            if imported in packages and imported != "puckboard":
+                offenders.append(f"{path.relative_to(PKG.parent)} imports {imported}")
+    assert offenders == []
+
+
+def test_no_file_of_the_package_is_over_about_600_lines():
+    lengths = {
+        str(p.relative_to(PKG.parent)): len(p.read_text(encoding="utf-8").splitlines())
+        for p in PKG.rglob("*.py")
+    }
+    assert {name: n for name, n in lengths.items() if n > 650} == {}
+
+
+def test_no_core_module_imports_the_cli():
+    offenders = [
+        f"{p.relative_to(PKG.parent)} imports {n}"
+        for p in PKG.rglob("*.py")
+        if "cli" not in p.relative_to(PKG).parts and p.name != "__main__.py"
+        for n in imported_puckboard_modules(p)
+        if n.startswith("puckboard.cli")
+    ]
+    assert offenders == []
+
+
+def test_import_puckboard_loads_no_heavy_or_optional_package():
+    code = (
+        "import sys, puckboard\n"
+        "heavy = ['numpy', 'py_trees', 'matplotlib', 'zmq', 'serial', 'rich', 'dask', 'filterpy', 'aiohttp']\n"
+        "print(','.join(m for m in heavy if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
+
+
+def test_library_code_never_prints():
+    offenders = []
+    for p in PKG.rglob("*.py"):
+        if "cli" in p.relative_to(PKG).parts or p.name == "__main__.py":
+            continue
+        for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "print":
+                offenders.append(f"{p.relative_to(PKG.parent)}:{node.lineno}")
+    assert offenders == []
+
+
+def test_package_is_typed():
+    assert (PKG / "py.typed").is_file()
