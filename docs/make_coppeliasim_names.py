@@ -1,4 +1,4 @@
-"""Regenerate ``puckboard/backends/coppeliasim/server/coppeliasim_sim.json``: the names of CoppeliaSim's ``sim`` API.
+"""Regenerate ``puckboard/backends/coppeliasim/server/api/coppeliasim_sim.json``: the names of CoppeliaSim's ``sim`` API.
 
 ``puckboard serve`` lists CoppeliaSim's whole ``sim`` namespace to a client (the official
 client only creates ``sim.<name>`` for names the server lists), so a call to a function
@@ -30,7 +30,10 @@ import re
 import subprocess
 from pathlib import Path
 
-OUT = Path(__file__).resolve().parents[1] / "puckboard" / "remote" / "coppeliasim_sim.json"
+OUT = (
+    Path(__file__).resolve().parents[1]
+    / "puckboard" / "backends" / "coppeliasim" / "server" / "api" / "coppeliasim_sim.json"
+)
 
 _REGISTERED = re.compile(r'\{"sim\.([A-Za-z0-9_]+)",\s*([^}]+?)\s*\}')
 _LUA_FUNCTION = re.compile(r"^\s*function sim\.([A-Za-z0-9_]+)\s*\(|^\s*sim\.([A-Za-z0-9_]+)\s*=\s*function", re.M)

@@ -208,7 +208,7 @@ def test_switch_backend_coppeliasim_line_drives_a_served_simulation() -> None:
     pytest.importorskip("zmq")
     pytest.importorskip("cbor2")
     pytest.importorskip("coppeliasim_zmqremoteapi_client")
-    from puckboard.backends.coppeliasim.server.server import serve_scene
+    from puckboard.backends.coppeliasim.server.socket_loop import serve_scene
 
     example = load("switch_backend")
     server = serve_scene("line-follow", host="127.0.0.1", port=0)

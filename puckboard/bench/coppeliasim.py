@@ -185,7 +185,7 @@ def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, 
     # Both sides need the coppeliasim extra: import them now, so a missing package is
     # an ImportError naming it (the suite is then skipped) rather than a server process
     # that dies before its banner.
-    importlib.import_module("puckboard.backends.coppeliasim.server.server")
+    importlib.import_module("puckboard.backends.coppeliasim.server.socket_loop")
     importlib.import_module("coppeliasim_zmqremoteapi_client")
     cycles = steps or 300
     port, stop = _start_server(server)
@@ -224,7 +224,7 @@ def _row_name(key: str) -> str:
 
 def _start_server(mode: str) -> tuple[int, Callable[[], None]]:
     if mode == "thread":
-        from ..backends.coppeliasim.server.server import RemoteApiServer
+        from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
         from ..scenario.scenefile import load_scene
 
         srv = RemoteApiServer(load_scene("line-follow"), host="127.0.0.1", port=0).start()

@@ -68,7 +68,8 @@ SUITE_OPTIONS = (
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..bench import DEFAULT_SUITES, SUITES, format_results, run_suites, suite_options
+    from ..bench import DEFAULT_SUITES, SUITES, run_suites, suite_options
+    from ..bench.report import format_results
 
     if args.list:
         for name, target in SUITES.items():

@@ -116,7 +116,7 @@ def main(args: argparse.Namespace) -> int:
     check_seconds(args.stepping_timeout, "--stepping-timeout")
     check_seconds(args.idle_timeout, "--idle-timeout")
     try:
-        from ..backends.coppeliasim.server.server import RemoteApiServer
+        from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     try:

@@ -30,7 +30,7 @@ scalar measurement the Kalman equations are a dozen multiplications per sensor: 
 Python floats, all eight sensors took 20-40 µs; the same equations vectorised over the
 eight sensors with numpy took 65-113 µs, because every numpy call has a fixed overhead of
 a microsecond or two and eight elements never amortise it (``costs`` in
-``python -m puckboard.bench.estimation``; absolute figures move with the machine's
+``puckboard bench --suite estimation``; absolute figures move with the machine's
 load, the ratios do not). So: plain floats, one loop over the sensors, the equations
 written out as above. The pose filter is different: one 3-state filter per robot,
 where filterpy's clarity is worth its 0.1 ms.

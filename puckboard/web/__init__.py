@@ -43,7 +43,8 @@ def watch_episode(
 
 
 def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
-    """Serve a live view of a :class:`~puckboard.backends.coppeliasim.server.server.RemoteApiServer`'s world;
+    """Serve a live view of a
+    :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`'s world;
     returns the started :class:`~puckboard.web.server.WebView`."""
     from .server import WebView
     from .state import ServerFollower

@@ -15,8 +15,9 @@ The page draws three things, each sent as it changes:
 :class:`EpisodeFollower` builds them from a :class:`~puckboard.control.episode.Episode`
 (``puckboard run --web``) reading only the blackboard and the scene, like every other
 visual tool; :class:`ServerFollower` from a
-:class:`~puckboard.backends.coppeliasim.server.server.RemoteApiServer` (``puckboard serve --web``), where the
-layer in control is what each client publishes as the string signal ``<model>.layer``.
+:class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`
+(``puckboard serve --web``), where the layer in control is what each client publishes as
+the string signal ``<model>.layer``.
 Both only read: the simulation is the same with or without a page watching it.
 
 Colours and event words come from :mod:`puckboard.viz.style`, as in the other figures.

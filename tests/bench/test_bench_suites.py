@@ -7,6 +7,7 @@ import json
 import pytest
 
 from puckboard import bench
+from puckboard.bench import report
 from puckboard.cli import main
 
 
@@ -47,21 +48,23 @@ def test_core_suite_json_has_both_sides_of_each_comparison(capsys):
 
 @pytest.mark.slow
 def test_sim_suite_reports_rate_split_and_camera():
-    res = bench.sim_suite(10)
+    from puckboard.bench.sim import run_suite
+
+    res = run_suite(10)
     assert res["steps_per_s"] > 0
     assert res["realtime_factor"] == pytest.approx(res["steps_per_s"] * res["dt_s"])
     assert len(res["cost_us_per_step"]) == 4
     assert len(res["cpu_us_per_step"]) == 3
     assert res["camera_us_per_frame"] > 0
-    text = bench.format_results({"machine": bench.machine(), "suites": {"sim": res}})
+    text = report.format_results({"machine": bench.machine(), "suites": {"sim": res}})
     assert "steps_per_s" in text and "camera_us_per_frame" in text
 
 
 def test_table_shows_records_one_block_each_and_cuts_long_lists():
     rows = [
-        {"seed": k, "errors": {"final_m": 0.001 * k}} for k in range(bench.TABLE_LIST_LIMIT + 3)
+        {"seed": k, "errors": {"final_m": 0.001 * k}} for k in range(report.TABLE_LIST_LIMIT + 3)
     ]
-    text = bench.format_results({"machine": {}, "suites": {"demo": {"rows": rows}}})
+    text = report.format_results({"machine": {}, "suites": {"demo": {"rows": rows}}})
     assert f"rows: {len(rows)} records" in text
     assert "final_m" in text and "{" not in text
     assert "3 more (see --json)" in text

@@ -52,7 +52,7 @@ def hide_module(monkeypatch: pytest.MonkeyPatch, name: str, *dependents: str) ->
 
 # -- 1. missing optional extras ---------------------------------------------------------------
 def test_serve_without_pyzmq_names_the_coppeliasim_extra(monkeypatch, capsys):
-    hide_module(monkeypatch, "zmq", "puckboard.backends.coppeliasim.server.server")
+    hide_module(monkeypatch, "zmq", "puckboard.backends.coppeliasim.server.socket_loop")
     assert main(["serve", "--port", "0"]) == 2
     line = one_error_line(capsys, "serve")
     assert "zmq" in line and "pip install 'puckboard[coppeliasim]'" in line
@@ -73,7 +73,7 @@ def test_run_monitor_without_rich_names_the_cli_extra(monkeypatch, capsys):
 
 
 def test_bench_coppeliasim_suite_without_pyzmq_is_skipped_naming_the_extra(monkeypatch, capsys):
-    hide_module(monkeypatch, "zmq", "puckboard.backends.coppeliasim.server.server")
+    hide_module(monkeypatch, "zmq", "puckboard.backends.coppeliasim.server.socket_loop")
     assert main(["bench", "--suite", "coppeliasim", "--steps", "1", "--json"]) == 0
     skipped = json.loads(capsys.readouterr().out)["suites"]["coppeliasim"]["skipped"]
     assert "zmq" in skipped and "pip install 'puckboard[coppeliasim]'" in skipped

@@ -4,13 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from puckboard.bench.estimation import (
-    VARIANTS,
-    measure_proximity,
-    plot_traces,
-    run_case,
-    summarise,
-)
+from puckboard.bench.estimation.plot import plot_traces
+from puckboard.bench.estimation.proximity import measure_proximity
+from puckboard.bench.estimation.suite import summarise
+from puckboard.bench.estimation.trial import VARIANTS, run_case
 
 
 def test_short_run_compares_estimates_with_ground_truth():

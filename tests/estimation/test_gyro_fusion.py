@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from puckboard.backends.embedded import open_embedded
-from puckboard.bench.estimation import run_case
+from puckboard.bench.estimation.trial import run_case
 from puckboard.blackboard import Blackboard
 from puckboard.estimation import GYRO_KEY, OdometrySource
 from puckboard.records import AngularVelocity, Sensor, WheelEncoders

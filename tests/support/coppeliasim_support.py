@@ -5,7 +5,7 @@ from __future__ import annotations
 import socket
 from typing import Any
 
-from puckboard.backends.coppeliasim.server.server import RemoteApiServer
+from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
 from puckboard.scenario.scenefile import load_scene
 
 

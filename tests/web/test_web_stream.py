@@ -127,7 +127,7 @@ def test_the_same_seed_gives_the_same_run_watched_or_not():
 
 def test_a_served_world_shows_its_clients_layers_and_judge():
     pytest.importorskip("zmq")
-    from puckboard.backends.coppeliasim.server.server import RemoteApiServer
+    from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
     from puckboard.scenario.scenefile import load_scene
 
     server = RemoteApiServer(load_scene("two-robot-pass"), host="127.0.0.1", port=0).start()

@@ -2,21 +2,10 @@
 
 This is the source framework's EPuckVRep, moved from the legacy ``simx`` API to the
 remote API of current CoppeliaSim (protocol version 2, CoppeliaSim ≥ 4.6), spoken by
-the official client ``coppeliasim-zmqremoteapi-client`` (2.0.x, imported only here).
+the official client through a :class:`~.link.RemoteLink` (a deadline on every call, one
+connection for many robots) and stepped by a :class:`~.stepper.RemoteStepper`; the robot
+is found by either style of name (:mod:`.naming`). What the adapter itself adds:
 
-What the adapter adds to the bare client:
-
-* **A deadline on every call.** The 2.0.4 client waits forever for an answer. Here its
-  socket gets a receive/send timeout (``timeout``, default 5 s), no linger and relaxed
-  REQ semantics, so a dead or vanished server raises :class:`~puckboard.errors.ConnectionLostError`
-  within the timeout, and a later call (the wheel stop on close) can still try once.
-* **One connection for many robots.** Robots of one process share a :class:`RemoteLink`
-  (one socket, one lock: the source framework's ``synchronized (lockAPI)``, §5.1.4) and
-  one :class:`RemoteStepper`, which calls ``sim.step`` once per control cycle.
-* **Names.** The robot is found by the stock model's names (``ePuck``, ``ePuck#0`` ...:
-  ``ePuck_leftJoint#0`` and so on) or by a CoppeliaSim 4.3+ alias path (``/ePuck[1]``:
-  ``/ePuck[1]/leftJoint``); if one style fails the other is tried, and a missing robot
-  is an error that lists every name looked for.
 * **Sense-all.** If the model's script has the ``puckboardSenseAll`` function (``puckboard
   serve`` has it; docs/coppeliasim.md gives the Lua for CoppeliaSim), every sensor comes
   in one round trip. Otherwise each sensor is read with its own calls (8 for the IR ring).
@@ -29,20 +18,16 @@ What the adapter adds to the bare client:
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
-import re
-import sys
-import threading
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ...blackboard import Blackboard, MissingValueError, Namespace
 from ...errors import AdapterError, ConnectionLostError
-from ...profile import EPUCK2, RobotProfile, get_profile
+from ...profile import EPUCK2, RobotProfile
 from ...records import (
     VREP_ORDER,
     CameraImage,
@@ -53,24 +38,15 @@ from ...records import (
     WheelEncoders,
     WheelSpeeds,
 )
-from ..base import Connection, RobotAdapter, Stepper
+from ..base import RobotAdapter
+from .link import DEFAULT_PORT, RemoteLink
+from .naming import robot_object_names, show_name
+from .stepper import RemoteStepper
 
-if TYPE_CHECKING:
-    from ...scenario.scene import Scene
-
-__all__ = [
-    "DEFAULT_PORT",
-    "SENSE_ALL_FUNCTION",
-    "EPuckVRep",
-    "RemoteLink",
-    "RemoteStepper",
-    "open_coppeliasim",
-    "robot_object_names",
-]
+__all__ = ["SENSE_ALL_FUNCTION", "EPuckVRep"]
 
 log = logging.getLogger(__name__)
 
-DEFAULT_PORT = 23000
 #: Name of the sense-all script function in the e-puck model's child script.
 SENSE_ALL_FUNCTION = "puckboardSenseAll"
 #: The stock model's light sensor: 16×2 pixels, of which its script reads three (as pixel
@@ -81,255 +57,10 @@ STOCK_LIGHT_PIXELS = (0, 7, 31)
 SET_WHEELS_FUNCTION = "puckboardSetWheels"
 SCRIPTTYPE_CHILD = 1
 HANDLE_WORLD = -1
-_LOST_RETRY_TIMEOUT = 0.5  # s: the one last try (wheel stop) after the connection was lost
 
 # ps index → V-REP sensor index (0 = ePuck_proxSensor1)
 _PS_FROM_VREP = np.array(VREP_ORDER)
 _VREP_FROM_PS = np.argsort(_PS_FROM_VREP)
-
-
-class RemoteLink:
-    """One connection to a remote API server, shared by every robot of a process.
-
-    Wraps the official client: every call holds :attr:`lock` and fails within
-    ``timeout`` seconds. Server-side errors (``{err: ...}``) become
-    :class:`~puckboard.errors.AdapterError` naming the function; silence becomes
-    :class:`~puckboard.errors.ConnectionLostError`, after which the link is *lost*:
-    further calls fail at once, except a ``last_try`` (used to stop the wheels).
-    """
-
-    def __init__(self, host: str = "127.0.0.1", port: int = DEFAULT_PORT, timeout: float = 5.0):
-        if not timeout > 0:
-            raise ValueError(f"timeout must be positive seconds, got {timeout}")
-        try:
-            import zmq
-            from coppeliasim_zmqremoteapi_client import RemoteAPIClient
-        except ImportError as exc:
-            raise ImportError(
-                f"the CoppeliaSim backend needs a missing package ({exc.name}); "
-                "install it with: pip install 'puckboard[coppeliasim]'"
-            ) from exc
-        self._zmq = zmq
-        self.host = host
-        self.port = port
-        self.timeout = float(timeout)
-        self.lock = threading.RLock()
-        self.lost: str | None = None
-        self._gave_up = False
-        self.closed = False
-        self.client = RemoteAPIClient(host, port)
-        _drop_main_require(self.client)
-        self._set_timeout(self.timeout)
-        sock = self.client.socket
-        sock.setsockopt(zmq.LINGER, 0)
-        # after a timeout a strict REQ socket refuses to send again; relaxed + correlated
-        # lets the next request go out and discards a late reply to the old one
-        sock.setsockopt(zmq.REQ_RELAXED, 1)
-        sock.setsockopt(zmq.REQ_CORRELATE, 1)
-        try:
-            self.call("zmqRemoteApi.require", ["sim"])
-            info = self.call("zmqRemoteApi.info", ["sim"])
-        except BaseException:
-            self.close()
-            raise
-        if not isinstance(info, dict):
-            self.close()
-            raise AdapterError(f"{self.endpoint} answered zmqRemoteApi.info with {info!r}")
-        #: Served ``sim`` function names (without the ``sim.`` prefix) and constants.
-        self.functions = frozenset(
-            k for k, v in info.items() if isinstance(v, dict) and "func" in v
-        )
-        self.constants = {
-            k: v["const"] for k, v in info.items() if isinstance(v, dict) and "const" in v
-        }
-        #: The official client's ``sim`` object, for calls this adapter does not wrap.
-        self.sim = self.client.getObject("sim", _info=info)
-
-    @property
-    def endpoint(self) -> str:
-        return f"tcp://{self.host}:{self.port}"
-
-    def _set_timeout(self, seconds: float) -> None:
-        ms = max(1, int(seconds * 1000))
-        self.client.socket.setsockopt(self._zmq.RCVTIMEO, ms)
-        self.client.socket.setsockopt(self._zmq.SNDTIMEO, ms)
-
-    def has(self, function: str) -> bool:
-        return function.removeprefix("sim.") in self.functions
-
-    def call(self, func: str, args: Sequence[Any] = (), *, last_try: bool = False) -> Any:
-        """Call ``func`` with ``args``; see the class docstring for the errors."""
-        zmq = self._zmq
-        with self.lock:
-            if self.closed:
-                raise ConnectionLostError(f"connection to {self.endpoint} is closed")
-            retrying = self.lost is not None
-            if retrying:
-                if not last_try or self._gave_up:
-                    raise ConnectionLostError(self.lost)
-                self._set_timeout(min(self.timeout, _LOST_RETRY_TIMEOUT))
-            try:
-                result = self.client.call(func, list(args))
-                if retrying:
-                    log.info("the remote API at %s answers again", self.endpoint)
-                    self.lost = None
-                return result
-            except zmq.Again:
-                self._gave_up = retrying
-                self.lost = (
-                    f"no answer from the remote API at {self.endpoint} within "
-                    f"{self.timeout:g} s (calling {func}). Is CoppeliaSim running with its ZMQ "
-                    "remote API add-on enabled, or `puckboard serve` on that port?"
-                )
-                raise ConnectionLostError(self.lost) from None
-            except zmq.ZMQError as exc:
-                self.lost = f"connection to {self.endpoint} failed calling {func}: {exc}"
-                raise ConnectionLostError(self.lost) from None
-            except KeyError as exc:
-                raise AdapterError(
-                    f"{func}: the server at {self.endpoint} answered without {exc}; it may "
-                    "speak remote API protocol 1 (CoppeliaSim ≤ 4.5), which this client does not"
-                ) from None
-            except Exception as exc:
-                if type(exc) is Exception:  # the client's way of raising an `err` reply
-                    raise AdapterError(f"{func}: {exc}") from None
-                raise AdapterError(
-                    f"{func}: unreadable reply ({type(exc).__name__}: {exc})"
-                ) from exc
-            finally:
-                if retrying:
-                    self._set_timeout(self.timeout)
-
-    def close(self) -> None:
-        """Close the socket (no linger) and its context. Idempotent."""
-        with self.lock:
-            if self.closed:
-                return
-            self.closed = True
-            try:
-                self.client.socket.close(0)
-                self.client.context.term()
-            except Exception as exc:  # pragma: no cover - best effort
-                log.debug("closing the remote API client: %s", exc)
-
-
-def _drop_main_require(client: Any) -> None:
-    """The client stores its ``require`` in ``__main__``; remove it so the client (and its
-    socket) is not kept alive by a global after the adapter is closed."""
-    main = sys.modules.get("__main__")
-    fn = getattr(main, "require", None)
-    if fn is not None and getattr(fn, "__self__", None) is client:
-        with contextlib.suppress(AttributeError):
-            delattr(main, "require")
-
-
-class RemoteStepper(Stepper):
-    """The remote simulation in stepping mode: ``sim.setStepping(True)`` once, then one
-    ``sim.step()`` per step. Shared by every robot on the same :class:`RemoteLink`.
-
-    ``time`` is simulation time as last known: counted from completed steps and corrected
-    by every sense-all reply (which carries the simulation time).
-    """
-
-    def __init__(self, link: RemoteLink, *, dt: float | None = None) -> None:
-        self.link = link
-        self._dt = dt
-        self._time = 0.0
-        self.stepping = False
-
-    @property
-    def dt(self) -> float:
-        if self._dt is None:
-            self._dt = float(self.link.call("sim.getSimulationTimeStep"))
-        return self._dt
-
-    @property
-    def time(self) -> float:
-        return self._time
-
-    def note_time(self, t: float) -> None:
-        self._time = float(t)
-
-    def start(self) -> None:
-        if not self.stepping:
-            self.link.call("sim.setStepping", [True])
-            self.stepping = True
-        self.link.call("sim.startSimulation")
-        self._time = float(self.link.call("sim.getSimulationTime"))
-
-    def step(self, n: int = 1) -> None:
-        if n < 0:
-            raise ValueError(f"cannot step a negative number of times ({n})")
-        dt = self.dt
-        for _ in range(n):
-            self.link.call("sim.step")
-            self._time += dt
-
-    def stop(self) -> None:
-        """Stop the simulation (CoppeliaSim restores the scene; stepping ends)."""
-        self.link.call("sim.stopSimulation")
-        self.stepping = False
-
-    def release(self, *, stop: bool = False) -> None:
-        """Leave stepping mode (so others are not held back), optionally stopping; never raises."""
-        try:
-            if stop:
-                self.stop()
-            elif self.stepping:
-                self.link.call("sim.setStepping", [False])
-                self.stepping = False
-        except Exception as exc:
-            log.debug("releasing the remote simulation: %s", exc)
-
-
-def robot_object_names(object_path: str) -> list[dict[str, Any]]:
-    """The object names to try for robot ``object_path``, best first.
-
-    Each entry maps part → name (or ``(path, index)`` for the IR sensors of an alias
-    path): the deprecated V-REP names for ``ePuck#0``, alias paths for ``/ePuck[1]``,
-    and the other style as the second choice.
-    """
-    styles = []
-    m_name = re.fullmatch(r"(?P<model>[^/#\s]+)(?:#(?P<n>\d+))?", object_path)
-    m_path = re.fullmatch(r"/(?P<model>[^/\[\]{}]+)(?:\[(?P<k>\d+)\])?", object_path)
-    if m_name:
-        styles.append(_deprecated_names(m_name["model"], m_name["n"]))
-        k = 0 if m_name["n"] is None else int(m_name["n"]) + 1
-        styles.append(_alias_names(f"/{m_name['model']}[{k}]"))
-    elif object_path.startswith("/"):
-        styles.append(_alias_names(object_path))
-        if m_path:
-            k = int(m_path["k"] or 0)
-            styles.append(_deprecated_names(m_path["model"], None if k == 0 else str(k - 1)))
-    else:
-        raise ValueError(
-            f"robot object {object_path!r} is neither a V-REP name (ePuck, ePuck#0) "
-            "nor an alias path (/ePuck, /ePuck[1])"
-        )
-    return styles
-
-
-def _deprecated_names(model: str, n: str | None) -> dict[str, Any]:
-    suffix = "" if n is None else f"#{n}"
-    return {
-        "base": model + suffix,
-        "left": f"{model}_leftJoint{suffix}",
-        "right": f"{model}_rightJoint{suffix}",
-        "prox": [f"{model}_proxSensor{k}{suffix}" for k in range(1, 9)],
-        "light": f"{model}_lightSensor{suffix}",
-        "camera": f"{model}_camera{suffix}",
-    }
-
-
-def _alias_names(path: str) -> dict[str, Any]:
-    return {
-        "base": path,
-        "left": f"{path}/leftJoint",
-        "right": f"{path}/rightJoint",
-        "prox": [(f"{path}/proxSensor", k) for k in range(8)],
-        "light": f"{path}/lightSensor",
-        "camera": f"{path}/camera",
-    }
 
 
 class EPuckVRep(RobotAdapter):
@@ -424,14 +155,14 @@ class EPuckVRep(RobotAdapter):
                 if part == "prox":
                     handles = [self._lookup(n) for n in name]
                     found[part] = handles
-                    missing += [_show(n) for n, h in zip(name, handles) if h is None]
+                    missing += [show_name(n) for n, h in zip(name, handles) if h is None]
                 else:
                     found[part] = self._lookup(name)
                     if found[part] is None and part not in _OPTIONAL_PARTS:
-                        missing.append(_show(name))
+                        missing.append(show_name(name))
                 if part == "base" and found[part] is None:
                     break  # no such robot in this style: try the other one
-            tried += [_show(names["base"])] if found.get("base") is None else missing
+            tried += [show_name(names["base"])] if found.get("base") is None else missing
             if not missing:
                 log.debug("robot %r: found %s objects (%s)", self.name, object_path, names["base"])
                 self._drop_absent_sensors(found, names)
@@ -453,7 +184,7 @@ class EPuckVRep(RobotAdapter):
             if found.get(part) is None:
                 log.warning(
                     "robot %r: the model has no %s (%s); its %s sensor is not available",
-                    self.name, part, _show(names[part]), sensor.value,
+                    self.name, part, show_name(names[part]), sensor.value,
                 )  # fmt: skip
                 self.available_sensors = self.available_sensors - {sensor}
                 self._enabled.discard(sensor)
@@ -701,95 +432,3 @@ _OPTIONAL_PARTS = {"light": Sensor.GROUND, "camera": Sensor.CAMERA}
 def _ground(value: np.ndarray) -> Ground:
     v = np.clip(value, 0.0, 1.0)
     return Ground(v, v * 1023.0)
-
-
-def _show(name: Any) -> str:
-    return f"{name[0]} (index {name[1]})" if isinstance(name, tuple) else str(name)
-
-
-def open_coppeliasim(
-    scene: Scene | str,
-    *,
-    seed: int = 0,
-    host: str = "127.0.0.1",
-    port: int = DEFAULT_PORT,
-    timeout: float = 5.0,
-    robots: Sequence[str] | dict[str, str] | None = None,
-    blackboard: Blackboard | None = None,
-    stop_on_close: bool = True,
-    command_timeout: float | None = None,
-    sense_mode: str = "auto",
-    heading_offset: float = 0.0,
-) -> Connection:
-    """Connect the scene's robots, in order, to the e-pucks of a running simulation.
-
-    Robot ``i`` of ``scene`` drives the model ``ePuck`` (i = 0), ``ePuck#0`` (i = 1),
-    ``ePuck#1`` ... unless ``robots`` names them (a list in scene order, or a mapping
-    robot name → object name/alias path). All robots share one connection and one
-    :class:`RemoteStepper`. ``seed`` is accepted for the common factory signature; the
-    simulator's randomness is its own. On close the wheels are stopped, stepping is
-    released and, with ``stop_on_close``, the simulation is stopped (which restores the
-    scene, so the next run starts from the same poses); pass ``stop_on_close=False`` when
-    others share the simulation.
-    """
-    if isinstance(scene, str):
-        from ...scenario.scenefile import load_scene
-
-        scene = load_scene(scene)
-    names = [r.name for r in scene.robots]
-    if robots is None:
-        paths = ["ePuck" if i == 0 else f"ePuck#{i - 1}" for i in range(len(names))]
-    elif isinstance(robots, dict):
-        unknown = sorted(set(robots) - set(names))
-        if unknown:
-            raise ValueError(f"robots names {unknown} are not in scene {scene.name!r}: {names}")
-        paths = [
-            robots.get(n, "ePuck" if i == 0 else f"ePuck#{i - 1}") for i, n in enumerate(names)
-        ]
-    else:
-        paths = list(robots)
-        if len(paths) != len(names):
-            raise ValueError(
-                f"robots lists {len(paths)} objects for the {len(names)} robots of scene "
-                f"{scene.name!r} ({names})"
-            )
-    log.debug("open_coppeliasim: seed %d is not used by a remote simulator", seed)
-    link = RemoteLink(host, port, timeout)
-    stepper = RemoteStepper(link, dt=None)
-    board = blackboard if blackboard is not None else Blackboard(clock=lambda: stepper.time)
-    adapters: dict[str, RobotAdapter] = {}
-    try:
-        for spec, path in zip(scene.robots, paths):
-            adapters[spec.name] = EPuckVRep(
-                spec.name,
-                object_path=path,
-                link=link,
-                stepper=stepper,
-                profile=get_profile(spec.profile),
-                blackboard=board,
-                command_timeout=command_timeout,
-                sense_mode=sense_mode,
-                heading_offset=heading_offset,
-            )
-    except BaseException:
-        link.close()
-        raise
-    sim_dt = stepper.dt
-    if abs(sim_dt - scene.dt) > 1e-9:
-        log.warning(
-            "the simulation's time step is %.4g s but scene %r asks for %.4g s; the control "
-            "loop follows the simulation",
-            sim_dt, scene.name, scene.dt,
-        )  # fmt: skip
-    log.info(
-        "connected to %s: %s",
-        link.endpoint,
-        ", ".join(f"{n} → {p}" for n, p in zip(names, paths)),
-    )
-    return Connection(
-        adapters=adapters,
-        blackboard=board,
-        stepper=stepper,
-        world=None,
-        extra_close=[lambda: stepper.release(stop=stop_on_close), link.close],
-    )

@@ -18,7 +18,7 @@ pytest.importorskip("coppeliasim_zmqremoteapi_client")
 
 from coppeliasim_support import start_server, stop_server
 
-from puckboard.backends.coppeliasim.server.server import RemoteApiServer
+from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
 
 pytestmark = pytest.mark.network
 

@@ -9,7 +9,7 @@ import zmq
 from coppeliasim_support import stop_server
 from coppeliasim_zmqremoteapi_client import RemoteAPIClient
 
-from puckboard.backends.coppeliasim.server.server import RemoteApiServer
+from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
 from puckboard.profile import EPUCK_VREP
 from puckboard.scenario.scene import CircleObstacle, RobotSpec, Scene
 

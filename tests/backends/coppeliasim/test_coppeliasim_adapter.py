@@ -12,7 +12,9 @@ import pytest
 import zmq
 from coppeliasim_support import free_port, start_server, stop_server
 
-from puckboard.backends.coppeliasim.adapter import EPuckVRep, RemoteLink, open_coppeliasim
+from puckboard.backends.coppeliasim.adapter import EPuckVRep
+from puckboard.backends.coppeliasim.factory import open_coppeliasim
+from puckboard.backends.coppeliasim.link import RemoteLink
 from puckboard.backends.embedded import open_embedded
 from puckboard.errors import AdapterError, ConnectionLostError
 from puckboard.records import Sensor

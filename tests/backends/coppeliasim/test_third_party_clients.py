@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from coppeliasim_support import stop_server
 
-from puckboard.backends.coppeliasim.server.server import RemoteApiServer
+from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
 from puckboard.scenario.scenefile import load_scene, parse_scene_text
 
 pytestmark = pytest.mark.network

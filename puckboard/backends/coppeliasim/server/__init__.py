@@ -14,13 +14,14 @@ One concept per module:
 * :mod:`.frames` — 3-D rigid transforms in CoppeliaSim's forms (matrix, quaternion, Euler);
 * :mod:`.seen` — which object a proximity sensor sees, and where;
 * :mod:`.vision` — the served vision sensors' images, byte for byte;
+* :mod:`.api` — the served ``sim.*`` functions, one module per group of CoppeliaSim's manual;
 * :mod:`.simapi` — the dispatch table: the only ``sim.*`` functions a client can reach;
 * :mod:`.clients` — per-client state and the stepping gate;
-* :mod:`.server` — the ZeroMQ socket loop (:class:`RemoteApiServer`);
-* :mod:`.perf` — the thesis's performance scenarios as a benchmark.
+* :mod:`.socket_loop` — the ZeroMQ socket loop (:class:`RemoteApiServer`).
 
-Nothing here is imported by ``import puckboard``; ``zmq`` and ``cbor2`` load with
-:mod:`.server` and :mod:`.codec`.
+The thesis's performance scenarios are the ``coppeliasim`` benchmark suite
+(:mod:`puckboard.bench.coppeliasim`). Nothing here is imported by ``import puckboard``;
+``zmq`` and ``cbor2`` load with :mod:`.socket_loop` and :mod:`.codec`.
 """
 
 from __future__ import annotations
@@ -30,12 +31,12 @@ from typing import TYPE_CHECKING, Any
 __all__ = ["RemoteApiServer", "serve_scene"]
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .server import RemoteApiServer, serve_scene
+    from .socket_loop import RemoteApiServer, serve_scene
 
 
 def __getattr__(name: str) -> Any:
     if name in __all__:
-        from . import server
+        from . import socket_loop
 
-        return getattr(server, name)
+        return getattr(socket_loop, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

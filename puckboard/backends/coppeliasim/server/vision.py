@@ -24,9 +24,10 @@ import numpy as np
 import numpy.typing as npt
 
 if TYPE_CHECKING:
+    from ....scenario.scene import Scene
     from ....sim.world import World
 
-__all__ = ["LIGHT_SENSOR_RES", "aux_packet", "encode_image", "light_sensor_image"]
+__all__ = ["LIGHT_SENSOR_RES", "aux_packet", "encode_image", "light_sensor_image", "resolution"]
 
 #: Resolution of the stock model's light sensor (decoded V-REP model).
 LIGHT_SENSOR_RES = (16, 2)
@@ -36,6 +37,15 @@ LIGHT_SENSOR_SPAN = 0.022
 STOCK_PIXELS = ((0, 0), (0, 7), (1, 15))
 
 Image = npt.NDArray[np.uint8]
+
+
+def resolution(part: str, scene: Scene) -> tuple[int, int]:
+    """Width and height (pixels) of a robot's served vision sensor ``part``: the light
+    sensor's fixed 16×2, or the camera's size the scene asks for."""
+    if part == "light":
+        return LIGHT_SENSOR_RES
+    w, h = scene.camera_size
+    return int(w), int(h)
 
 
 def light_sensor_image(world: World, robot: int) -> Image:

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import zmq
 
 from ....profile import get_profile
+from .api.state import STEP_PENDING, ApiError
 from .clients import ClientState, ClientTable
 from .codec import (
     END,
@@ -40,7 +41,7 @@ from .codec import (
     return_reply,
     wait_reply,
 )
-from .simapi import STEP_PENDING, ApiError, SimApi
+from .simapi import SimApi
 
 if TYPE_CHECKING:
     from ....scenario.scene import Scene

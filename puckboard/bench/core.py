@@ -1,0 +1,108 @@
+"""The ``core`` suite: the blackboard and the arbiter, each next to its py_trees equivalent.
+
+puckboard's blackboard and its subsumption arbiter replace py_trees' blackboard clients
+and a ``Selector`` of four behaviours; a reader deciding whether that is worth it needs
+both sides measured the same way on the same machine: a put+get, and one tick of four
+layers reading sensors and writing a wheel command.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from .timing import REPEATS, seconds_per_call
+
+__all__ = ["run_suite"]
+
+
+def _median_us(fn: Callable[[], Any], calls: int) -> float:
+    return seconds_per_call(fn, calls) * 1e6
+
+
+def run_suite(steps: int | None = None) -> dict[str, Any]:
+    """Blackboard put+get and a 4-layer arbiter tick, each next to its py_trees equivalent."""
+    import numpy as np
+    import py_trees
+
+    from ..backends.base import declare_robot_keys
+    from ..behaviours import load_controller
+    from ..blackboard import Blackboard
+    from ..records import Ground, Pose, Proximity, Sensor
+
+    calls = steps or 5000
+    out: dict[str, Any] = {"calls_per_repeat": calls, "repeats": REPEATS}
+
+    board = Blackboard()
+    value = 1.0
+
+    def bb_put_get() -> None:
+        board.put("robot/x", value)
+        board.get("robot/x")
+
+    out["blackboard_put_get_us"] = _median_us(bb_put_get, calls)
+
+    py_trees.blackboard.Blackboard.clear()
+    client = py_trees.blackboard.Client(name="bench")
+    client.register_key("x", access=py_trees.common.Access.WRITE)
+
+    def pt_set_get() -> None:
+        client.set("x", value)
+        client.get("x")
+
+    out["py_trees_client_set_get_us"] = _median_us(pt_set_get, calls)
+
+    # the improved controller (4 layers) ticking on a namespace of fresh records
+    board2 = Blackboard(clock=lambda: 0.0)
+    ns = board2.namespace("epuck")
+    declare_robot_keys(ns)
+    prox = Proximity(np.array([0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05, 0.05]), np.zeros(8))
+    ns.put_many(
+        {
+            Sensor.PROXIMITY.key: prox,
+            Sensor.GROUND.key: Ground(np.array([0.9, 0.1, 0.9]), np.array([920.0, 100, 920])),
+            Sensor.POSE.key: Pose(0.0, 0.0, 0.0),
+        },
+        stamp=0.0,
+    )
+    controller = load_controller("improved")
+    out["arbiter_tick_us"] = _median_us(lambda: controller.tick(ns), calls)
+    out["arbiter_layers"] = len(controller.layers)
+    out["arbiter_active_layer"] = controller.active_layer
+
+    # the same shape in plain py_trees: 4 children reading via a Client, writing a command
+    py_trees.blackboard.Blackboard.clear()
+    writer = py_trees.blackboard.Client(name="sensors")
+    writer.register_key("ground", access=py_trees.common.Access.WRITE)
+    writer.register_key("proximity", access=py_trees.common.Access.WRITE)
+    writer.set("ground", (0.9, 0.1, 0.9))
+    writer.set("proximity", tuple([0.05] * 8))
+
+    class _Layer(py_trees.behaviour.Behaviour):
+        def __init__(self, name: str, key: str, wants: Callable[[Any], bool]) -> None:
+            super().__init__(name)
+            self.key = key
+            self.wants = wants
+            self.bb = self.attach_blackboard_client(name=name)
+            self.bb.register_key(key, access=py_trees.common.Access.READ)
+            self.bb.register_key("cmd", access=py_trees.common.Access.WRITE)
+
+        def update(self) -> py_trees.common.Status:
+            reading = self.bb.get(self.key)
+            if not self.wants(reading):
+                return py_trees.common.Status.FAILURE
+            self.bb.set("cmd", (1.0, 1.0))
+            return py_trees.common.Status.RUNNING
+
+    children = [
+        _Layer("avoid", "proximity", lambda p: min(p[0], p[7]) < 0.05),
+        _Layer("line", "ground", lambda g: min(g) < 0.5),
+        _Layer("wall", "proximity", lambda p: p[2] < 0.05),
+        _Layer("cruise", "ground", lambda g: True),
+    ]
+    root = py_trees.composites.Selector("arbiter", memory=False, children=children)
+    tree = py_trees.trees.BehaviourTree(root)
+    tree.setup()
+    out["py_trees_selector_tick_us"] = _median_us(tree.tick, calls)
+    py_trees.blackboard.Blackboard.clear()
+    return out
