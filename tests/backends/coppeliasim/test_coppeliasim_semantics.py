@@ -139,6 +139,90 @@ def test_parameters_and_images(make_client):
     assert len(window) == 12 and res == [16, 2]  # the sensor's resolution, as CoppeliaSim
 
 
+def test_visual_only_parameters_are_accepted_with_no_effect(make_client):
+    """What real clients call to tidy CoppeliaSim's view (hide the IR rays, colour the
+    hierarchy, place the camera's window) succeeds, as there, and changes nothing sensed."""
+    sim = make_client().require("sim")
+    sensors = [sim.getObject("/ePuck/proxSensor", {"index": k}) for k in range(8)]
+    joint = sim.getObject("/ePuck/leftJoint")
+    camera = sim.getObject("/ePuck/camera")
+    sim.setStepping(True)
+    sim.startSimulation()
+    sim.step()
+    before = [sim.readProximitySensor(s) for s in sensors]
+    for s in sensors:
+        assert sim.setObjectInt32Param(s, sim.proxintparam_ray_invisibility, 1) is None
+    sim.setObjectInt32Param(sim.getObject("/ePuck"), sim.objintparam_hierarchycolor, 2)
+    sim.setObjectInt32Param(camera, sim.visionintparam_windowed_size_x, 320)
+    sim.setObjectInt32Param(camera, sim.visionintparam_windowed_pos_y, 40)
+    # a wheel motor's own settings: nothing changes, as in CoppeliaSim
+    sim.setObjectInt32Param(joint, sim.jointintparam_motor_enabled, 1)
+    sim.setObjectInt32Param(joint, sim.jointintparam_ctrl_enabled, 0)
+    sim.setObjectInt32Param(joint, sim.jointintparam_dynctrlmode, sim.jointdynctrl_velocity)
+    assert [sim.readProximitySensor(s) for s in sensors] == before
+    sim.setObjectInt32Param(camera, sim.objintparam_visibility_layer, 70000)
+    assert sim.getObjectInt32Param(camera, sim.objintparam_visibility_layer) == 65535
+    sim.stopSimulation()
+
+
+# (object, its kind as a refusal names it, a parameter of that kind it cannot set)
+_KINDS = [
+    ("/ePuck", "a shape", "shapeintparam_respondable"),
+    ("/Floor", "a shape", "shapeintparam_static"),
+    ("/ePuck/leftJoint", "a joint", "jointintparam_ctrl_enabled"),
+    ("/ePuck/proxSensor", "a proximity sensor", "proxintparam_volume_type"),
+    ("/ePuck/lightSensor", "a vision sensor", "visionintparam_resolution_x"),
+    ("/ePuck/ledLight", "a light", "lightintparam_pov_casts_shadows"),
+    ("/Goal", "a dummy", "dummyintparam_follow_path"),
+]
+
+
+def test_every_parameter_refusal_names_the_objects_own_kind():
+    """A proximity sensor is not a joint: each refusal says what the object is, and only
+    a joint's mentions wheels."""
+    from coppeliasim_zmqremoteapi_client import RemoteAPIClient
+
+    srv = start_server("arena")
+    client = RemoteAPIClient("127.0.0.1", srv.port)
+    try:
+        client.socket.setsockopt(zmq.RCVTIMEO, 5000)
+        client.socket.setsockopt(zmq.LINGER, 0)
+        sim = client.require("sim")
+        for path, kind, own in _KINDS:
+            handle = sim.getObject(path)
+            name = sim.getObjectName(handle)
+            value = 1 if own != "jointintparam_ctrl_enabled" else 8
+            for func, args, wheels in (
+                (sim.setObjectInt32Param, (handle, getattr(sim, own), value), kind == "a joint"),
+                (sim.getObjectInt32Param, (handle, sim.proxintparam_entity_to_detect), False),
+            ):
+                with pytest.raises(Exception) as refused:
+                    func(*args)
+                message = str(refused.value)
+                assert f"{name} ({kind})" in message, message
+                assert ("wheel" in message) == wheels, message
+            # another kind's parameter: said to be that kind's, and what this object is
+            if kind != "a joint":
+                with pytest.raises(Exception) as refused:
+                    sim.setObjectInt32Param(handle, sim.jointintparam_motor_enabled, 0)
+                assert f"it is a joint's parameter, and {name} is {kind}" in str(refused.value)
+                assert "wheel" not in str(refused.value)
+        prox = sim.getObject("/ePuck/proxSensor")
+        with pytest.raises(Exception, match=r"\(a proximity sensor\) cannot be moved: it is part"):
+            sim.setObjectPosition(prox, [0.0, 0.0, 0.0])
+        with pytest.raises(Exception, match=r"Floor \(a shape\) cannot be moved: puckboard"):
+            sim.setObjectPosition(sim.getObject("/Floor"), [0.0, 0.0, 0.0])
+        with pytest.raises(Exception, match=r"\(a proximity sensor\) has no child script"):
+            sim.getScript(sim.scripttype_childscript, prox)
+        with pytest.raises(Exception, match="is a joint, not a proximity sensor"):
+            sim.readProximitySensor(sim.getObject("/ePuck/leftJoint"))
+        with pytest.raises(Exception, match="is a proximity sensor, not a vision sensor"):
+            sim.getVisionSensorRes(prox)
+    finally:
+        client.socket.close(0)
+        stop_server(srv)
+
+
 def test_dummies_move_and_robots_do_not():
     srv = start_server("arena")
     try:
@@ -152,7 +236,7 @@ def test_dummies_move_and_robots_do_not():
         assert sim.getObjectPosition(goal, sim.handle_world) == pytest.approx([0.1, -0.2, 0.0])
         sim.setObjectPosition(goal, sim.handle_world, [0.2, 0.2, 0.0])  # pre-4.5 order
         assert sim.getObjectPosition(goal, sim.handle_world) == pytest.approx([0.2, 0.2, 0.0])
-        with pytest.raises(Exception, match="moves robots only through their wheels"):
+        with pytest.raises(Exception, match="the served robot ePuck, which moves only through"):
             sim.setObjectPosition(sim.getObject("/ePuck"), [0.0, 0.0, 0.0])
         sim.stopSimulation()  # restores the scene, dummies included
         assert sim.getObjectPosition(goal, sim.handle_world) == pytest.approx([0.35, 0.25, 0.0])

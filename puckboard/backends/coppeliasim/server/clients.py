@@ -21,6 +21,11 @@ A client that is waiting inside ``sim.step`` is never silent: the server holds i
 ``_*executed*_`` and answers it with a ``_*wait*_`` heartbeat now and then, and each new
 ``_*executed*_`` counts as a sign of life. A client that stops answering the heartbeat
 is treated like any other silent client.
+
+What each client last did, and how many of its ``sim.step`` calls came while the
+simulation was not running, is kept so that the server can say *who* holds a class back
+and why (a loop that began before the simulation started ends early, and its client
+leaves while still stepping).
 """
 
 from __future__ import annotations
@@ -54,6 +59,18 @@ class ClientState:
     released: bool = False
     #: Robots whose wheels this client commanded (stopped when it is forgotten).
     robots: set[int] = field(default_factory=set)
+    #: The last ``sim.*`` function it called, and when.
+    last_call: str = ""
+    last_call_at: float = 0.0
+    #: Its ``sim.step`` calls, and how many came while the simulation was not running.
+    steps: int = 0
+    idle_steps: int = 0
+    #: When its pending ``sim.step`` began (valid while ``waiting``).
+    wait_since: float = 0.0
+    #: Warnings the server gives once per client: it stepped while the simulation was
+    #: not running; it held the other stepping clients back.
+    warned_idle_step: bool = False
+    warned_holding: bool = False
 
     @property
     def short(self) -> str:

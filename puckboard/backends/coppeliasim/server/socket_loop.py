@@ -14,6 +14,12 @@ the answer is an ``err`` reply or silence, never an exception out of the loop.
 
 When the simulation runs and no client steps it, it advances in real time, like
 CoppeliaSim's free-running mode.
+
+A class of stepping clients can freeze for a reason no student sees: one client's
+loop ended and left while it was still stepping, and everybody waits for it until its
+idle timeout. When stepping clients have waited ``stall_warning`` seconds for a client,
+the server logs a warning naming that client (its short id, as the log and the web view
+show it) and what it last did, once per client.
 """
 
 from __future__ import annotations
@@ -70,7 +76,8 @@ class RemoteApiServer:
     of the e-puck's script, as in a CoppeliaSim whose model lacks them.
     ``stepping_timeout=None`` (CoppeliaSim's behaviour) lets a silent stepping client hold
     the simulation until its idle timeout (``max_idle`` at most); a number frees the
-    others after that many silent seconds.
+    others after that many silent seconds. ``stall_warning`` is how long stepping clients
+    wait for another before the server names it in a warning.
     """
 
     def __init__(
@@ -84,12 +91,16 @@ class RemoteApiServer:
         stepping_timeout: float | None = None,
         max_idle: float = 600.0,
         heartbeat: float = 0.25,
+        stall_warning: float = 5.0,
         realtime: bool = True,
         profile: str | None = "epuck-vrep",
         script_functions: bool = True,
     ) -> None:
-        if heartbeat <= 0:
-            raise ValueError(f"heartbeat must be positive seconds, got {heartbeat}")
+        if heartbeat <= 0 or stall_warning <= 0:
+            raise ValueError(
+                f"heartbeat and stall_warning must be positive seconds, got {heartbeat} and "
+                f"{stall_warning}"
+            )
         if profile is not None:
             scene = scene.with_profile(get_profile(profile).name)
         self.api = SimApi(
@@ -98,6 +109,7 @@ class RemoteApiServer:
         self.clients = ClientTable(stepping_timeout=stepping_timeout, max_idle=max_idle)
         self.host = host
         self.heartbeat = heartbeat
+        self.stall_warning = stall_warning
         self.realtime = realtime
         self.requests = 0
         self.errors = 0
@@ -127,6 +139,8 @@ class RemoteApiServer:
         self._thread: threading.Thread | None = None
         self._closed = False
         self._next_free_step = 0.0
+        #: When the stepping clients last saw progress (a step, a start, a new stepper).
+        self._progress_at = 0.0
         self._free_running = False
         self._observers: list[Callable[[RemoteApiServer], None]] = []
         self._last_notified = -math.inf
@@ -292,6 +306,8 @@ class RemoteApiServer:
     def _call(
         self, client: ClientState, envelope: list[bytes], func: str, args: list[Any], now: float
     ) -> None:
+        client.last_call = func
+        client.last_call_at = now
         try:
             result = self.api.call(client, func, args)
         except ApiError as exc:
@@ -304,6 +320,7 @@ class RemoteApiServer:
             self._send(envelope, error_reply(f"{func} failed: {type(exc).__name__}: {exc}"))
             return
         if result is STEP_PENDING:
+            client.wait_since = now
             self._pump(now)
             if client.waiting:
                 self._send(envelope, wait_reply())
@@ -317,6 +334,7 @@ class RemoteApiServer:
                 self._finish(waiting)
         elif func in ("sim.setStepping", "sim.startSimulation"):
             self._next_free_step = now
+            self._progress_at = now
             self._pump(now)
 
     def _executed(self, client: ClientState, envelope: list[bytes], now: float) -> None:
@@ -350,6 +368,7 @@ class RemoteApiServer:
     def _advance(self, now: float) -> None:
         """One step; then answer every client whose awaited step it was."""
         self.api.advance()
+        self._progress_at = now
         if self._observers:
             self._notify(now)
         for client in self.clients.done_waiting(self.api.step_count):
@@ -375,9 +394,11 @@ class RemoteApiServer:
             self._notify(now)
         if not api.advancing:
             return
-        if self.clients.gating(now):
+        gating = self.clients.gating(now)
+        if gating:
             self._pump(now)  # a silent client may just have stopped gating
             self._next_free_step = now
+            self._warn_of_holders(gating, now)
         elif self.realtime:
             self._free_running = True
             if now >= self._next_free_step:
@@ -385,6 +406,44 @@ class RemoteApiServer:
                 self._next_free_step += api.world.dt
                 if now - self._next_free_step > 1.0:  # fell behind: do not race to catch up
                     self._next_free_step = now + api.world.dt
+
+    def _warn_of_holders(self, gating: list[ClientState], now: float) -> None:
+        """Name, once, each stepping client the others have waited for too long."""
+        waiting = [c for c in gating if c.waiting]
+        if not waiting:
+            return
+        since = max(min(c.wait_since for c in waiting), self._progress_at)
+        if now - since < self.stall_warning:
+            return
+        for holder in gating:
+            if holder.waiting or holder.warned_holding:
+                continue
+            holder.warned_holding = True
+            if self.clients.stepping_timeout is None:
+                way_out = (
+                    "puckboard serve --stepping-timeout S frees the others after S silent seconds"
+                )
+            else:
+                way_out = (
+                    f"--stepping-timeout frees the others once it has been silent for "
+                    f"{self.clients.stepping_timeout:g} s"
+                )
+            last = (
+                f"its last call was {holder.last_call}, {now - holder.last_call_at:.1f} s ago"
+                if holder.last_call
+                else "it has called no sim function"
+            )
+            log.warning(
+                "%s waited %.1f s in sim.step for client %s, which has not asked for the next "
+                "step; %s (%d sim.step calls, %d of them while the simulation was not "
+                "running). A stepping client that ended its loop without "
+                "sim.setStepping(False), crashed or sits at a breakpoint holds everybody back "
+                "until its idle timeout (%.0f s); %s",
+                "1 stepping client has" if len(waiting) == 1
+                else f"{len(waiting)} stepping clients have",
+                now - since, holder.short, last, holder.steps, holder.idle_steps,
+                holder.idle_timeout, way_out,
+            )  # fmt: skip
 
     def _forget_expired(self, client: ClientState) -> None:
         for robot in sorted(client.robots):

@@ -19,7 +19,7 @@ from ..frames import Frame
 from ..objects import DUMMY, ServedObject
 from .checks import vector
 from .names import HANDLE_PARENT, HANDLE_WORLD
-from .state import ApiError, ServedState
+from .state import ApiError, ServedState, kind_words
 
 __all__ = ["PoseFunctions"]
 
@@ -85,11 +85,16 @@ class PoseFunctions(ServedState):
             value, rel = rel, value  # the pre-4.5 argument order (handle, rel, value)
         obj = self._object(handle, func)
         if obj.kind != DUMMY:
+            if obj.robot is None:
+                why = "puckboard serve keeps the scene's shapes where the scene puts them"
+            else:
+                robot = self.objects.bases[obj.robot].name
+                part = "the served robot" if obj.model else "part of the served robot"
+                why = f"it is {part} {robot}, which moves only through its wheels"
             raise ApiError(
-                f"{func}: {obj.name} cannot be moved: puckboard serve moves robots only "
-                f"through their wheels and keeps the scene's shapes where the scene puts "
-                f"them; only dummies ({', '.join(self._dummy_names()) or 'none in this scene'}) "
-                f"can be placed"
+                f"{func}: {obj.name} ({kind_words(obj.kind)}) cannot be moved: {why}; only "
+                f"dummies ({', '.join(self._dummy_names()) or 'none in this scene'}) can be "
+                "placed"
             )
         if isinstance(rel, bool) or not isinstance(rel, int):
             raise ApiError(f"bad argument #3 to '{func}' (relativeToObjectHandle: integer expected)")

@@ -19,7 +19,7 @@ from .....records import VREP_ORDER
 from ..clients import ClientState
 from .checks import number, type_name
 from .names import SCRIPTTYPE_CHILD
-from .state import ApiError, ServedState
+from .state import ApiError, ServedState, kind_words
 
 __all__ = ["SCRIPT_API", "SENSE_ALL", "SET_WHEELS", "ScriptFunctions"]
 
@@ -48,7 +48,10 @@ class ScriptFunctions(ServedState):
         if not obj.model:
             owner = self.objects.bases[obj.robot].name if obj.robot is not None else None
             where = f"attached to its model base {owner}" if owner else "on the e-puck models"
-            raise ApiError(f"sim.getScript: {obj.name} has no child script; the script is {where}")
+            raise ApiError(
+                f"sim.getScript: {obj.name} ({kind_words(obj.kind)}) has no child script; "
+                f"the script is {where}"
+            )
         for script, robot in self.objects.scripts.items():
             if robot == obj.robot:
                 return [script]

@@ -102,8 +102,26 @@ class SimulationFunctions(ServedState):
     def step(self, client: ClientState, _wait: Any) -> Any:
         """Wait for the next simulation step (:data:`STEP_PENDING`), as CoppeliaSim's add-on
         does for every client; a stepping client's request also lets the step happen.
-        While the simulation is stopped there is no step to wait for."""
+
+        While the simulation is stopped (or paused) there is no step to wait for and
+        ``sim.step`` returns at once, as in CoppeliaSim. A stepping client's loop that
+        begins before the start therefore runs ahead of the others and may end, and leave,
+        while they still wait for it: the first such call of each client is logged as a
+        warning, with the way out."""
+        client.steps += 1
         if not self.advancing:
+            client.idle_steps += 1
+            if client.stepping > 0 and not client.warned_idle_step:
+                client.warned_idle_step = True
+                log.warning(
+                    "client %s steps, but called sim.step while the simulation is %s: "
+                    "sim.step then returns at once (as in CoppeliaSim), so its loop runs "
+                    "ahead of the simulation and of the other clients, and may end while "
+                    "they still wait for it. Start the simulation before the loop, or wait "
+                    "until sim.getSimulationState() is no longer sim.simulation_stopped "
+                    "(docs/coppeliasim.md, 'A class of stepping clients')",
+                    client.short, "paused" if self.running else "stopped",
+                )  # fmt: skip
             return []
         client.desired_step = self.world.step_count + 1
         client.waiting = True

@@ -25,10 +25,16 @@ if TYPE_CHECKING:
     from .....scenario.scene import Scene
     from .....sim.world import World
 
-__all__ = ["STEP_PENDING", "ApiError", "ServedState", "Signals", "StepPending"]
+__all__ = ["STEP_PENDING", "ApiError", "ServedState", "Signals", "StepPending", "kind_words"]
 
 #: A handle's flag bits (``sim.handleflag_*``) live above this.
 _HANDLE_MASK = 0x000FFFFF
+
+
+def kind_words(kind: str) -> str:
+    """An object kind as a refusal names it: ``a proximity sensor``, ``a joint``."""
+    words = kind.replace("_", " ")
+    return f"{'an' if words[0] in 'aeiou' else 'a'} {words}"
 
 
 class ApiError(Exception):
@@ -88,8 +94,8 @@ class ServedState:
             raise ApiError(f"{func}: object does not exist (handle {handle})")
         if kind is not None and obj.kind != kind:
             raise ApiError(
-                f"{func}: object {obj.name} (handle {handle}) is a {obj.kind.replace('_', ' ')}, "
-                f"not a {kind.replace('_', ' ')}"
+                f"{func}: object {obj.name} (handle {handle}) is {kind_words(obj.kind)}, "
+                f"not {kind_words(kind)}"
             )
         return obj
 
