@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError, check_seconds, check_speed, require, seed_type
+from .common import (
+    CliError,
+    check_seconds,
+    check_speed,
+    require,
+    seed_type,
+    user_code_error,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -82,8 +89,13 @@ def main(args: argparse.Namespace) -> int:
             backend=args.backend,
             **options,
         )
-    except (ValueError, KeyError, TypeError, ImportError, PuckboardError) as exc:
-        raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
+    except Exception as exc:
+        shown = user_code_error(exc, f"the controller {args.controller!r}")
+        if shown is not None:
+            raise shown from None
+        if isinstance(exc, (ValueError, KeyError, TypeError, ImportError, PuckboardError)):
+            raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
+        raise
     try:
         episode.check_duration(args.duration)
     except ValueError as exc:

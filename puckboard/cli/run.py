@@ -22,10 +22,12 @@ from .common import (
     check_port,
     check_seconds,
     check_speed,
+    check_writable,
     missing_extra,
     require,
     seed_type,
     start_web_view,
+    user_code_error,
     web_url,
 )
 
@@ -170,6 +172,10 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(
             f"{flags} do not apply to the {args.backend} backend; use them with --backend"
         )
+    if args.record is not None:
+        check_writable(args.record, "--record")  # not found out after a long run
+    if args.plots is not None:
+        check_writable(args.plots, "--plots", folder=True)
     try:
         from ..scenario.scenefile import load_scene
 
@@ -185,8 +191,8 @@ def main(args: argparse.Namespace) -> int:
             overrides=overrides,
             **backend_options,
         )
-    except (PuckboardError, ValueError, TypeError, ImportError, OSError) as exc:
-        raise CliError(_first_line(exc)) from None
+    except Exception as exc:
+        raise _build_error(exc, args.controller) from None
     duration = args.duration if args.duration is not None else episode.scene.duration
     try:
         episode.check_duration(duration)  # before any window opens or file is promised
@@ -277,6 +283,20 @@ def _keep_web_view(web: Any) -> None:
         pass
     finally:
         web.close()
+
+
+def _build_error(exc: Exception, controller: str | None) -> BaseException:
+    """What to raise when building the episode failed: the student's code as Python
+    shows it, one line for bad input, else the error itself (a bug: its traceback)."""
+    from ..errors import PuckboardError
+
+    what = f"the controller {controller!r}" if controller else "a robot's controller"
+    shown = user_code_error(exc, what)
+    if shown is not None:
+        return shown
+    if isinstance(exc, (PuckboardError, ValueError, TypeError, ImportError, OSError)):
+        return CliError(_first_line(exc))
+    return exc
 
 
 def _first_line(exc: BaseException) -> str:
