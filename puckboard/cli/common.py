@@ -7,12 +7,15 @@ imports them to build the parser), so nothing in the command line runs back up.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import importlib
+import logging
 import math
 import os
 import re
 import socket
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -26,6 +29,8 @@ __all__ = [
     "check_seconds",
     "check_speed",
     "check_writable",
+    "connection_loss_in_one_line",
+    "connection_lost_error",
     "help_text",
     "missing_extra",
     "require",
@@ -166,6 +171,74 @@ def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path
             "folder you can write to"
         ) from None
     return out
+
+
+@contextlib.contextmanager
+def connection_loss_in_one_line(episode: Any) -> Iterator[None]:
+    """Run ``episode`` inside this block: a lost simulator or robot ends the command
+    with :func:`connection_lost_error`'s one line instead of a traceback.
+
+    While the wheels are stopped and the robots closed, every robot's attempts log a
+    warning naming the lost connection, the same words once per robot and attempt;
+    the one line says all of it, so those warnings are held back, and logged as usual
+    when the run ends any other way.
+    """
+    from ..errors import ConnectionLostError
+
+    held: list[logging.LogRecord] = []
+
+    def hold(record: logging.LogRecord) -> bool:
+        args = record.args if isinstance(record.args, tuple) else ()
+        if record.levelno == logging.WARNING and any(
+            isinstance(a, ConnectionLostError) for a in args
+        ):
+            held.append(record)
+            return False
+        return True
+
+    handlers = list(logging.getLogger().handlers)
+    for handler in handlers:
+        handler.addFilter(hold)
+    lost = False
+    try:
+        yield
+    except ConnectionLostError as exc:
+        lost = True
+        raise connection_lost_error(episode, exc) from None
+    finally:
+        for handler in handlers:
+            handler.removeFilter(hold)
+        if not lost:
+            for record in dict.fromkeys(held):  # each record once, however many handlers
+                logging.getLogger(record.name).handle(record)
+
+
+def connection_lost_error(episode: Any, exc: BaseException) -> CliError:
+    """One line, status 1, for a simulator or robot that went away during ``episode``:
+    when (simulated time, or run time on a real robot), whether a stop reached every
+    robot's wheels, and what was lost (the error's own words)."""
+    loop = episode.loop
+    clock = "simulated" if loop.synchronous else "run"
+    running = [
+        name for name, adapter in episode.connection.adapters.items() if not adapter.wheels_stopped
+    ]
+    if running:
+        names = ", ".join(repr(n) for n in running)
+        wheels = f"no stop command reached {names}: check that it is not still driving"
+        if len(running) > 1:
+            wheels = f"no stop command reached {names}: check that they are not still driving"
+    else:
+        wheels = "the wheels were stopped"
+    return CliError(
+        f"the {episode.backend} connection was lost at t = {loop.time:.2f} s of {clock} time "
+        f"and {wheels}. {_first_line(exc)}",
+        status=1,
+    )
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip() or type(exc).__name__
+    return text.splitlines()[0]
 
 
 def user_code_error(exc: BaseException, what: str, *loaders: Any) -> CliError | None:

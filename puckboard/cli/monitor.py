@@ -8,6 +8,7 @@ from .common import (
     CliError,
     check_seconds,
     check_speed,
+    connection_loss_in_one_line,
     require,
     seed_type,
     user_code_error,
@@ -106,7 +107,8 @@ def main(args: argparse.Namespace) -> int:
         from ..control.pacing import RealTimePacer
 
         episode.add_observer(RealTimePacer(args.speed))
-    result = episode.run(args.duration)
+    with connection_loss_in_one_line(episode):
+        result = episode.run(args.duration)
     verdict = "success" if result.success else f"failure ({result.failure})"
     print(f"{result.scenario}: {verdict} after {result.sim_time_s:.1f} s")
     return 0

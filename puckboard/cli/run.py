@@ -23,6 +23,7 @@ from .common import (
     check_seconds,
     check_speed,
     check_writable,
+    connection_loss_in_one_line,
     missing_extra,
     require,
     seed_type,
@@ -241,7 +242,8 @@ def main(args: argparse.Namespace) -> int:
     if progress is not None and not args.monitor:
         episode.add_observer(progress.update)
     try:
-        result = episode.run(duration, stop_early=not args.full)
+        with connection_loss_in_one_line(episode):
+            result = episode.run(duration, stop_early=not args.full)
     except Exception as exc:
         failure = episode.loop.failure
         if failure is None:

@@ -3,6 +3,7 @@ controller or example is shown as Python shows it, without puckboard's frames.""
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 from pathlib import Path
@@ -136,3 +137,46 @@ def test_a_syntax_error_in_an_example_is_shown_as_python_shows_it(tmp_path, caps
     assert main(["examples", "run", "edited"]) == 2
     lines = error_lines(capsys, "examples")
     assert lines[:-1] == python_shows(path)
+
+
+# -- a connection lost mid-run ----------------------------------------------------------------
+def test_warnings_held_back_for_a_lost_connection_come_out_when_the_run_ends_otherwise(caplog):
+    from types import SimpleNamespace
+
+    from puckboard.cli.common import connection_loss_in_one_line
+    from puckboard.errors import ConnectionLostError
+
+    log = logging.getLogger("puckboard.control.loop")
+    lost = ConnectionLostError("the robot at tcp://127.0.0.1:1 closed the connection")
+    held_while_running = []
+
+    def run() -> None:
+        with connection_loss_in_one_line(SimpleNamespace()):
+            log.warning("could not stop robot %r: %s", "epuck", lost)
+            held_while_running.append("could not stop" not in caplog.text)
+            raise KeyboardInterrupt  # the run ends, but not on the lost connection
+
+    with caplog.at_level(logging.WARNING), pytest.raises(KeyboardInterrupt):
+        run()
+    assert held_while_running == [True]
+    assert caplog.text.count("could not stop robot 'epuck'") == 1
+
+
+def test_a_lost_connection_after_which_the_wheels_were_stopped_says_so():
+    from types import SimpleNamespace
+
+    from puckboard.cli.common import connection_lost_error
+    from puckboard.errors import ConnectionLostError
+
+    stopped = SimpleNamespace(wheels_stopped=True)
+    episode = SimpleNamespace(
+        backend="coppeliasim",
+        loop=SimpleNamespace(synchronous=True, time=12.345),
+        connection=SimpleNamespace(adapters={"left": stopped, "right": stopped}),
+    )
+    error = connection_lost_error(episode, ConnectionLostError("no answer\nsecond line"))
+    assert error.status == 1
+    assert str(error) == (
+        "the coppeliasim connection was lost at t = 12.35 s of simulated time and the "
+        "wheels were stopped. no answer"
+    )
