@@ -241,6 +241,7 @@ class Episode:
                     f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
                     f"{', '.join(self.connection.adapters)}"
                 )
+            self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
             self.loop = ControlLoop(bindings)
             self.judge = Judge(self.scene)
@@ -373,6 +374,25 @@ class Episode:
             except Exception:
                 log.exception("episode result observer %r failed", obs)
         return self.result
+
+
+def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:
+    """``scene`` with every robot given the profile of the robot actually driven.
+
+    A simulator builds its robots from the scene, but a real robot (or the emulator
+    that stands in for one) is what it is: the e-puck2 adapter drives the ``epuck``
+    profile whatever the scene says. The judge measures with the profile's body, and
+    the results name it, so both must be the driven robot's.
+    """
+    robots = tuple(
+        dataclasses.replace(r, profile=adapters[r.name].profile.name)
+        if r.name in adapters and adapters[r.name].profile.name != r.profile
+        else r
+        for r in scene.robots
+    )
+    if all(a is b for a, b in zip(robots, scene.robots)):
+        return scene
+    return dataclasses.replace(scene, robots=robots)
 
 
 def _label(specs: Mapping[str, Any]) -> str:
