@@ -171,11 +171,7 @@ def apply_layer_overrides(
                     f"override {name!r}: layer {layer_name} has no parameter {attr!r}; "
                     f"its parameters: {', '.join(sorted(params))}"
                 )
-            current = params[attr]
-            number_wanted = isinstance(current, (int, float)) and not isinstance(current, bool)
-            if number_wanted and (isinstance(value, bool) or not isinstance(value, (int, float))):
-                raise ValueError(f"override {name!r} needs a number, got {value!r}")
-            setattr(layer, attr, value)
+            setattr(layer, attr, _as_type_of(params[attr], name, value))
             found = True
         if not found:
             layers = sorted(
@@ -190,6 +186,51 @@ def apply_layer_overrides(
                 f"override {name!r}: no controller has a layer {layer_name!r}; "
                 f"layers: {', '.join(layers)}"
             )
+
+
+_TRUE = frozenset({"true", "yes", "on", "1"})
+_FALSE = frozenset({"false", "no", "off", "0"})
+
+
+def _as_type_of(current: Any, name: str, value: Any) -> Any:
+    """``value`` as the type of the parameter's ``current`` value, or ``ValueError``.
+
+    A command line gives text: ``recovery=no`` must switch recovery off, not store the
+    string ``"no"``, which is true. Booleans take true/false, yes/no, on/off or 1/0 and
+    nothing else; whole-number parameters take whole numbers, others any number.
+    Parameters of other types (text, tuples) take the value as given.
+    """
+    if isinstance(current, bool):
+        if isinstance(value, bool):
+            return value
+        text = str(value).strip().lower() if isinstance(value, (str, int)) else None
+        if text in _TRUE or text in _FALSE:
+            return text in _TRUE
+        raise ValueError(
+            f"override {name!r} is a boolean: use true/false, yes/no, on/off or 1/0, "
+            f"got {value!r}"
+        )
+    if isinstance(current, (int, float)):
+        number: Any = value
+        if isinstance(value, str):
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+        if isinstance(number, bool) or not isinstance(number, (int, float)):
+            kind = "a whole number" if isinstance(current, int) else "a number"
+            raise ValueError(
+                f"override {name!r} needs {kind} "
+                f"(the parameter is {type(current).__name__}), got {value!r}"
+            )
+        if isinstance(current, int):
+            if not float(number).is_integer():
+                raise ValueError(
+                    f"override {name!r} needs a whole number (the parameter is int), got {value!r}"
+                )
+            return int(number)
+        return float(number)
+    return value
 
 
 class Episode:
