@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 
 import pytest
 
@@ -150,3 +151,27 @@ def test_web_suite_measures_with_and_without_stream_clients():
     assert out["with_clients"]["frames_per_s_per_client"] > 0  # every stream got frames
     for key in ("without_web_view", "without_clients", "with_clients"):
         assert out[key]["realtime_factor"] > 0
+
+
+def test_when_every_suite_asked_for_is_skipped_the_command_fails_with_the_install_line(
+    monkeypatch, capsys
+):
+    for module in [m for m in sys.modules if m == "zmq" or m.startswith("zmq.")]:
+        monkeypatch.delitem(sys.modules, module)
+    monkeypatch.setitem(sys.modules, "zmq", None)  # as if pyzmq were not installed
+    for module in [m for m in sys.modules if m.startswith("puckboard.backends.coppeliasim")]:
+        monkeypatch.delitem(sys.modules, module)
+    monkeypatch.delitem(sys.modules, "puckboard.bench.coppeliasim", raising=False)
+    assert main(["bench", "--suite", "coppeliasim", "--steps", "1"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    line = captured.err.strip().splitlines()[-1]
+    assert line.startswith("puckboard bench: error: nothing was measured: suite 'coppeliasim'")
+    assert "pip install 'puckboard[coppeliasim]'" in line
+
+
+def test_a_skipped_suite_next_to_one_that_ran_is_a_note(monkeypatch, capsys):
+    monkeypatch.setitem(bench.SUITES, "ghost", "puckboard.no_such_module:run_suite")
+    assert main(["bench", "--suite", "ghost", "--suite", "core", "--steps", "5", "--json"]) == 0
+    suites = json.loads(capsys.readouterr().out)["suites"]
+    assert "skipped" in suites["ghost"] and "arbiter_tick_us" in suites["core"]
