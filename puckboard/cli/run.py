@@ -169,9 +169,12 @@ def main(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CliError(str(exc)) from None
     if args.backend in ("embedded", "fake") and backend_options:
-        flags = ", ".join(f"--{k}" for k in backend_options)
+        names = [f"--{k}" for k in backend_options]
+        flags = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+        verb, them = ("does", "it") if len(names) == 1 else ("do", "them")
         raise CliError(
-            f"{flags} do not apply to the {args.backend} backend; use them with --backend"
+            f"{flags} {verb} not apply to the {args.backend} backend; use {them} with "
+            "--backend coppeliasim, epuck2-wifi or sercom"
         )
     if args.record is not None:
         check_writable(args.record, "--record")  # not found out after a long run
@@ -312,16 +315,19 @@ def format_summary(result: Any) -> str:
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
-        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} steps of {d['dt_s'] * 1000:g} ms)",
+        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
+        f"of {d['dt_s'] * 1000:g} ms)",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",
     ]
+    alone = len(d["robots"]) < 2  # no other robot to pass: neither yes nor no
     for r in d["robots"]:
+        passed = "-" if alone else "yes" if r["passed_other"] else "no"
         lines.append(
             f"{r['name']:<12}{r['profile']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
-            f"{r['obstacles_passed']:>11d}{'yes' if r['passed_other'] else 'no':>14}"
+            f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
     lines.append("")
     if d["success"]:

@@ -360,7 +360,9 @@ class Episode:
     # -- running ---------------------------------------------------------------------------
     def check_duration(self, duration: float | None = None) -> float:
         """``duration`` (default: the scene's) if this episode can run that long: a finite
-        positive number of seconds within :data:`MAX_STEPS` steps, else ``ValueError``.
+        positive number of seconds, at least one control cycle (a shorter one would run
+        that whole cycle all the same, unsaid) and within :data:`MAX_STEPS` steps, else
+        ``ValueError``.
 
         :meth:`run` checks it too; calling it first lets a caller refuse a bad run
         before it opens windows or promises files. The step is the simulation's (the
@@ -370,6 +372,13 @@ class Episode:
         if not (math.isfinite(duration) and duration > 0):
             raise ValueError(
                 f"duration must be a finite positive number of seconds, got {duration:g}"
+            )
+        cycle = self.loop.period
+        if duration < cycle * (1 - 1e-9):
+            what = "simulation step" if self.loop.synchronous else "control cycle"
+            raise ValueError(
+                f"duration {duration:g} s is shorter than one {what} of {cycle:g} s, the "
+                f"shortest run there is; give at least {cycle:g} s"
             )
         check_steps(duration, self.loop.period / max(1, self.loop.steps_per_cycle))
         return duration

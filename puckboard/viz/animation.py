@@ -94,9 +94,12 @@ def frame_indices(
     t0 = t[0] if start is None else max(t[0], start)
     t1 = t[-1] if end is None else min(t[-1], end)
     if t1 < t0:
+        if start is not None and end is not None:
+            window = f"between {start:g} s and {end:g} s"
+        else:
+            window = f"from {start:g} s on" if start is not None else f"up to {end:g} s"
         raise ValueError(
-            f"nothing to animate between {start} s and {end} s: the run covers "
-            f"{t[0]:.2f} to {t[-1]:.2f} s"
+            f"nothing to animate {window}: the run covers {t[0]:.2f} to {t[-1]:.2f} s"
         )
     n = int(math.floor((t1 - t0) * fps / speed + 1e-9)) + 1
     wanted = t0 + np.arange(n) * (speed / fps)
