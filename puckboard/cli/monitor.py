@@ -91,7 +91,8 @@ def main(args: argparse.Namespace) -> int:
             **options,
         )
     except Exception as exc:
-        shown = user_code_error(exc, f"the controller {args.controller!r}")
+        what = f"the controller {args.controller!r}" if args.controller else "a robot's controller"
+        shown = user_code_error(exc, what)
         if shown is not None:
             raise shown from None
         if isinstance(exc, (ValueError, KeyError, TypeError, ImportError, PuckboardError)):
