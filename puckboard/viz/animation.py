@@ -270,16 +270,20 @@ def _write_gif(
         Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in frames
     ]
     tmp = path.with_name(path.name + ".part")
-    images[0].save(
-        tmp,
-        format="GIF",
-        save_all=True,
-        append_images=images[1:],
-        duration=max(20, round(1000.0 / fps / 10.0) * 10),
-        loop=0,
-        optimize=False,
-        disposal=1,
-    )
+    try:
+        images[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=images[1:],
+            duration=max(20, round(1000.0 / fps / 10.0) * 10),
+            loop=0,
+            optimize=False,
+            disposal=1,
+        )
+    except BaseException:  # Ctrl-C or a full disk: leave no half-written file behind
+        tmp.unlink(missing_ok=True)
+        raise
     os.replace(tmp, path)
 
 
@@ -293,6 +297,9 @@ def _write_mp4(path: Path, frames: Any, fps: float) -> None:
     try:
         for frame in frames:
             writer.append_data(frame)
-    finally:
+    except BaseException:  # Ctrl-C or a full disk: leave no half-written file behind
         writer.close()
+        tmp.unlink(missing_ok=True)
+        raise
+    writer.close()
     os.replace(tmp, path)

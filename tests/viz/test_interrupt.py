@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import logging
 import signal
+from pathlib import Path
 
 import pytest
 
@@ -117,3 +118,26 @@ def test_ctrl_c_while_the_gif_is_written_ends_the_command_with_status_130(
     assert "Traceback" not in err and err.rstrip().endswith("puckboard run: interrupted")
     assert "Ctrl-C again" in caplog.text
     assert gif.is_file()
+
+
+def test_an_animation_abandoned_while_it_is_saved_leaves_no_part_file(tmp_path, monkeypatch):
+    pytest.importorskip("PIL")
+    from PIL import Image
+
+    from puckboard.viz.recording import Recorder
+
+    episode = Episode("line-follow", seed=0)
+    recorder = Recorder.for_episode(episode, None)
+    episode.add_observer(recorder)
+    episode.run(1.0)
+    rec = recorder.close()
+
+    def save_half_then_ctrl_c(self, fp, *args, **kwargs):
+        Path(fp).write_bytes(b"GIF89a half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Image.Image, "save", save_half_then_ctrl_c)
+    gif = tmp_path / "run.gif"
+    with pytest.raises(KeyboardInterrupt):
+        animation.render_animation(rec, gif)
+    assert list(tmp_path.iterdir()) == []
