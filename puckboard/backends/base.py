@@ -378,6 +378,12 @@ class RobotAdapter(abc.ABC):
     def closed(self) -> bool:
         return self._closed
 
+    @property
+    def wheels_stopped(self) -> bool:
+        """Whether the last wheel command known to have reached the robot was a stop (or
+        none was sent): after a lost connection, ``False`` means it may still be driving."""
+        return not self._wheels_moving
+
     def close(self) -> None:
         """Stop the threads, zero the wheels (best effort), release the transport. Idempotent."""
         if self._closed:
@@ -386,6 +392,7 @@ class RobotAdapter(abc.ABC):
         try:
             with self.io_lock:
                 self._write_wheels(0.0, 0.0)
+            self._wheels_moving = False
         except Exception as exc:  # the transport may already be gone
             log.warning("robot %r: could not zero the wheels on close: %s", self.name, exc)
         finally:

@@ -73,8 +73,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except CliError as exc:
+        if exc.details:
+            print(exc.details.rstrip("\n"), file=sys.stderr)
         print(f"puckboard {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        return exc.status
     except KeyboardInterrupt:
         print(f"puckboard {args.command}: interrupted", file=sys.stderr)
         return 130

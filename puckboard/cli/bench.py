@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from .common import CliError
 
@@ -97,6 +98,7 @@ def main(args: argparse.Namespace) -> int:
         results = run_suites(names, args.steps, options)
     except ValueError as exc:
         raise CliError(str(exc)) from None
+    _refuse_if_nothing_ran(results)
     if args.out is not None:
         args.out.write_text(json.dumps(results, indent=1, default=str), encoding="utf-8")
     if args.json:
@@ -104,3 +106,12 @@ def main(args: argparse.Namespace) -> int:
     else:
         print(format_results(results))
     return 0
+
+
+def _refuse_if_nothing_ran(results: dict[str, Any]) -> None:
+    """When every suite asked for was skipped nothing was measured: that is an error
+    (status 2) that says how to install what is missing, not a report of nothing."""
+    suites = results.get("suites", {})
+    reasons = [r["skipped"] for r in suites.values() if isinstance(r, dict) and "skipped" in r]
+    if suites and len(reasons) == len(suites):
+        raise CliError("nothing was measured: " + "; ".join(str(r) for r in reasons))

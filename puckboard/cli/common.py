@@ -7,11 +7,16 @@ imports them to build the parser), so nothing in the command line runs back up.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import importlib
+import logging
 import math
+import os
 import re
 import socket
+from collections.abc import Iterator
+from pathlib import Path
 from typing import Any, NoReturn
 
 from .._extras import missing_package_message
@@ -23,11 +28,15 @@ __all__ = [
     "check_port",
     "check_seconds",
     "check_speed",
+    "check_writable",
+    "connection_loss_in_one_line",
+    "connection_lost_error",
     "help_text",
     "missing_extra",
     "require",
     "seed_type",
     "start_web_view",
+    "user_code_error",
     "web_url",
 ]
 
@@ -39,7 +48,18 @@ def help_text(docstring: str | None) -> str:
 
 
 class CliError(Exception):
-    """Bad input on the command line: printed as one line, exit status 2."""
+    """Bad input on the command line: printed as one line, exit status 2.
+
+    ``details`` (optional) is printed above that line as it is: what Python shows for an
+    error in the user's own file (file, line, caret, message), which one line cannot
+    hold. ``status`` is the exit status: 2 for input refused before anything ran, 1 for
+    a run that could not go on (a robot or simulator that went away).
+    """
+
+    def __init__(self, message: str, *, details: str | None = None, status: int = 2) -> None:
+        super().__init__(message)
+        self.details = details
+        self.status = status
 
 
 class _ArgumentError(CliError):
@@ -118,6 +138,138 @@ def require(module: str, what: str) -> None:
         importlib.import_module(module)
     except ImportError as exc:
         raise missing_extra(exc, what) from None
+
+
+def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path:
+    """Refuse an output that cannot be written, before the run that would produce it.
+
+    Without this a read-only place is found out after a long run: the run is lost and
+    the error is a logged traceback. ``path`` is a file to be written (its folder is
+    created when missing) or, with ``folder=True``, a folder to write files in. Whether
+    the folder takes files is tried by creating and removing a file in it, the one test
+    that holds on every system and for every user (permission bits do not bind an
+    administrator, and Windows has access lists besides).
+    """
+    import tempfile
+
+    out = Path(path)
+    where = out if folder else out.parent
+    if not folder and out.is_dir():
+        raise CliError(f"{flag} {str(out)!r} is a folder; give a file name")
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=where, prefix=".puckboard-", suffix=".probe")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+        blocker = next((p for p in (where, *where.parents) if p.exists()), None)
+        if blocker is not None and not blocker.is_dir():
+            reason = f"{str(blocker)!r} is a file, not a folder"
+        raise CliError(
+            f"{flag} {str(out)!r}: cannot write in {str(where)!r} ({reason}); choose a "
+            "folder you can write to"
+        ) from None
+    return out
+
+
+@contextlib.contextmanager
+def connection_loss_in_one_line(episode: Any) -> Iterator[None]:
+    """Run ``episode`` inside this block: a lost simulator or robot ends the command
+    with :func:`connection_lost_error`'s one line instead of a traceback.
+
+    While the wheels are stopped and the robots closed, every robot's attempts log a
+    warning naming the lost connection, the same words once per robot and attempt;
+    the one line says all of it, so those warnings are held back, and logged as usual
+    when the run ends any other way.
+    """
+    from ..errors import ConnectionLostError
+
+    held: list[logging.LogRecord] = []
+
+    def hold(record: logging.LogRecord) -> bool:
+        args = record.args if isinstance(record.args, tuple) else ()
+        if record.levelno == logging.WARNING and any(
+            isinstance(a, ConnectionLostError) for a in args
+        ):
+            held.append(record)
+            return False
+        return True
+
+    handlers = list(logging.getLogger().handlers)
+    for handler in handlers:
+        handler.addFilter(hold)
+    lost = False
+    try:
+        yield
+    except ConnectionLostError as exc:
+        lost = True
+        raise connection_lost_error(episode, exc) from None
+    finally:
+        for handler in handlers:
+            handler.removeFilter(hold)
+        if not lost:
+            for record in dict.fromkeys(held):  # each record once, however many handlers
+                logging.getLogger(record.name).handle(record)
+
+
+def connection_lost_error(episode: Any, exc: BaseException) -> CliError:
+    """One line, status 1, for a simulator or robot that went away during ``episode``:
+    when (simulated time, or run time on a real robot), whether a stop reached every
+    robot's wheels, and what was lost (the error's own words)."""
+    loop = episode.loop
+    clock = "simulated" if loop.synchronous else "run"
+    running = [
+        name for name, adapter in episode.connection.adapters.items() if not adapter.wheels_stopped
+    ]
+    if running:
+        names = ", ".join(repr(n) for n in running)
+        wheels = f"no stop command reached {names}: check that it is not still driving"
+        if len(running) > 1:
+            wheels = f"no stop command reached {names}: check that they are not still driving"
+    else:
+        wheels = "the wheels were stopped"
+    return CliError(
+        f"the {episode.backend} connection was lost at t = {loop.time:.2f} s of {clock} time "
+        f"and {wheels}. {_first_line(exc)}",
+        status=1,
+    )
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip() or type(exc).__name__
+    return text.splitlines()[0]
+
+
+def user_code_error(exc: BaseException, what: str, *loaders: Any) -> CliError | None:
+    """``exc`` as Python shows it for the user's own file (file, line, caret, message,
+    and none of puckboard's frames) with one line under it, when ``exc`` was raised by
+    code that ``loaders`` ran for the user; ``None`` for any other error.
+
+    ``what`` names that code for the line ("the controller 'my.py:make'"). Without
+    ``loaders`` they are the controller loader's, the usual case. A syntax error is
+    input refused before anything ran (status 2); any other error of that code is the
+    code failing (status 1), as ``python file.py`` would end.
+    """
+    from ..usercode import user_traceback
+
+    if not loaders:
+        from ..behaviours.presets import load_controller, resolve_factory
+
+        loaders = (load_controller, resolve_factory)
+    text = user_traceback(exc, *loaders)
+    if text is None:
+        return None
+    if isinstance(exc, SyntaxError):
+        where = f" in {Path(exc.filename).name}" if exc.filename else ""
+        return CliError(
+            f"{what} has a syntax error{where} (shown above); fix it and run again", details=text
+        )
+    return CliError(
+        f"{what} raised {type(exc).__name__} (shown above); fix it and run again",
+        details=text,
+        status=1,
+    )
 
 
 def _errnos(*names: str) -> frozenset[int]:

@@ -4,7 +4,8 @@ Serves the first robot of a scene over the e-puck2 Wi-Fi protocol (TCP) or advan
 sercom (a pseudo-terminal on Linux/macOS, or TCP with ``--port``), paced in real time,
 and prints the judge's verdict (the ``puckboard run --json`` fields) when it stops:
 when the client is done (it disconnects, or is silent for ``--idle-timeout`` s), after
-``--duration`` seconds counted from its first command, or on Ctrl-C.
+``--duration`` seconds counted from its first command, or on Ctrl-C (then the verdict
+says so, and the exit status is 130).
 """
 
 from __future__ import annotations
@@ -139,9 +140,12 @@ def main(args: argparse.Namespace) -> int:
         file=banner,
         flush=True,
     )
+    interrupted = False
     try:
         result = emulation.run(args.duration)
     except KeyboardInterrupt:
+        interrupted = True
+        emulation.ended_by = "interrupted"
         emulation.close()
         result = emulation.result()
     data = result.to_dict()
@@ -149,13 +153,17 @@ def main(args: argparse.Namespace) -> int:
         print(json.dumps(data, indent=2))
     else:
         verdict = "success" if data["success"] else f"failure: {data['failure']}"
+        ended = emulation.ended_by or "no client"
+        if interrupted:
+            client = "a client was driving" if emulation.robot.commands else "no client yet"
+            ended = f"interrupted by Ctrl-C; {client}"
         print(
             f"{data['scenario']}: {verdict} after {data['sim_time_s']:.1f} s of robot time "
-            f"(ended: {emulation.ended_by or 'no client'})"
+            f"(ended: {ended})"
         )
         for r in data["robots"]:
             print(
                 f"  {r['name']}: {r['progress_laps']:.2f} laps, {r['distance_m']:.2f} m, "
                 f"on line {100 * r['on_line_fraction']:.0f}%, {r['collisions']} collisions"
             )
-    return 0
+    return 130 if interrupted else 0

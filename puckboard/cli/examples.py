@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError
+from .common import CliError, user_code_error
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -18,8 +18,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         description=(
             "List the examples installed with puckboard, print one's source to copy and "
             "edit ('puckboard examples show first_layer > my_layer.py'), or run one "
-            "('puckboard examples run first_layer --duration 20'); arguments after NAME "
-            "go to the example."
+            "('puckboard examples run go_home --duration 60'); arguments after NAME "
+            "go to the example (those that take any: see 'examples run NAME --help')."
         ),
     )
     parser.add_argument("action", nargs="?", choices=("list", "show", "run"), default="list")
@@ -47,6 +47,17 @@ def main(args: argparse.Namespace) -> int:
     name = args.name.removesuffix(".py")
     if name not in names:
         raise CliError(f"no example {args.name!r}; examples: {', '.join(names)}")
+    if args.example_args and args.action != "run":
+        raise CliError(
+            f"'examples {args.action}' takes only a NAME, got {' '.join(args.example_args)!r}"
+        )
+    if args.example_args and not takes_arguments(name):
+        takers = [n for n in names if takes_arguments(n)]
+        raise CliError(
+            f"example {name!r} takes no arguments, got "
+            f"{' '.join(args.example_args)!r}; examples that take some: "
+            f"{', '.join(takers) or 'none'} ('puckboard examples run NAME --help')"
+        )
     if args.action == "show":
         print(_source(name), end="")
         return 0
@@ -56,6 +67,13 @@ def main(args: argparse.Namespace) -> int:
         runpy.run_module(f"puckboard.examples.{name}", run_name="__main__", alter_sys=True)
     except SystemExit as exc:  # an example's own argparse error or exit status
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    except Exception as exc:
+        # an example edited in place (an editable install) fails as 'python example.py'
+        # would show it, without the frames of this command and of runpy
+        shown = user_code_error(exc, f"the example {name!r}", runpy.run_module)
+        if shown is None:
+            raise
+        raise shown from None
     finally:
         sys.argv = saved
     return 0
@@ -71,6 +89,21 @@ def example_names() -> list[str]:
         for entry in folder.iterdir()
         if entry.name.endswith(".py") and not entry.name.startswith("_")
     )
+
+
+def takes_arguments(name: str) -> bool:
+    """Whether example ``name`` reads its command line (argparse or ``sys.argv``): the
+    others would run as if an argument given to them were not there."""
+    import ast
+
+    for node in ast.walk(ast.parse(_source(name))):
+        if isinstance(node, ast.Import) and any(a.name == "argparse" for a in node.names):
+            return True
+        if isinstance(node, ast.ImportFrom) and node.module == "argparse":
+            return True
+        if isinstance(node, ast.Attribute) and node.attr == "argv":
+            return True
+    return False
 
 
 def summary(name: str) -> str:

@@ -4,7 +4,15 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError, check_seconds, check_speed, require, seed_type
+from .common import (
+    CliError,
+    check_seconds,
+    check_speed,
+    connection_loss_in_one_line,
+    require,
+    seed_type,
+    user_code_error,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -82,8 +90,14 @@ def main(args: argparse.Namespace) -> int:
             backend=args.backend,
             **options,
         )
-    except (ValueError, KeyError, TypeError, ImportError, PuckboardError) as exc:
-        raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
+    except Exception as exc:
+        what = f"the controller {args.controller!r}" if args.controller else "a robot's controller"
+        shown = user_code_error(exc, what)
+        if shown is not None:
+            raise shown from None
+        if isinstance(exc, (ValueError, KeyError, TypeError, ImportError, PuckboardError)):
+            raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
+        raise
     try:
         episode.check_duration(args.duration)
     except ValueError as exc:
@@ -94,7 +108,8 @@ def main(args: argparse.Namespace) -> int:
         from ..control.pacing import RealTimePacer
 
         episode.add_observer(RealTimePacer(args.speed))
-    result = episode.run(args.duration)
+    with connection_loss_in_one_line(episode):
+        result = episode.run(args.duration)
     verdict = "success" if result.success else f"failure ({result.failure})"
     print(f"{result.scenario}: {verdict} after {result.sim_time_s:.1f} s")
     return 0

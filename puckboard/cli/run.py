@@ -22,10 +22,13 @@ from .common import (
     check_port,
     check_seconds,
     check_speed,
+    check_writable,
+    connection_loss_in_one_line,
     missing_extra,
     require,
     seed_type,
     start_web_view,
+    user_code_error,
     web_url,
 )
 
@@ -166,10 +169,17 @@ def main(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CliError(str(exc)) from None
     if args.backend in ("embedded", "fake") and backend_options:
-        flags = ", ".join(f"--{k}" for k in backend_options)
+        names = [f"--{k}" for k in backend_options]
+        flags = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+        verb, them = ("does", "it") if len(names) == 1 else ("do", "them")
         raise CliError(
-            f"{flags} do not apply to the {args.backend} backend; use them with --backend"
+            f"{flags} {verb} not apply to the {args.backend} backend; use {them} with "
+            "--backend coppeliasim, epuck2-wifi or sercom"
         )
+    if args.record is not None:
+        check_writable(args.record, "--record")  # not found out after a long run
+    if args.plots is not None:
+        check_writable(args.plots, "--plots", folder=True)
     try:
         from ..scenario.scenefile import load_scene
 
@@ -185,8 +195,8 @@ def main(args: argparse.Namespace) -> int:
             overrides=overrides,
             **backend_options,
         )
-    except (PuckboardError, ValueError, TypeError, ImportError, OSError) as exc:
-        raise CliError(_first_line(exc)) from None
+    except Exception as exc:
+        raise _build_error(exc, args.controller) from None
     duration = args.duration if args.duration is not None else episode.scene.duration
     try:
         episode.check_duration(duration)  # before any window opens or file is promised
@@ -235,7 +245,8 @@ def main(args: argparse.Namespace) -> int:
     if progress is not None and not args.monitor:
         episode.add_observer(progress.update)
     try:
-        result = episode.run(duration, stop_early=not args.full)
+        with connection_loss_in_one_line(episode):
+            result = episode.run(duration, stop_early=not args.full)
     except Exception as exc:
         failure = episode.loop.failure
         if failure is None:
@@ -279,6 +290,20 @@ def _keep_web_view(web: Any) -> None:
         web.close()
 
 
+def _build_error(exc: Exception, controller: str | None) -> BaseException:
+    """What to raise when building the episode failed: the student's code as Python
+    shows it, one line for bad input, else the error itself (a bug: its traceback)."""
+    from ..errors import PuckboardError
+
+    what = f"the controller {controller!r}" if controller else "a robot's controller"
+    shown = user_code_error(exc, what)
+    if shown is not None:
+        return shown
+    if isinstance(exc, (PuckboardError, ValueError, TypeError, ImportError, OSError)):
+        return CliError(_first_line(exc))
+    return exc
+
+
 def _first_line(exc: BaseException) -> str:
     text = str(exc).strip() or type(exc).__name__
     return text.splitlines()[0]
@@ -290,16 +315,19 @@ def format_summary(result: Any) -> str:
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
-        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} steps of {d['dt_s'] * 1000:g} ms)",
+        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
+        f"of {d['dt_s'] * 1000:g} ms)",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",
     ]
+    alone = len(d["robots"]) < 2  # no other robot to pass: neither yes nor no
     for r in d["robots"]:
+        passed = "-" if alone else "yes" if r["passed_other"] else "no"
         lines.append(
             f"{r['name']:<12}{r['profile']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
-            f"{r['obstacles_passed']:>11d}{'yes' if r['passed_other'] else 'no':>14}"
+            f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
     lines.append("")
     if d["success"]:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .common import CliError
+from .common import CliError, check_writable, user_code_error
 
 FORMATS = ("ascii", "unicode", "dot", "png", "svg")
 
@@ -50,10 +50,17 @@ def main(args: argparse.Namespace) -> int:
             raise CliError(f"cannot tell the format from {args.output!r}; pass --format")
     if fmt == "png" and out is None:
         raise CliError("PNG is binary: give a file with -o tree.png")
+    if out is not None:
+        check_writable(out, "-o")
     try:
         controller = load_controller(args.controller)
-    except (ValueError, TypeError) as exc:
-        raise CliError(str(exc)) from exc
+    except Exception as exc:
+        shown = user_code_error(exc, f"the controller {args.controller!r}")
+        if shown is not None:
+            raise shown from None
+        if isinstance(exc, (ValueError, TypeError)):
+            raise CliError(str(exc)) from None
+        raise
     try:
         result = render_tree(controller, fmt)
     except GraphvizMissingError as exc:
@@ -62,10 +69,12 @@ def main(args: argparse.Namespace) -> int:
         assert isinstance(result, str)
         sys.stdout.write(result if result.endswith("\n") else result + "\n")
         return 0
-    out.parent.mkdir(parents=True, exist_ok=True)
-    if isinstance(result, bytes):
-        out.write_bytes(result)
-    else:
-        out.write_text(result, encoding="utf-8")
+    try:
+        if isinstance(result, bytes):
+            out.write_bytes(result)
+        else:
+            out.write_text(result, encoding="utf-8")
+    except OSError as exc:  # the file itself is read-only, or the disk is full
+        raise CliError(f"-o {str(out)!r}: cannot write it ({exc.strerror or exc})") from None
     print(f"wrote {out}")
     return 0

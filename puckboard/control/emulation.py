@@ -165,6 +165,9 @@ class Emulation:
                 self._check_server()
                 self._stop.wait(0.01)
             self._pace(duration)
+        except KeyboardInterrupt:
+            self.ended_by = "interrupted"  # not the duration, whatever the loop was at
+            raise
         finally:
             self.close()
         return self.result()

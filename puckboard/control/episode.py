@@ -171,11 +171,7 @@ def apply_layer_overrides(
                     f"override {name!r}: layer {layer_name} has no parameter {attr!r}; "
                     f"its parameters: {', '.join(sorted(params))}"
                 )
-            current = params[attr]
-            number_wanted = isinstance(current, (int, float)) and not isinstance(current, bool)
-            if number_wanted and (isinstance(value, bool) or not isinstance(value, (int, float))):
-                raise ValueError(f"override {name!r} needs a number, got {value!r}")
-            setattr(layer, attr, value)
+            setattr(layer, attr, _as_type_of(params[attr], name, value))
             found = True
         if not found:
             layers = sorted(
@@ -190,6 +186,51 @@ def apply_layer_overrides(
                 f"override {name!r}: no controller has a layer {layer_name!r}; "
                 f"layers: {', '.join(layers)}"
             )
+
+
+_TRUE = frozenset({"true", "yes", "on", "1"})
+_FALSE = frozenset({"false", "no", "off", "0"})
+
+
+def _as_type_of(current: Any, name: str, value: Any) -> Any:
+    """``value`` as the type of the parameter's ``current`` value, or ``ValueError``.
+
+    A command line gives text: ``recovery=no`` must switch recovery off, not store the
+    string ``"no"``, which is true. Booleans take true/false, yes/no, on/off or 1/0 and
+    nothing else; whole-number parameters take whole numbers, others any number.
+    Parameters of other types (text, tuples) take the value as given.
+    """
+    if isinstance(current, bool):
+        if isinstance(value, bool):
+            return value
+        text = str(value).strip().lower() if isinstance(value, (str, int)) else None
+        if text in _TRUE or text in _FALSE:
+            return text in _TRUE
+        raise ValueError(
+            f"override {name!r} is a boolean: use true/false, yes/no, on/off or 1/0, "
+            f"got {value!r}"
+        )
+    if isinstance(current, (int, float)):
+        number: Any = value
+        if isinstance(value, str):
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+        if isinstance(number, bool) or not isinstance(number, (int, float)):
+            kind = "a whole number" if isinstance(current, int) else "a number"
+            raise ValueError(
+                f"override {name!r} needs {kind} "
+                f"(the parameter is {type(current).__name__}), got {value!r}"
+            )
+        if isinstance(current, int):
+            if not float(number).is_integer():
+                raise ValueError(
+                    f"override {name!r} needs a whole number (the parameter is int), got {value!r}"
+                )
+            return int(number)
+        return float(number)
+    return value
 
 
 class Episode:
@@ -241,6 +282,7 @@ class Episode:
                     f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
                     f"{', '.join(self.connection.adapters)}"
                 )
+            self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
             self.loop = ControlLoop(bindings)
             self.judge = Judge(self.scene)
@@ -318,7 +360,9 @@ class Episode:
     # -- running ---------------------------------------------------------------------------
     def check_duration(self, duration: float | None = None) -> float:
         """``duration`` (default: the scene's) if this episode can run that long: a finite
-        positive number of seconds within :data:`MAX_STEPS` steps, else ``ValueError``.
+        positive number of seconds, at least one control cycle (a shorter one would run
+        that whole cycle all the same, unsaid) and within :data:`MAX_STEPS` steps, else
+        ``ValueError``.
 
         :meth:`run` checks it too; calling it first lets a caller refuse a bad run
         before it opens windows or promises files. The step is the simulation's (the
@@ -328,6 +372,13 @@ class Episode:
         if not (math.isfinite(duration) and duration > 0):
             raise ValueError(
                 f"duration must be a finite positive number of seconds, got {duration:g}"
+            )
+        cycle = self.loop.period
+        if duration < cycle * (1 - 1e-9):
+            what = "simulation step" if self.loop.synchronous else "control cycle"
+            raise ValueError(
+                f"duration {duration:g} s is shorter than one {what} of {cycle:g} s, the "
+                f"shortest run there is; give at least {cycle:g} s"
             )
         check_steps(duration, self.loop.period / max(1, self.loop.steps_per_cycle))
         return duration
@@ -373,6 +424,25 @@ class Episode:
             except Exception:
                 log.exception("episode result observer %r failed", obs)
         return self.result
+
+
+def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:
+    """``scene`` with every robot given the profile of the robot actually driven.
+
+    A simulator builds its robots from the scene, but a real robot (or the emulator
+    that stands in for one) is what it is: the e-puck2 adapter drives the ``epuck``
+    profile whatever the scene says. The judge measures with the profile's body, and
+    the results name it, so both must be the driven robot's.
+    """
+    robots = tuple(
+        dataclasses.replace(r, profile=adapters[r.name].profile.name)
+        if r.name in adapters and adapters[r.name].profile.name != r.profile
+        else r
+        for r in scene.robots
+    )
+    if all(a is b for a, b in zip(robots, scene.robots)):
+        return scene
+    return dataclasses.replace(scene, robots=robots)
 
 
 def _label(specs: Mapping[str, Any]) -> str:

@@ -94,9 +94,12 @@ def frame_indices(
     t0 = t[0] if start is None else max(t[0], start)
     t1 = t[-1] if end is None else min(t[-1], end)
     if t1 < t0:
+        if start is not None and end is not None:
+            window = f"between {start:g} s and {end:g} s"
+        else:
+            window = f"from {start:g} s on" if start is not None else f"up to {end:g} s"
         raise ValueError(
-            f"nothing to animate between {start} s and {end} s: the run covers "
-            f"{t[0]:.2f} to {t[-1]:.2f} s"
+            f"nothing to animate {window}: the run covers {t[0]:.2f} to {t[-1]:.2f} s"
         )
     n = int(math.floor((t1 - t0) * fps / speed + 1e-9)) + 1
     wanted = t0 + np.arange(n) * (speed / fps)
@@ -267,16 +270,20 @@ def _write_gif(
         Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in frames
     ]
     tmp = path.with_name(path.name + ".part")
-    images[0].save(
-        tmp,
-        format="GIF",
-        save_all=True,
-        append_images=images[1:],
-        duration=max(20, round(1000.0 / fps / 10.0) * 10),
-        loop=0,
-        optimize=False,
-        disposal=1,
-    )
+    try:
+        images[0].save(
+            tmp,
+            format="GIF",
+            save_all=True,
+            append_images=images[1:],
+            duration=max(20, round(1000.0 / fps / 10.0) * 10),
+            loop=0,
+            optimize=False,
+            disposal=1,
+        )
+    except BaseException:  # Ctrl-C or a full disk: leave no half-written file behind
+        tmp.unlink(missing_ok=True)
+        raise
     os.replace(tmp, path)
 
 
@@ -290,6 +297,9 @@ def _write_mp4(path: Path, frames: Any, fps: float) -> None:
     try:
         for frame in frames:
             writer.append_data(frame)
-    finally:
+    except BaseException:  # Ctrl-C or a full disk: leave no half-written file behind
         writer.close()
+        tmp.unlink(missing_ok=True)
+        raise
+    writer.close()
     os.replace(tmp, path)

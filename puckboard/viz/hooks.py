@@ -8,13 +8,18 @@ MP4 writer is reported in a second and not after a two-minute run.
 
 When the run ends (normally, on an error or on Ctrl-C) one close observer writes the
 outputs in order of value: the data recording first (cheap, and everything else can be
-made from it later), then the animation, then the plots.
+made from it later), then the animation, then the plots. A Ctrl-C while they are written
+after a complete run only says what a second one would lose; the second abandons the
+animation. Either way the command then ends as interrupted.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
+import signal
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -54,6 +59,10 @@ class RunOutputs:
         if len(rec) == 0:
             log.warning("the run ended before its first cycle: no animation or plots written")
             return
+        asked_to_stop = _FirstCtrlC(
+            f"Ctrl-C: the run is over and its animation {self.animation} is being written; "
+            "press Ctrl-C again to abandon it"
+        )
         if self.animation is not None:
             from .animation import render_animation
 
@@ -65,11 +74,14 @@ class RunOutputs:
                     len(rec),
                 )
             try:
-                self.written.append(render_animation(rec, self.animation)["path"])
+                # after a complete run one Ctrl-C must not throw the animation away: it
+                # only warns, and the next one abandons it (as during the run)
+                with asked_to_stop if not interrupted else contextlib.nullcontext():
+                    self.written.append(render_animation(rec, self.animation)["path"])
             except KeyboardInterrupt:
                 log.warning("the animation %s was abandoned", self.animation)
                 self.animation.unlink(missing_ok=True)  # never leave half a file behind
-                return
+                raise
             except Exception:
                 log.exception("could not write the animation %s", self.animation)
         if self.plots_dir is not None:
@@ -79,6 +91,43 @@ class RunOutputs:
                 self.written += save_plots(rec, self.plots_dir, self.plot_format)
             except Exception:
                 log.exception("could not write the plots to %s", self.plots_dir)
+        if asked_to_stop.pressed:
+            log.warning("the animation %s is written; stopping as Ctrl-C asked", self.animation)
+            raise KeyboardInterrupt  # the command ends as interrupted (status 130)
+
+
+class _FirstCtrlC:
+    """While active, the first Ctrl-C only logs ``message`` (and sets :attr:`pressed`);
+    the second raises ``KeyboardInterrupt`` as usual.
+
+    Only the main thread may set a signal handler; elsewhere (a run driven from another
+    thread) Ctrl-C keeps its usual effect.
+    """
+
+    def __init__(self, message: str) -> None:
+        self.message = message
+        self.pressed = False
+        self._installed = False
+        self._previous: Any = None
+
+    def _on_sigint(self, signum: int, frame: Any) -> None:
+        if self.pressed:
+            raise KeyboardInterrupt
+        self.pressed = True
+        log.warning("%s", self.message)
+
+    def __enter__(self) -> _FirstCtrlC:
+        previous = signal.getsignal(signal.SIGINT)
+        # a handler set outside Python (None) cannot be put back: leave Ctrl-C alone then
+        if threading.current_thread() is threading.main_thread() and previous is not None:
+            self._previous = signal.signal(signal.SIGINT, self._on_sigint)
+            self._installed = True
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._installed:
+            signal.signal(signal.SIGINT, self._previous)
+            self._installed = False
 
 
 def attach(

@@ -238,3 +238,32 @@ def test_wall_clock_loop_keeps_its_period():
     loop.run(cycles=5)
     assert time.monotonic() - start >= 5 * 0.02 * 0.9
     assert robot.closed
+
+
+def test_wheels_stopped_says_whether_a_stop_reached_the_robot():
+    """After a lost connection the command line says whether the robots may still be
+    driving: only a stop that was sent without an error counts."""
+    from puckboard.errors import ConnectionLostError
+
+    class Unplugged(FakeAdapter):
+        lost = False
+
+        def _write_wheels(self, left, right):
+            if self.lost:
+                raise ConnectionLostError("unplugged")
+            super()._write_wheels(left, right)
+
+    robot = Unplugged()
+    assert robot.wheels_stopped  # nothing commanded yet
+    robot.set_wheel_speeds(2.0, 2.0)
+    assert not robot.wheels_stopped
+    robot.lost = True
+    with pytest.raises(ConnectionLostError):
+        robot.stop_wheels()
+    robot.close()  # its last try to zero the wheels fails too
+    assert not robot.wheels_stopped
+
+    robot = Unplugged()
+    robot.set_wheel_speeds(2.0, 2.0)
+    robot.close()  # zeroes the wheels on the way out
+    assert robot.wheels_stopped

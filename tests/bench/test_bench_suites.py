@@ -153,3 +153,20 @@ def test_web_suite_measures_with_and_without_stream_clients():
     assert out["with_clients"]["frames_per_s_per_client"] > 0  # every stream got frames
     for key in ("without_web_view", "without_clients", "with_clients"):
         assert out[key]["realtime_factor"] > 0
+
+
+def test_when_every_suite_asked_for_is_skipped_nothing_was_measured(monkeypatch, capsys):
+    monkeypatch.setitem(bench.SUITES, "ghost", "puckboard.no_such_module:run_suite")
+    assert main(["bench", "--suite", "ghost", "--json"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    (line,) = captured.err.strip().splitlines()
+    assert line.startswith("puckboard bench: error: nothing was measured: module not available")
+    assert "no_such_module" in line
+
+
+def test_a_skipped_suite_next_to_one_that_ran_is_a_note(monkeypatch, capsys):
+    monkeypatch.setitem(bench.SUITES, "ghost", "puckboard.no_such_module:run_suite")
+    assert main(["bench", "--suite", "ghost", "--suite", "core", "--steps", "5", "--json"]) == 0
+    suites = json.loads(capsys.readouterr().out)["suites"]
+    assert "skipped" in suites["ghost"] and "arbiter_tick_us" in suites["core"]

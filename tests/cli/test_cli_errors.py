@@ -7,7 +7,6 @@ line, starting ``puckboard <command>: error:``, that says what was wrong and wha
 from __future__ import annotations
 
 import errno
-import json
 import socket
 import sys
 from pathlib import Path
@@ -72,11 +71,14 @@ def test_run_monitor_without_rich_names_the_cli_extra(monkeypatch, capsys):
     assert "--monitor" in line and "pip install 'puckboard[cli]'" in line
 
 
-def test_bench_coppeliasim_suite_without_pyzmq_is_skipped_naming_the_extra(monkeypatch, capsys):
+def test_bench_coppeliasim_suite_without_pyzmq_measures_nothing_and_names_the_extra(
+    monkeypatch, capsys
+):
     hide_module(monkeypatch, "zmq", "puckboard.backends.coppeliasim.server.socket_loop")
-    assert main(["bench", "--suite", "coppeliasim", "--steps", "1", "--json"]) == 0
-    skipped = json.loads(capsys.readouterr().out)["suites"]["coppeliasim"]["skipped"]
-    assert "zmq" in skipped and "pip install 'puckboard[coppeliasim]'" in skipped
+    assert main(["bench", "--suite", "coppeliasim", "--steps", "1", "--json"]) == 2
+    line = one_error_line(capsys, "bench")  # every suite asked for was skipped
+    assert "nothing was measured: suite 'coppeliasim'" in line
+    assert "zmq" in line and "pip install 'puckboard[coppeliasim]'" in line
 
 
 def test_every_extra_named_in_messages_exists_in_pyproject():

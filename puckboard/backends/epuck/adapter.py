@@ -193,6 +193,11 @@ class EPuckReal(RobotAdapter):
     def link_broken(self) -> bool:
         return bool(getattr(self.link, "broken", False))
 
+    @property
+    def wheels_stopped(self) -> bool:
+        """Over a broken link no stop reached the robot, whatever was last commanded."""
+        return super().wheels_stopped and not self.link_broken
+
     # -- internals ---------------------------------------------------------------------
     def _guarded(self, fn: Callable[[], T]) -> T:
         """Run one exchange; on failure try (once, briefly) to stop the wheels, re-raise."""

@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import json
 import re
+import signal
 import subprocess
 import sys
+import threading
 import time
+from collections.abc import Iterator
 
 import pytest
 
 from puckboard.backends.epuck import open_wifi
 from puckboard.cli import main as cli_main
+from puckboard.control.emulation import Emulation
 from puckboard.errors import ConnectionLostError
 
 pytestmark = pytest.mark.network
@@ -82,3 +86,92 @@ def test_connecting_to_this_machine_on_the_robot_port_suggests_the_emulator_port
     assert DEFAULT_WIFI_PORT == EMULATOR_WIFI_PORT
     with pytest.raises(ConnectionLostError, match=f"add --port {EMULATOR_WIFI_PORT}"):
         open_wifi("line-follow", host="127.0.0.1", connect_timeout=2.0)
+
+
+@pytest.fixture
+def emulator() -> Iterator[Emulation]:
+    """``puckboard emulate`` in this process, on a free port, as a user starts it (it
+    stands in for the physical robot: profile epuck)."""
+    em = Emulation("line-follow", protocol="wifi", port=0, idle_timeout=None)
+    thread = threading.Thread(target=em.run, args=(60.0,), daemon=True)
+    thread.start()
+    try:
+        yield em
+    finally:
+        em.stop()
+        thread.join(5)
+        assert not thread.is_alive(), "the emulator did not stop"
+
+
+def run_against(em: Emulation, *more: str) -> int:
+    port = str(em.info.options["port"])
+    return cli_main(
+        ["run", "line-follow", "--backend", "epuck2-wifi", "--host", "127.0.0.1", "--port", port,
+         *more]
+    )  # fmt: skip
+
+
+def test_run_against_the_emulator_reports_the_profile_of_the_robot_it_drove(
+    emulator: Emulation, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert emulator.scene.robots[0].profile == "epuck"  # what the emulator serves
+    assert run_against(emulator, "--duration", "0.5", "--json") == 0
+    verdict = json.loads(capsys.readouterr().out)
+    assert [r["profile"] for r in verdict["robots"]] == ["epuck"]  # not the scene's epuck-vrep
+
+
+def test_an_emulator_that_goes_away_mid_run_ends_in_one_line(
+    emulator: Emulation,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    from puckboard.control.loop import ControlLoop
+
+    original = ControlLoop.cycle
+
+    def cycle(loop: ControlLoop) -> None:
+        if loop.cycles == 10:
+            emulator.stop()  # the emulator ends, and closes its connection
+        original(loop)
+
+    monkeypatch.setattr(ControlLoop, "cycle", cycle)
+    assert run_against(emulator, "--duration", "30", "--json") == 1  # --json: no progress line
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "Traceback" not in caplog.text
+    assert len(err.strip().splitlines()) == 1, err
+    line = err.strip()
+    assert re.match(
+        r"puckboard run: error: the epuck2-wifi connection was lost at t = \d+\.\d\d s of run "
+        r"time and no stop command reached 'epuck': check that it is not still driving\. ",
+        line,
+    ), line
+    assert "127.0.0.1" in line  # what was lost
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="Ctrl-C is not a signal one can send there")
+def test_ctrl_c_on_emulate_with_a_client_driving_says_it_was_interrupted() -> None:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "puckboard", "emulate", "line-follow", "--port", "0"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert proc.stdout is not None
+        match = re.search(r"at 127\.0\.0\.1:(\d+)", proc.stdout.readline())
+        assert match
+        conn = open_wifi("line-follow", host="127.0.0.1", port=int(match.group(1)), timeout=0.5)
+        robot = conn.adapters["epuck"]
+        for _ in range(20):  # a client drives for a moment
+            robot.sense_all()
+            robot.set_wheel_speeds(2.0, 2.0)
+            time.sleep(0.02)
+        proc.send_signal(signal.SIGINT)  # Ctrl-C, with the client still connected
+        out, err = proc.communicate(timeout=10)
+        conn.close()
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    verdict = [line for line in out.splitlines() if line.startswith("line-follow: ")]
+    assert len(verdict) == 1, out
+    assert "(ended: interrupted by Ctrl-C; a client was driving)" in verdict[0]
+    assert "duration" not in verdict[0]
