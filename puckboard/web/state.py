@@ -280,6 +280,10 @@ class EpisodeFollower(_Follower):
         return out
 
     def __call__(self, episode: Any = None) -> None:
+        for i, tr in enumerate(self.traces):  # every cycle: was the tree ticked in this one?
+            if tr is not None:
+                self._ticked[i] = tr.ticks != self._ticks[i]
+                self._ticks[i] = tr.ticks
         self.update(force=False)
 
     def close(self, episode: Any = None) -> None:
@@ -290,10 +294,6 @@ class EpisodeFollower(_Follower):
         ep = self.episode
         layers = self._layers()
         poses = self._poses()
-        for i, tr in enumerate(self.traces):  # every cycle: was the tree ticked in this one?
-            if tr is not None:
-                self._ticked[i] = tr.ticks != self._ticks[i]
-                self._ticks[i] = tr.ticks
         t = float(ep.time)
         self._track(t, poses, layers)
         now = time.monotonic()
