@@ -51,7 +51,6 @@ import json
 import logging
 import math
 import os
-import secrets
 import zipfile
 import zlib
 from collections.abc import Callable, Mapping, Sequence
@@ -62,6 +61,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._version import __version__
+from .atomic import create_beside
 from .decisions import DecisionRecorder, Decisions
 
 __all__ = [
@@ -233,7 +233,7 @@ class Recording:
                 {"proximity": self.proximity, "ground": self.ground}
             )
             meta.update(decided)
-        fd, tmp = _create_beside(path)
+        fd, tmp = create_beside(path)
         try:
             with os.fdopen(fd, "wb") as fh:
                 np.savez_compressed(
@@ -258,26 +258,6 @@ class Recording:
             f"<Recording {self.title!r}: {len(self)} cycles, {self.duration:.2f} s, "
             f"robots {', '.join(self.robot_names)}>"
         )
-
-
-def _create_beside(path: Path) -> tuple[int, Path]:
-    """A new, empty temporary file in ``path``'s directory, open for writing.
-
-    It is created with mode ``0o666`` so that the umask (and a directory's default ACL)
-    set its permissions, as for any other file the user writes, such as the GIF or MP4
-    of the same run. :func:`tempfile.mkstemp` would make it ``0o600``, and
-    :func:`os.replace` keeps the temporary file's mode, so a recording shared with a
-    class could not be read by it. ``O_EXCL`` with a random name keeps mkstemp's
-    guarantee that no existing file is opened by mistake.
-    """
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
-    for _ in range(100):
-        tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
-        try:
-            return os.open(tmp, flags, 0o666), tmp
-        except FileExistsError:
-            continue
-    raise FileExistsError(f"no free temporary file name next to {str(path)!r}")
 
 
 def load_recording(path: str | os.PathLike[str]) -> Recording:

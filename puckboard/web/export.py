@@ -16,6 +16,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from ..viz.atomic import write_atomically
 from .replay import replay_data
 
 __all__ = ["HTML_SUFFIXES", "replay_html", "write_replay_html"]
@@ -75,7 +76,4 @@ def write_replay_html(recording: Any, path: str | os.PathLike[str]) -> Path:
         raise ValueError(f"the player is written as an .html file, got {str(path)!r}")
     text = replay_html(recording)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-    return path
+    return write_atomically(path, text.encode("utf-8"))
