@@ -147,3 +147,29 @@ def test_any_key_a_layer_reads_is_kept_numbers_as_numbers_text_by_its_age(tmp_pa
         expected = "Reader" if k % 3 == 2 else "Cruise"
         assert rec.robot("a").layer_at(k) == expected
         assert rec.tree_at("a", k)[expected] == "RUNNING"
+
+
+def test_a_tick_on_stale_inputs_is_recorded_as_nobody_asked():
+    from puckboard.behaviours import improved
+    from puckboard.records import Ground, Proximity
+
+    clock = {"t": 0.0}
+    board = Blackboard(clock=lambda: clock["t"])
+    ns = board.namespace("a")
+    ns.declare("proximity", max_age=0.1)
+    ctl = improved()
+    recorder = Recorder(["a"], controllers={"a": ctl})
+    ns.put("ground", Ground(np.ones(3), np.full(3, 1023.0)))
+    for k in range(6):
+        clock["t"] = 0.05 * k
+        if k < 3:  # the IR sensors fall silent after three ticks
+            ns.put("proximity", Proximity(np.full(8, 0.05), np.zeros(8)))
+        ctl.tick(ns)
+        recorder.sample(board)
+    rec = recorder.close()
+    layers = [rec.robot("a").layer_at(k) for k in range(6)]
+    assert layers == ["Cruise"] * 5 + ["(stale inputs)"]
+    assert rec.tree_at("a", 4)["Cruise"] == "RUNNING"
+    assert set(rec.tree_at("a", 5).values()) == {"not ticked"}
+    assert rec.decisions.fresh[4, 0].tolist() == [1, 1] and rec.decisions.fresh[5, 0].tolist() == [1, 2]
+    assert rec.decisions.age[5, 0, 1] == pytest.approx(0.15)

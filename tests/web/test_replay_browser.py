@@ -169,3 +169,34 @@ def test_the_offline_file_plays_from_disk_with_the_network_off(recorded):
         browser.evaluate("document.querySelector('#robots tbody tr[data-robot=\"left\"]').click()")
         marked = browser.evaluate("document.querySelector('#tree li.in-control').dataset.node")
         assert marked == rec.robot("left").layer_at(tick)
+
+
+def test_an_older_recording_replays_and_its_panel_says_the_tree_is_missing(recorded, tmp_path):
+    import json
+
+    import numpy as np
+
+    rec, _ = recorded
+    old = rec.save(tmp_path / "old.npz")
+    with np.load(old) as d:
+        arrays = {k: d[k] for k in ("time", "pose", "wheels", "layer", "proximity", "ground")}
+        meta = json.loads(str(d["meta"]))
+    meta["version"] = 2
+    np.savez(old, meta=np.array(json.dumps(meta)), **arrays)
+    page = write_replay_html(load_recording(old), tmp_path / "old.html")
+    with Browser(BINARY) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for(READY)
+        move_slider(browser, 300)
+        browser.evaluate("document.querySelector('#robots tbody tr[data-robot=\"left\"]').click()")
+        note = browser.evaluate("document.getElementById('tree-note').textContent")
+        assert "no behaviour-tree data" in note and "format 2" in note
+        assert browser.evaluate("document.getElementById('tree-note').hidden") is False
+        assert browser.evaluate("document.querySelectorAll('#tree li').length") == 0
+        keys = browser.evaluate(
+            "Array.from(document.querySelectorAll('#keys tbody td:first-child')).map(e => e.textContent)"
+        )
+        assert keys == ["proximity", "ground", "command/layer", "command/wheels"]
+        assert browser.evaluate("state.frame.robots[0].pose") == pytest.approx(
+            list(rec.pose[300, 0]), abs=1e-4
+        )
