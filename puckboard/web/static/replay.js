@@ -98,10 +98,14 @@ function makePlayer(data) {
     };
   };
 
-  p.seek = function (i) {
+  p.seek = function (i) {  // jump there (playing goes on from there)
     i = Math.max(0, Math.min(T - 1, Math.round(i)));
+    p.playT = times[i];
+    p.show(i);
+  };
+
+  p.show = function (i) {
     p.index = i;
-    if (!p.playing) p.playT = times[i];
     state.trails = {};
     robots.forEach((r, k) => {
       const { pts, ticks } = trails[k];
@@ -132,7 +136,7 @@ function makePlayer(data) {
     if (!p.playing) return;
     p.playing = false;
     $("play").textContent = "▶";
-    p.seek(p.index);  // the status line says paused
+    p.show(p.index);  // the status line says paused
   };
 
   p.animate = function (now) {
@@ -140,8 +144,8 @@ function makePlayer(data) {
     p.playT += Math.max(0, now - p.last) / 1000 * p.speed;
     p.last = now;
     const i = p.indexAt(p.playT);
-    if (i >= T - 1) { p.seek(T - 1); p.pause(); return; }
-    if (i !== p.index) p.seek(i);
+    if (i >= T - 1) { p.show(T - 1); p.pause(); return; }
+    if (i !== p.index) p.show(i);
     requestAnimationFrame(p.animate);
   };
 
