@@ -28,6 +28,7 @@ COMMANDS: tuple[str, ...] = (
     "emulate",
     "sweep",
     "plot",
+    "replay",
     "monitor",
     "tree",
     "scenes",

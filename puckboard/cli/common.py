@@ -353,11 +353,13 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
     return f"{where}: {reason}{hint}"
 
 
-def add_web_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--web``, ``--web-host`` and ``--web-port``, the same for ``run`` and ``serve``."""
+def add_web_arguments(parser: argparse.ArgumentParser, web_help: str | None = None) -> None:
+    """``--web``, ``--web-host`` and ``--web-port``, the same for ``run``, ``serve`` and
+    ``replay`` (``web_help`` says what ``--web`` serves, when not a live view)."""
     parser.add_argument(
         "--web", action="store_true",
-        help="also serve a live view of the simulation in the browser (needs puckboard[web])",
+        help=web_help
+        or "also serve a live view of the simulation in the browser (needs puckboard[web])",
     )  # fmt: skip
     parser.add_argument(
         "--web-host", default="127.0.0.1", metavar="HOST",

@@ -25,6 +25,7 @@ robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
 from __future__ import annotations
 
 import dataclasses
+import json
 import logging
 import math
 import time
@@ -38,6 +39,7 @@ from ..backends.registry import default_backend, open_backend
 from ..behaviours.controller import Controller
 from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
+from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import get_profile
 from ..scenario.judge import Judge
@@ -298,6 +300,10 @@ class Episode:
         self.wall_s = 0.0
         self.loop.add_observer(self._after_cycle)
         self.loop.add_close_observer(self._on_close)
+        for name, ctrl in self.controllers.items():
+            show = getattr(self.connection.adapters[name], "show_tree", None)
+            if show is not None:  # a served world's page can draw this robot's tree
+                _show_tree(trace(ctrl), show)
         if self.world is not None:
             self._feed_judge()  # the start poses (after any start jitter)
 
@@ -443,6 +449,21 @@ def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:
     if all(a is b for a, b in zip(robots, scene.robots)):
         return scene
     return dataclasses.replace(scene, robots=robots)
+
+
+def _show_tree(tr: TreeTrace, show: Callable[[str], None]) -> None:
+    """After every tick, hand ``show`` the tree and its statuses as JSON (composed only
+    when a status changed: in a Selector that is when another layer takes over)."""
+    nodes = [{k: n[k] for k in ("name", "type", "kind", "parent", "depth")} for n in tr.nodes]
+    last = [""]
+
+    def listener(trace: TreeTrace) -> None:
+        codes = trace.codes()
+        if codes != last[0]:
+            last[0] = codes
+            show(json.dumps({"nodes": nodes, "status": codes}, separators=(",", ":")))
+
+    tr.listeners.append(listener)
 
 
 def _label(specs: Mapping[str, Any]) -> str:

@@ -23,6 +23,11 @@ array         shape          dtype    meaning
 ``meta``      scalar string  unicode  JSON: see below
 ============  =============  =======  ==============================================
 
+and, from format 3, what each robot's arbiter decided every tick: the status of every
+node of its behaviour tree and the blackboard values its layers read, with their ages
+(``tree``, ``read_age``, ``read_status``, ``read_<j>``; see
+:mod:`puckboard.viz.decisions`). Format 2 recordings, which lack them, still load.
+
 T is the number of recorded cycles, N the number of robots (in ``meta["robots"]``
 order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,
 ``robots``, ``layer_names`` (the table ``layer`` indexes), ``robot_layers`` (each
@@ -46,7 +51,6 @@ import json
 import logging
 import math
 import os
-import secrets
 import zipfile
 import zlib
 from collections.abc import Callable, Mapping, Sequence
@@ -57,6 +61,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .._version import __version__
+from .atomic import create_beside
+from .decisions import DecisionRecorder, Decisions
 
 __all__ = [
     "FORMAT_VERSION",
@@ -70,7 +76,8 @@ log = logging.getLogger(__name__)
 
 FORMAT_NAME = "puckboard-recording"
 #: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.scenefile).
-FORMAT_VERSION = 2
+#: 3: the arbiter's decisions (tree statuses, the values the layers read); optional.
+FORMAT_VERSION = 3
 #: The oldest format :func:`load_recording` reads (format 1 predates the first release).
 OLDEST_FORMAT_VERSION = 2
 """Bumped whenever the on-disk layout changes incompatibly."""
@@ -115,6 +122,7 @@ class Recording:
         proximity: npt.ArrayLike,
         ground: npt.ArrayLike,
         meta: Mapping[str, Any],
+        decisions: Decisions | None = None,
     ) -> None:
         self.time = np.asarray(time, dtype=np.float64)
         self.pose = np.asarray(pose, dtype=np.float64)
@@ -138,6 +146,10 @@ class Recording:
                     f"recording array {name!r} has shape {arr.shape}, expected {(t, n, *tail)} "
                     f"for {t} cycles of {n} robots"
                 )
+        #: what each robot's arbiter decided every tick; ``None`` when not recorded
+        self.decisions = decisions
+        if decisions is not None:
+            decisions.check(t, n)
         self._scene: Any = _UNSET
 
     # -- convenient access -----------------------------------------------------------------
@@ -179,6 +191,14 @@ class Recording:
     def robots(self) -> list[RobotSeries]:
         return [self.robot(i) for i in range(len(self.robot_names))]
 
+    def tree_at(self, robot: str | int, tick: int) -> dict[str, str]:
+        """Node name → status name (``"RUNNING"``, ``"not ticked"``, …) of ``robot``'s
+        tree after control tick ``tick``; empty when the recording has no decisions."""
+        name = self.robot(robot).name
+        if self.decisions is None:
+            return {}
+        return self.decisions.node_status(name, self.robot_names.index(name), tick)
+
     @property
     def scene(self) -> Any:
         """The recorded :class:`~puckboard.scenario.scene.Scene` (``None`` if none was recorded)."""
@@ -207,7 +227,13 @@ class Recording:
         path.parent.mkdir(parents=True, exist_ok=True)
         meta = dict(self.meta)
         meta.update(format=FORMAT_NAME, version=FORMAT_VERSION)
-        fd, tmp = _create_beside(path)
+        extra: dict[str, np.ndarray] = {}
+        if self.decisions is not None:
+            extra, decided = self.decisions.to_arrays(
+                {"proximity": self.proximity, "ground": self.ground}
+            )
+            meta.update(decided)
+        fd, tmp = create_beside(path)
         try:
             with os.fdopen(fd, "wb") as fh:
                 np.savez_compressed(
@@ -219,6 +245,7 @@ class Recording:
                     proximity=self.proximity,
                     ground=self.ground,
                     meta=np.array(json.dumps(meta, default=_json_default)),
+                    **extra,  # type: ignore[arg-type]
                 )
             os.replace(tmp, path)
         except BaseException:
@@ -231,26 +258,6 @@ class Recording:
             f"<Recording {self.title!r}: {len(self)} cycles, {self.duration:.2f} s, "
             f"robots {', '.join(self.robot_names)}>"
         )
-
-
-def _create_beside(path: Path) -> tuple[int, Path]:
-    """A new, empty temporary file in ``path``'s directory, open for writing.
-
-    It is created with mode ``0o666`` so that the umask (and a directory's default ACL)
-    set its permissions, as for any other file the user writes, such as the GIF or MP4
-    of the same run. :func:`tempfile.mkstemp` would make it ``0o600``, and
-    :func:`os.replace` keeps the temporary file's mode, so a recording shared with a
-    class could not be read by it. ``O_EXCL`` with a random name keeps mkstemp's
-    guarantee that no existing file is opened by mistake.
-    """
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
-    for _ in range(100):
-        tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
-        try:
-            return os.open(tmp, flags, 0o666), tmp
-        except FileExistsError:
-            continue
-    raise FileExistsError(f"no free temporary file name next to {str(path)!r}")
 
 
 def load_recording(path: str | os.PathLike[str]) -> Recording:
@@ -299,10 +306,17 @@ def load_recording(path: str | os.PathLike[str]) -> Recording:
             f"no longer reads (formats {OLDEST_FORMAT_VERSION} to {FORMAT_VERSION}): record "
             "the run again"
         )
-    missing = {"time", "pose", "wheels", "layer", "proximity", "ground"} - set(arrays)
+    missing = set(_ARRAYS) - set(arrays)
     if missing:
         raise ValueError(f"recording {str(path)!r} lacks arrays: {', '.join(sorted(missing))}")
-    return Recording(meta=meta, **{k: arrays[k] for k in arrays if k != "meta"})
+    try:
+        decisions = Decisions.from_arrays(meta, arrays)
+        return Recording(meta=meta, decisions=decisions, **{k: arrays[k] for k in _ARRAYS})
+    except (ValueError, TypeError, KeyError) as exc:
+        raise ValueError(f"{str(path)!r} is a damaged puckboard recording: {exc}") from None
+
+
+_ARRAYS = ("time", "pose", "wheels", "layer", "proximity", "ground")
 
 
 class Recorder:
@@ -325,6 +339,7 @@ class Recorder:
         robot_layers: Mapping[str, Sequence[str]] | None = None,
         capacity: int = 1024,
         events: Callable[[], list[dict[str, Any]]] | None = None,
+        controllers: Mapping[str, Any] | None = None,
     ) -> None:
         if not robot_names:
             raise ValueError("a Recorder needs at least one robot name")
@@ -350,13 +365,20 @@ class Recorder:
         self._layer = np.empty((cap, n), dtype=np.int16)
         self._prox = np.empty((cap, n, 8), dtype=np.float32)
         self._ground = np.empty((cap, n, 3), dtype=np.float32)
+        #: the arbiters' decisions, when the controllers are known (see .decisions)
+        self._decisions = (
+            None if not controllers else DecisionRecorder(self.robot_names, controllers, cap)
+        )
         self._closed = False
         self.saved_path: Path | None = None
 
     # -- building from an episode ---------------------------------------------------------
     @classmethod
-    def for_episode(cls, episode: Any, path: str | os.PathLike[str] | None = None) -> Recorder:
-        """A recorder for every robot of ``episode``, with its scene and run metadata."""
+    def for_episode(
+        cls, episode: Any, path: str | os.PathLike[str] | None = None, *, decisions: bool = True
+    ) -> Recorder:
+        """A recorder for every robot of ``episode``, with its scene and run metadata and,
+        unless ``decisions`` is false, what each robot's arbiter decided every tick."""
         names = list(getattr(episode, "controllers", {}) or episode.connection.adapters)
         controllers = getattr(episode, "controllers", {}) or {}
         scene = getattr(episode, "scene", None)
@@ -394,6 +416,7 @@ class Recorder:
             robot_layers=robot_layers,
             capacity=capacity,
             events=events,
+            controllers=controllers if decisions else None,
         )
 
     def attach(self, episode: Any) -> Recorder:
@@ -442,6 +465,8 @@ class Recorder:
                 self._wheels[i, r] = math.nan
             rec = snap.record("command/layer")
             self._layer[i, r] = -1 if rec is None else self._layer_index(rec.value)
+        if self._decisions is not None:
+            self._decisions.sample(i)
         if math.isnan(stamp):
             stamp = fallback_time if fallback_time is not None else float(i)
         self._time[i] = stamp
@@ -460,6 +485,8 @@ class Recorder:
             arr = np.empty((new, *old.shape[1:]), dtype=old.dtype)
             arr[: len(old)] = old
             setattr(self, attr, arr)
+        if self._decisions is not None:
+            self._decisions.grow(new)
 
     # -- reading while recording ---------------------------------------------------------
     def __len__(self) -> int:
@@ -514,6 +541,7 @@ class Recorder:
             proximity=self._prox[:n].copy(),
             ground=self._ground[:n].copy(),
             meta=meta,
+            decisions=None if self._decisions is None else self._decisions.decisions(n),
         )
 
     def close(self, _episode: Any = None) -> Recording:

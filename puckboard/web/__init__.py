@@ -8,9 +8,13 @@ and its arbitration timeline. The page is plain HTML and JavaScript shipped in t
 package (no CDN: it works offline) and read-only.
 
 * :mod:`.state` — what the page shows, built from a run or a served world;
-* :mod:`.server` — the aiohttp server: the page, a Server-Sent Events stream.
+* :mod:`.server` — the aiohttp server: the page, a Server-Sent Events stream;
+* :mod:`.replay` — a recorded run as one document the page's player scrubs through
+  (``puckboard replay RUN.npz --web``);
+* :mod:`.export` — that player as one self-contained HTML file (``--html``).
 
-Needs the ``web`` extra (``pip install "puckboard[web]"``, aiohttp).
+Serving needs the ``web`` extra (``pip install "puckboard[web]"``, aiohttp); writing the
+one-file player does not.
 """
 
 from __future__ import annotations

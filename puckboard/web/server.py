@@ -33,7 +33,10 @@ log = logging.getLogger(__name__)
 #: Default port of the web view.
 DEFAULT_WEB_PORT = 8080
 _STATIC = {"/": ("index.html", "text/html"), "/view.js": ("view.js", "text/javascript"),
+           "/replay.js": ("replay.js", "text/javascript"),
            "/view.css": ("view.css", "text/css")}  # fmt: skip
+#: Messages the page fetches when it needs them instead of receiving them on the stream.
+_FETCHED = frozenset({"details", "replay"})
 _KEEPALIVE_S = 15.0
 
 
@@ -41,7 +44,8 @@ class WebView:
     """A live view served at ``http://host:port/``; ``port=0`` picks a free port.
 
     ``publish(kind, data)`` sends ``scene``, ``frame`` or ``details`` messages; the page
-    fetches the newest scene, trails and details on connect.
+    fetches the newest scene, trails and details on connect. A ``replay`` message (a
+    whole recorded run, :mod:`.replay`) turns the page into a player.
     """
 
     def __init__(self, *, host: str = "127.0.0.1", port: int = DEFAULT_WEB_PORT) -> None:
@@ -119,11 +123,13 @@ class WebView:
     async def _serve(self) -> None:
         app = web.Application()
         app.router.add_get("/", self._static_file)
-        app.router.add_get("/view.js", self._static_file)
-        app.router.add_get("/view.css", self._static_file)
+        for path in _STATIC:
+            if path != "/":
+                app.router.add_get(path, self._static_file)
         app.router.add_get("/scene.json", self._message("scene"))
         app.router.add_get("/frame.json", self._message("frame"))
         app.router.add_get("/details.json", self._message("details"))
+        app.router.add_get("/replay.json", self._message("replay"))
         app.router.add_get("/trails.json", self._trails_json)
         app.router.add_get("/stream", self._stream)
         self._event = asyncio.Event()
@@ -161,8 +167,8 @@ class WebView:
 
     def _deliver(self, kind: str, body: bytes, message: bytes) -> None:
         self._latest[kind] = body
-        if kind == "details":
-            return  # fetched by the panel when open, not streamed
+        if kind in _FETCHED:
+            return  # fetched by the page (the panel, the player), not streamed
         self._data = message
         old, self._event = self._event, asyncio.Event()
         if old is not None:

@@ -10,7 +10,10 @@ The page draws three things, each sent as it changes:
   verdict;
 * a robot's **details** when someone opens its panel: its blackboard keys with values and
   ages (what ``puckboard monitor`` shows), or, for a served world whose controllers run in
-  other processes, the served sensor values; and its arbitration timeline so far.
+  other processes, the served sensor values; its arbitration timeline so far; and its
+  behaviour tree with every node's status at the last tick (a
+  :class:`~puckboard.behaviours.tracing.TreeTrace`; a served world shows the tree its
+  client publishes as the string signal ``<model>.tree``).
 
 :class:`EpisodeFollower` builds them from a :class:`~puckboard.control.episode.Episode`
 (``puckboard run --web``) reading only the blackboard and the scene, like every other
@@ -25,6 +28,7 @@ Colours and event words come from :mod:`puckboard.viz.style`, as in the other fi
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from collections import deque
@@ -33,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..behaviours.tracing import TreeTrace, trace
 from ..profile import get_profile
 from ..records import PROX_NAMES
 from ..viz.scene_art import scene_bounds
@@ -42,7 +47,7 @@ if TYPE_CHECKING:
     from ..scenario.judge import Judge
     from ..scenario.scene import Scene
 
-__all__ = ["FRAME_RATE", "EpisodeFollower", "ServerFollower", "describe_scene"]
+__all__ = ["FRAME_RATE", "EpisodeFollower", "ServerFollower", "describe_scene", "page_nodes"]
 
 #: Frames a second sent to the page (the simulation may step far faster).
 FRAME_RATE = 20.0
@@ -57,6 +62,29 @@ Publish = Callable[[str, Any], None]
 
 def _r(value: float, digits: int = 4) -> float:
     return round(float(value), digits)
+
+
+def page_nodes(
+    nodes: Sequence[dict[str, Any]], colours: dict[str, str] | None = None
+) -> list[dict[str, Any]]:
+    """A tree's nodes as the page draws them: each layer with its colour (``colours``,
+    else the layer's colour everywhere else)."""
+    out = []
+    for node in nodes:
+        keep = ("name", "type", "kind", "parent", "depth", "memory")
+        entry: dict[str, Any] = {k: node[k] for k in keep if k in node}
+        if entry.get("kind") == "layer":
+            name = str(entry.get("name"))
+            entry["colour"] = (colours or {}).get(name) or layer_colour(name)
+        out.append(entry)
+    return out
+
+
+#: What the panel says when a served robot's client publishes no tree.
+NO_REMOTE_TREE = (
+    "the program driving this robot does not publish its behaviour tree "
+    "('puckboard run --backend coppeliasim' does)"
+)
 
 
 def describe_scene(scene: Scene, *, driver: str) -> dict[str, Any]:
@@ -218,6 +246,13 @@ class EpisodeFollower(_Follower):
         self.adapters = [episode.connection.adapters[n] for n in self.names]
         self.finished = False
         self._order: list[int] | None = None
+        controllers = getattr(episode, "controllers", None) or {}
+        self.traces: list[TreeTrace | None] = [
+            trace(controllers[n]) if n in controllers else None for n in self.names
+        ]
+        self._nodes = [None if t is None else page_nodes(t.nodes) for t in self.traces]
+        self._ticks = [0 if t is None else t.ticks for t in self.traces]
+        self._ticked = [False] * len(self.names)
 
     def _layers(self) -> list[str | None]:
         """The layer each controller chose this cycle (one record read per robot: this
@@ -246,6 +281,10 @@ class EpisodeFollower(_Follower):
         return out
 
     def __call__(self, episode: Any = None) -> None:
+        for i, tr in enumerate(self.traces):  # every cycle: was the tree ticked in this one?
+            if tr is not None:
+                self._ticked[i] = tr.ticks != self._ticks[i]
+                self._ticks[i] = tr.ticks
         self.update(force=False)
 
     def close(self, episode: Any = None) -> None:
@@ -274,9 +313,21 @@ class EpisodeFollower(_Follower):
         self.publish("frame", self._frame(t, now, robots, ep.judge, status))
         if force or now >= self._next_detail:
             self._next_detail = now + 1.0 / DETAIL_RATE
-            self.publish("details", {n: self._detail(i, snaps[i]) for i, n in enumerate(self.names)})
+            details = {
+                n: self._detail(i, snaps[i], layers[i], round(t, 3))
+                for i, n in enumerate(self.names)
+            }
+            self.publish("details", details)
 
-    def _detail(self, i: int, snap: Any) -> dict[str, Any]:
+    def _tree(self, i: int, active: str | None, t: float) -> dict[str, Any]:
+        tr, nodes = self.traces[i], self._nodes[i]
+        if tr is None or nodes is None:
+            return {"note": "this robot has no controller of puckboard's to show", "t": t}
+        status = tr.status.tolist() if self._ticked[i] else [0] * len(nodes)
+        note = None if self._ticked[i] else "the tree was not ticked: its inputs were stale"
+        return {"nodes": nodes, "status": status, "active": active, "note": note, "t": t}
+
+    def _detail(self, i: int, snap: Any, active: str | None, t: float) -> dict[str, Any]:
         from ..viz.monitor import format_value
 
         keys = []
@@ -289,7 +340,8 @@ class EpisodeFollower(_Follower):
                 "key": key, "value": format_value(rec.value), "age": round(snap.now - rec.stamp, 3),
                 "status": snap.status(key),
             })  # fmt: skip
-        return {"keys": keys, "timeline": self.timeline(i), "source": "blackboard"}
+        return {"keys": keys, "timeline": self.timeline(i), "source": "blackboard",
+                "tree": self._tree(i, active, t)}  # fmt: skip
 
 
 class ServerFollower(_Follower):
@@ -303,6 +355,7 @@ class ServerFollower(_Follower):
         self._world_id = id(api.world)
         self.judge = self._new_judge()
         self._model_names = [b.name for b in api.objects.bases]
+        self._trees: dict[str, tuple[Any, dict[str, Any] | None]] = {}  # signal → parsed
 
     def _new_judge(self) -> Judge:
         from ..scenario.judge import Judge
@@ -345,7 +398,24 @@ class ServerFollower(_Follower):
         self.publish("frame", self._frame(float(world.time), now, robots, judge, status))
         if now >= self._next_detail:
             self._next_detail = now + 1.0 / DETAIL_RATE
-            self.publish("details", {n: self._detail(i) for i, n in enumerate(self.names)})
+            t = round(float(world.time), 3)
+            self.publish("details", {
+                n: {**self._detail(i), "tree": self._tree(i, layers[i], t)}
+                for i, n in enumerate(self.names)
+            })  # fmt: skip
+
+    def _tree(self, i: int, active: str | None, t: float) -> dict[str, Any]:
+        """The tree the robot's client publishes (``<model>.tree``: JSON with ``nodes``
+        and ``status``, one digit per node), read and checked once per change."""
+        raw = self.server.api.signals.string.get(f"{self._model_names[i]}.tree")
+        cached = self._trees.get(self._model_names[i])
+        if cached is None or cached[0] != raw:
+            cached = (raw, _parse_tree(raw))
+            self._trees[self._model_names[i]] = cached
+        tree = cached[1]
+        if tree is None:
+            return {"note": NO_REMOTE_TREE, "t": t}
+        return {**tree, "active": active, "note": None, "t": t}
 
     def _drivers(self, now: float) -> list[str]:
         out = ["no client"] * len(self.names)
@@ -376,6 +446,26 @@ class ServerFollower(_Follower):
              "age": 0.0, "status": "fresh"},
         ]  # fmt: skip
         return {"keys": keys, "timeline": self.timeline(i), "source": "served sensors"}
+
+
+def _parse_tree(raw: Any) -> dict[str, Any] | None:
+    """A client's ``<model>.tree`` signal, or ``None`` when absent or malformed (a client
+    is not trusted: only names, kinds, parents and status digits are kept)."""
+    text = _text(raw)
+    if not text:
+        return None
+    try:
+        data = json.loads(text)
+        nodes = [
+            {"name": str(n["name"])[:80], "type": str(n.get("type", ""))[:40],
+             "kind": str(n.get("kind", "behaviour"))[:12], "parent": int(n["parent"]),
+             "depth": int(n.get("depth", 0))}
+            for n in data["nodes"][:64]
+        ]  # fmt: skip
+        status = [int(c) for c in str(data["status"])[: len(nodes)]]
+    except (ValueError, TypeError, KeyError, AttributeError):
+        return None
+    return {"nodes": page_nodes(nodes), "status": status + [0] * (len(nodes) - len(status))}
 
 
 def _text(value: Any) -> str | None:

@@ -92,3 +92,14 @@ def test_clicking_a_robot_opens_its_panel(live_run):
         )
         assert {"proximity", "ground", "command/layer"} <= set(keys)
         assert browser.evaluate("document.getElementById('panel-title').textContent") == "right"
+        # the behaviour tree, live: every layer with its status, the one in control marked
+        nodes = browser.wait_for(
+            "Array.from(document.querySelectorAll('#tree li')).map(e => e.dataset.node)"
+        )
+        assert nodes == ["improved", "FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"]
+        marked = browser.wait_for(
+            "document.querySelector('#tree li.in-control') && "
+            "[document.querySelector('#tree li.in-control').dataset.node, "
+            "document.querySelector('#robots tr[data-robot=\"right\"] .layer').textContent]"
+        )
+        assert marked[0] in nodes[1:] and marked[1] in nodes[1:]

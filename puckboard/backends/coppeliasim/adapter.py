@@ -383,17 +383,28 @@ class EPuckVRep(RobotAdapter):
             layer = self.ns.get("command/layer").value
         except MissingValueError:
             return
-        if layer == self._published_layer:
-            return
-        self._published_layer = layer
+        if layer != self._published_layer:
+            self._published_layer = layer
+            self._set_signal("layer", layer)
+        if self._tree_text is not None and self._tree_text != self._published_tree:
+            self._published_tree = self._tree_text
+            self._set_signal("tree", self._tree_text)
+
+    def show_tree(self, text: str) -> None:
+        """The controller's behaviour tree with every node's status at this tick, as
+        JSON, to publish with the layer as the string signal ``<model>.tree`` (when it
+        changes) so the served world's web view can draw it."""
+        self._tree_text = text
+
+    def _set_signal(self, name: str, value: str) -> None:
         try:
             if self._model_name is None:
                 self._model_name = str(self.link.call("sim.getObjectName", [self.handles["base"]]))
-            self.link.call("sim.setStringSignal", [f"{self._model_name}.layer", layer])
+            self.link.call("sim.setStringSignal", [f"{self._model_name}.{name}", value])
         except ConnectionLostError:
             raise
         except AdapterError as exc:
-            log.debug("layer signal not published: %s", exc)
+            log.debug("%s signal not published: %s", name, exc)
 
     def _read_camera(self) -> CameraImage:
         image, res = self.link.call("sim.getVisionSensorImg", [self.handles["camera"]])
@@ -412,6 +423,8 @@ class EPuckVRep(RobotAdapter):
     _closing = False
     _wheels_function = False
     _published_layer: str | None = None
+    _tree_text: str | None = None
+    _published_tree: str | None = None
     _model_name: str | None = None
 
     def close(self) -> None:

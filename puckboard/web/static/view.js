@@ -1,9 +1,11 @@
-// The live view: draws the scene and the newest frame from the server's event stream.
-// Plain JavaScript, no libraries: it must work offline, on a projector and on a phone.
+// The web view: draws the scene and a frame, live from the server's event stream or, in a
+// replay (replay.js), from a recorded run. Plain JavaScript, no libraries: it must work
+// offline, from a file, on a projector and on a phone.
 "use strict";
 
 const FAILURES = new Set(["collision", "lost_line", "parallel_driving", "stuck", "turned_back"]);
-var state = { scene: null, frame: null, trails: {}, details: {}, selected: null, view: null };
+// state.player is the replay's player (replay.js) when the page replays a recording
+var state = { scene: null, frame: null, trails: {}, details: {}, selected: null, view: null, player: null };
 const canvas = document.getElementById("arena");
 const ctx = canvas.getContext("2d");
 
@@ -73,6 +75,7 @@ function draw() {
     }
     if (!frame) return;
     const r = frame.robots[i];
+    if (!r || r.pose[0] === null || r.pose[1] === null) return;  // no pose known (a real robot)
     const [x, y, th] = r.pose, c = Math.cos(th), s = Math.sin(th);
     if (r.prox) {  // IR readings: a ray from each sensor that sees something
       ctx.lineWidth = 3 * v.ratio; ctx.strokeStyle = "#D55E00";
@@ -118,8 +121,17 @@ function showScene(sc) {
   fit(); draw();
 }
 
-function showFrame(f) {
+function liveFrame(f) {
   if (state.frame && f.t < state.frame.t) state.trails = {};  // the simulation was restarted
+  for (const r of f.robots) {
+    const trail = state.trails[r.name] || (state.trails[r.name] = []);
+    const last = trail[trail.length - 1];
+    if (!last || Math.hypot(last[0] - r.pose[0], last[1] - r.pose[1]) > 0.005) trail.push([r.pose[0], r.pose[1]]);
+  }
+  showFrame(f);
+}
+
+function showFrame(f) {
   state.frame = f;
   $("time").textContent = `t = ${f.t.toFixed(1)} s`;
   $("rtf").textContent = f.rtf === null ? "" : `${f.rtf.toFixed(1)}× real time`;
@@ -127,9 +139,6 @@ function showFrame(f) {
   const rows = $("robots").tBodies[0].rows;
   f.robots.forEach((r, i) => {
     const row = rows[i]; if (!row) return;
-    const trail = state.trails[r.name] || (state.trails[r.name] = []);
-    const last = trail[trail.length - 1];
-    if (!last || Math.hypot(last[0] - r.pose[0], last[1] - r.pose[1]) > 0.005) trail.push([r.pose[0], r.pose[1]]);
     const layer = row.querySelector(".layer-cell");
     layer.replaceChildren();
     if (r.layer) { const tag = el("span", { class: "layer" }, r.layer); tag.style.background = r.layer_colour; layer.append(tag); }
@@ -138,9 +147,9 @@ function showFrame(f) {
     row.querySelector(".driver").textContent = r.driver;
   });
   const list = $("events");
-  if (list.children.length !== f.events.length) {
-    list.replaceChildren(...f.events.map(e => el("li", { class: FAILURES.has(e.kind) ? "failure" : "" },
-      `${e.t.toFixed(1)} s  ${e.robot || ""} ${e.text}`)));
+  if (state.player) state.player.markEvents(f.t);
+  else if (list.children.length !== f.events.length) {
+    list.replaceChildren(...f.events.map(eventItem));
   }
   const verdict = $("verdict");
   if (f.verdict) {
@@ -149,6 +158,11 @@ function showFrame(f) {
     verdict.textContent = f.verdict.success ? "SUCCESS" : `FAILED: ${f.verdict.text}${f.verdict.robot ? " (" + f.verdict.robot + ")" : ""}`;
   } else verdict.hidden = true;
   draw();
+}
+
+function eventItem(e) {
+  return el("li", { class: FAILURES.has(e.kind) ? "failure" : "", "data-t": e.t },
+    `${e.t.toFixed(1)} s  ${e.robot || ""} ${e.text}`);
 }
 
 function select(name) {
@@ -161,29 +175,89 @@ function select(name) {
 
 async function refreshDetails() {
   if (!state.selected) return;
+  if (state.player) { showDetails(state.player.details(state.selected)); return; }
   try {
     const all = await (await fetch("/details.json", { cache: "no-store" })).json();
     const d = all && all[state.selected];
-    if (!d) return;
-    $("panel-source").textContent = `from the ${d.source}`;
-    $("keys").tBodies[0].replaceChildren(...d.keys.map(k => {
-      const row = el("tr", { class: k.status });
-      row.append(el("td", {}, k.key), el("td", {}, k.value), el("td", {}, k.age === null ? "—" : k.age.toFixed(2)));
-      return row;
-    }));
-    drawTimeline(d.timeline);
+    if (d) showDetails(d);
   } catch (err) { /* the next refresh tries again */ }
 }
 
-function drawTimeline(changes) {
+function showDetails(d) {
+  $("panel-source").textContent = `from the ${d.source}`;
+  $("keys").tBodies[0].replaceChildren(...d.keys.map(k => {
+    const row = el("tr", { class: k.status, "data-key": k.key });
+    row.append(el("td", {}, k.key), el("td", {}, k.value), el("td", {}, k.age === null ? "—" : k.age.toFixed(2)));
+    return row;
+  }));
+  drawTimeline(d.timeline, d.end, d.cursor);
+  showTree(d.tree);
+}
+
+// The arbitration timeline: one colour band per layer in control; in a replay the whole
+// run with a cursor at the current time (click it to jump there).
+function drawTimeline(changes, end, cursor) {
   const tl = $("timeline"), ratio = window.devicePixelRatio || 1;
   tl.width = tl.clientWidth * ratio; tl.height = 36 * ratio;
-  const g = tl.getContext("2d"), end = Math.max(state.frame ? state.frame.t : 0, 1e-3);
+  end = Math.max(end !== undefined ? end : (state.frame ? state.frame.t : 0), 1e-3);
+  const g = tl.getContext("2d");
   g.clearRect(0, 0, tl.width, tl.height);
   changes.forEach((c, i) => {
     const t1 = i + 1 < changes.length ? changes[i + 1].t : end;
     g.fillStyle = c.colour; g.fillRect(tl.width * c.t / end, 0, Math.max(1, tl.width * (t1 - c.t) / end), tl.height);
   });
+  if (cursor !== undefined && cursor !== null) {
+    const u = Math.round(tl.width * cursor / end);
+    g.fillStyle = "#000"; g.fillRect(u - ratio, 0, 2 * ratio, tl.height);
+    g.fillStyle = "#fff"; g.fillRect(u + ratio, 0, ratio, tl.height);
+  }
+  tl.dataset.end = end;
+}
+
+// -- the behaviour tree: every node's status at this tick, the layer in control marked -----------
+const STATUS_WORDS = {
+  layer: ["not asked", "does not apply", "applies", "succeeded", "stopped"],
+  decorator: ["not asked", "does not apply", "running", "succeeded", "stopped"],
+  selector: ["not ticked", "no layer applies", "a layer drives", "succeeded", "stopped"],
+  other: ["not ticked", "failure", "running", "success", "stopped"],
+};
+
+function inControl(tree) {
+  // the layer node that drove: named like the layer in control, and running itself or
+  // held by a running decorator above it
+  const { nodes, status, active } = tree;
+  for (let k = 0; k < nodes.length; k++) {
+    if (nodes[k].kind !== "layer" || nodes[k].name !== active || !status[k]) continue;
+    for (let a = k; a >= 0; a = nodes[a].parent) if (status[a] === 2) return k;
+  }
+  return -1;
+}
+
+function showTree(tree) {
+  const list = $("tree"), note = $("tree-note");
+  const nodes = tree && tree.nodes;
+  note.hidden = !(tree && tree.note);
+  note.textContent = (tree && tree.note) || "";
+  $("tree-time").textContent = tree && tree.t !== undefined && tree.t !== null ? `at t = ${tree.t.toFixed(2)} s` : "";
+  if (!nodes) { list.replaceChildren(); return; }
+  const driver = inControl(tree);
+  list.replaceChildren(...nodes.map((n, k) => {
+    const code = tree.status[k] || 0;
+    const words = STATUS_WORDS[n.kind] || STATUS_WORDS.other;
+    let word = words[code] || String(code);
+    if (n.kind === "decorator" && code === 2 && nodes[k + 1] && tree.status[k + 1] !== 2) word = "holds the wheels";
+    const item = el("li", { class: `node s${code}${k === driver ? " in-control" : ""}`, "data-node": n.name,
+                            "data-status": code, "data-kind": n.kind });
+    item.style.paddingLeft = `${0.3 + 1.3 * n.depth}em`;
+    const sw = el("span", { class: "swatch" });
+    sw.style.background = n.kind === "layer" ? (n.colour || "#999") : "transparent";
+    const name = el("span", { class: "node-name" }, n.name);
+    const kind = n.kind === "layer" ? null : el("span", { class: "node-kind" }, n.type + (n.memory ? " (memory)" : ""));
+    const badge = el("span", { class: "node-status" }, k === driver ? "in control" : word);
+    if (k === driver) badge.style.background = n.colour || "#333";
+    item.append(sw, name, ...(kind ? [kind] : []), badge);
+    return item;
+  }));
 }
 
 canvas.addEventListener("click", ev => {
@@ -199,18 +273,34 @@ canvas.addEventListener("click", ev => {
   select(best);
 });
 $("panel-close").addEventListener("click", () => select(null));
+$("timeline").addEventListener("click", ev => {
+  if (!state.player) return;
+  const tl = $("timeline"), rect = tl.getBoundingClientRect();
+  state.player.seekTime(+tl.dataset.end * (ev.clientX - rect.left) / rect.width);
+});
 window.addEventListener("resize", () => { fit(); draw(); });
-setInterval(refreshDetails, 500);
+setInterval(() => { if (!state.player) refreshDetails(); }, 500);
 
-// -- the stream -----------------------------------------------------------------------------------
+async function fetchJson(url) {
+  try {
+    const r = await fetch(url, { cache: "no-store" });
+    return r.ok ? await r.json() : null;
+  } catch (err) { return null; }
+}
+
+// -- the source: a recording inlined in the page, one the server replays, or the live stream ------
 async function start() {
-  const sc = await (await fetch("/scene.json", { cache: "no-store" })).json();
+  const inlined = document.getElementById("replay-data");
+  if (inlined) { startReplay(JSON.parse(inlined.textContent)); return; }
+  const replay = await fetchJson("/replay.json");
+  if (replay) { startReplay(replay); return; }
+  const sc = await fetchJson("/scene.json");
   if (sc) showScene(sc);
-  state.trails = (await (await fetch("/trails.json", { cache: "no-store" })).json()) || {};
+  state.trails = (await fetchJson("/trails.json")) || {};
   const source = new EventSource("/stream");
   source.addEventListener("scene", e => showScene(JSON.parse(e.data)));
-  source.addEventListener("frame", e => showFrame(JSON.parse(e.data)));
+  source.addEventListener("frame", e => liveFrame(JSON.parse(e.data)));
   source.onopen = () => { $("connection").textContent = "live: updates stream from the simulation (read-only view)"; };
   source.onerror = () => { $("connection").textContent = "connection lost; retrying…"; };
 }
-start();
+document.addEventListener("DOMContentLoaded", start);

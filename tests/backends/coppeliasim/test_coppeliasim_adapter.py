@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import logging
 import subprocess
 import sys
@@ -397,6 +398,9 @@ def test_epuckvrep_reads_sensor_by_sensor_from_a_stock_model(caplog):
         assert r["on_line_fraction"] == pytest.approx(e["on_line_fraction"], abs=0.05)
 
 
+LAYER_ORDER = ["FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"]  # improved's
+
+
 def test_the_layer_in_control_is_published_as_a_signal(server):
     """puckboard's CoppeliaSim backend tells the served world which layer drives each
     robot (what the web view shows for remote clients), as the string signal
@@ -407,6 +411,17 @@ def test_the_layer_in_control_is_published_as_a_signal(server):
     server.add_step_observer(lambda srv: seen.append(dict(srv.api.signals.string)))
     run_episode(SCENE, controller="improved", duration=2.0, backend="coppeliasim", port=server.port)
     published = {k: v for snapshot in seen for k, v in snapshot.items()}
-    assert set(published) == {"ePuck.layer", "ePuck#0.layer"}
-    layers = {"FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"}  # improved's
-    assert set(published.values()) <= layers and "LineFollow" in published.values()
+    assert set(published) == {"ePuck.layer", "ePuck#0.layer", "ePuck.tree", "ePuck#0.tree"}
+    layers = set(LAYER_ORDER)  # improved's
+    names = {published[f"{m}.layer"] for m in ("ePuck", "ePuck#0")}
+    assert names <= layers and "LineFollow" in names
+    # and its behaviour tree, with every node's status at the tick that chose that layer
+    for snapshot in seen:
+        for model in ("ePuck", "ePuck#0"):
+            if f"{model}.tree" not in snapshot:
+                continue
+            tree = json.loads(snapshot[f"{model}.tree"])
+            nodes = [n["name"] for n in tree["nodes"]]
+            assert nodes == ["improved", *LAYER_ORDER]
+            k = nodes.index(snapshot[f"{model}.layer"])  # published together, after the tick
+            assert tree["status"] == "2" + "1" * (k - 1) + "2" + "0" * (len(nodes) - k - 1)
