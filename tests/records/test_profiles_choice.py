@@ -8,7 +8,7 @@ import pytest
 
 from puckboard.cli import main
 from puckboard.control.episode import run_episode
-from puckboard.scenario.scenefile import scene_from_dict
+from puckboard.scenario import scene_from_dict
 from puckboard.sim.world import World
 from puckboard.sweep.plan import PlanError, parse_set
 
