@@ -9,8 +9,9 @@ backend:
   senseAllTogether) and writes the records to the robot's blackboard namespace in one
   atomic write, so a snapshot never mixes two sensing cycles;
 * ``refresh(sensor)`` reads one sensor;
-* ``set_wheel_speeds(left, right)`` in rad/s, clamped to the profile's limit with a
-  warning;
+* ``command_wheels(command)``: a controller's :class:`~puckboard.records.WheelCommand`
+  (rad/s), clamped once, here, to the profile's limit with one warning per robot
+  (``set_wheel_speeds(left, right)`` is the same for two numbers);
 * ``camera_image()``;
 * for simulators, synchronous stepping through a shared :class:`Stepper`;
 * a background sensing thread and camera thread with their own periods, and observers
@@ -118,7 +119,10 @@ def declare_robot_keys(ns: Namespace, max_age: float | None = None) -> None:
     """Declare the schema of every sensor key (and the command keys) in ``ns``.
 
     A value of the wrong type (a bare array instead of a :class:`~puckboard.records.Proximity`
-    record, say) is then refused with an error naming the key.
+    record, say) is then refused with an error naming the key. Sensor records older
+    than ``max_age`` (s) count as stale, the camera's excepted. An adapter declares its
+    own namespace (:meth:`RobotAdapter.set_stale_after` changes the age); call this only
+    for a namespace no adapter writes, a test's or a benchmark's.
     """
     for sensor, cls in RECORD_TYPES.items():
         age = None if sensor is Sensor.CAMERA else max_age  # images come at their own pace
@@ -160,6 +164,7 @@ class RobotAdapter(abc.ABC):
         self.command_timeout = command_timeout
         self.io_lock = threading.RLock()
         self._enabled: set[Sensor] = set(self.available_sensors) - self.opt_in_sensors
+        self._stale_after: float | None = None
         self._closed = False
         self._clamp_warned = False
         self._last_command_time: float | None = None
@@ -179,8 +184,15 @@ class RobotAdapter(abc.ABC):
                 clock = (lambda: stepper.time) if stepper is not None else time.monotonic
                 board = Blackboard(clock=clock)
             ns = board.namespace(self.name)
-        declare_robot_keys(ns)
+        declare_robot_keys(ns, max_age=self._stale_after)
         return ns
+
+    def set_stale_after(self, seconds: float | None) -> None:
+        """Let this robot's sensor records count as stale once older than ``seconds``
+        (None: never). A control loop sets it from its period; the adapter owns its
+        namespace's key declarations, so they are made in this one place."""
+        self._stale_after = seconds
+        declare_robot_keys(self.ns, max_age=seconds)
 
     def attach(self, board: Blackboard | Namespace) -> Namespace:
         """Write into ``board`` (under this robot's name, or into the given namespace)."""
@@ -273,10 +285,17 @@ class RobotAdapter(abc.ABC):
                 _call_observer(obs, self, changed)
 
     # -- actuators -------------------------------------------------------------------------
-    def set_wheel_speeds(self, left: float, right: float) -> WheelCommand:
-        """Command the wheels (rad/s). Beyond the profile's limit the speed is clamped and a
-        warning is logged once. Returns the command actually sent."""
-        cmd = self._clamp(WheelCommand(float(left), float(right)))
+    def command_wheels(self, command: WheelCommand) -> WheelCommand:
+        """Send a wheel command (rad/s), as a controller's tick returns it. Returns the
+        command actually sent.
+
+        Beyond the profile's limit the speed is clamped, here and only here, with a
+        warning logged once per robot: the adapter is the one place that knows the
+        robot's profile and name whatever is behind it (a real robot, CoppeliaSim, the
+        embedded engine), so every backend clamps the same way and the transport below
+        (:meth:`_write_wheels`) receives numbers already within the limit.
+        """
+        cmd = self._clamp(command)
         with self.io_lock:
             self._ensure_open()
             self._write_wheels(cmd.left, cmd.right)
@@ -284,14 +303,21 @@ class RobotAdapter(abc.ABC):
         self._wheels_moving = cmd.left != 0.0 or cmd.right != 0.0
         return cmd
 
+    def set_wheel_speeds(self, left: float, right: float) -> WheelCommand:
+        """Command the wheels (rad/s): :meth:`command_wheels` for two numbers."""
+        return self.command_wheels(WheelCommand(float(left), float(right)))
+
     def stop_wheels(self) -> None:
         """Command both wheels to zero."""
-        self.set_wheel_speeds(0.0, 0.0)
+        self.command_wheels(WheelCommand.stop())
 
     def _clamp(self, cmd: WheelCommand) -> WheelCommand:
+        """``cmd`` within the profile's limit, as floats (a layer may have built it of ints)."""
         limit = self.profile.max_wheel_speed
         if abs(cmd.left) <= limit and abs(cmd.right) <= limit:
-            return cmd
+            if type(cmd.left) is float and type(cmd.right) is float:
+                return cmd
+            return WheelCommand(float(cmd.left), float(cmd.right))
         if not self._clamp_warned:
             log.warning(
                 "robot %r: wheel command (%.3f, %.3f) rad/s exceeds the %s limit of %.3f rad/s; "
@@ -299,7 +325,8 @@ class RobotAdapter(abc.ABC):
                 self.name, cmd.left, cmd.right, self.profile.name, limit,
             )  # fmt: skip
             self._clamp_warned = True
-        return WheelCommand(max(-limit, min(limit, cmd.left)), max(-limit, min(limit, cmd.right)))
+        left, right = float(cmd.left), float(cmd.right)
+        return WheelCommand(max(-limit, min(limit, left)), max(-limit, min(limit, right)))
 
     def _check_watchdog(self) -> None:
         """Stop the wheels when the last command is older than ``command_timeout`` (wall s)."""

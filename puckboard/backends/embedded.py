@@ -3,7 +3,10 @@
 The adapters of one scene share one :class:`~puckboard.sim.world.World`, which is also
 their :class:`~puckboard.backends.base.Stepper`: the control loop steps the world once
 per cycle, whatever the number of robots. Reading sensors costs no simulation work (the
-world computed them when it stepped); the adapter only wraps arrays into records.
+world computed them when it stepped); the adapter only wraps its robot's rows of the
+world's arrays into records, so the engine knows no record type beyond its numbers and
+the adapter is the one place where this backend's records are made, as it is for every
+other backend.
 """
 
 from __future__ import annotations
@@ -11,7 +14,17 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ..blackboard import Blackboard, Namespace
-from ..records import CameraImage, Sensor
+from ..records import (
+    Acceleration,
+    AngularVelocity,
+    CameraImage,
+    Ground,
+    Pose,
+    Proximity,
+    Sensor,
+    WheelEncoders,
+    WheelSpeeds,
+)
 from .base import Connection, RobotAdapter
 
 if TYPE_CHECKING:
@@ -47,6 +60,9 @@ class EmbeddedAdapter(RobotAdapter):
             )
         self.world = world
         self.index = index
+        # live read-only views of this robot's rows: reading them costs no copy until a
+        # record's constructor makes its own
+        self._arrays = world.robot_arrays(index)
         super().__init__(
             name if name is not None else world.robot_names[index],
             profile=world.profiles[index],
@@ -56,13 +72,48 @@ class EmbeddedAdapter(RobotAdapter):
         )
 
     def _read_sensors(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
-        return self.world.read(self.index, sensors)
+        """Records of ``sensors`` from the world's latest step (held still while read)."""
+        with self.world.lock:
+            return self._records(sensors)
+
+    def _records(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
+        # Array records are given the live views: their constructors copy the values
+        # into read-only arrays of their own, so a later step cannot change a record
+        # already handed out.
+        rows = self._arrays
+        out: dict[Sensor, Any] = {}
+        for sensor in sensors:
+            if sensor is Sensor.PROXIMITY:
+                out[sensor] = Proximity(
+                    distance=rows.prox_distance, raw=rows.prox_raw, range=self.profile.prox_range
+                )
+            elif sensor is Sensor.GROUND:
+                out[sensor] = Ground(value=rows.ground, raw=rows.ground_raw)
+            elif sensor is Sensor.POSE:
+                x, y, theta = rows.pose.tolist()
+                out[sensor] = Pose(x=x, y=y, theta=theta, ground_truth=True)
+            elif sensor is Sensor.ENCODERS:
+                left, right = rows.encoders.tolist()
+                out[sensor] = WheelEncoders(left=left, right=right)
+            elif sensor is Sensor.WHEEL_SPEEDS:
+                left, right = rows.wheel_speeds.tolist()
+                out[sensor] = WheelSpeeds(left=left, right=right)
+            elif sensor is Sensor.ACCELERATION:
+                ax, ay, az = rows.acceleration.tolist()
+                out[sensor] = Acceleration(x=ax, y=ay, z=az)
+            elif sensor is Sensor.GYRO:
+                wx, wy, wz = rows.angular_velocity.tolist()
+                out[sensor] = AngularVelocity(x=wx, y=wy, z=wz)
+            else:  # the base class asks only for available sensors, the camera apart
+                raise ValueError(f"the embedded simulator has no {Sensor(sensor).value} sensor")
+        return out
 
     def _write_wheels(self, left: float, right: float) -> None:
-        self.world.set_wheel_speeds(self.index, left, right)
+        # clamped once already, by the base class (see RobotAdapter.command_wheels)
+        self.world.drive(self.index, left, right)
 
     def _read_camera(self) -> CameraImage:
-        return self.world.camera(self.index)
+        return CameraImage(pixels=self.world.render_camera(self.index))
 
 
 def open_embedded(

@@ -9,7 +9,8 @@ IR-SIM (``pip install 'puckboard[compare]'``, i.e. ir-sim; its 2-D LiDAR with 8 
 body, contact collisions, no rendering) and on puckboard's engine (:class:`~puckboard.sim.world.World` with the
 physical e-puck's profile, whose 8 IR sensors cast 5 rays each through the response
 table, plus ground sensors, IMU and encoders it computes whether read or not; each
-step's ``Proximity`` records built by ``World.read``). Neither side runs a blackboard or
+step's ``Proximity`` records built from the world's arrays, as the embedded adapter
+builds them). Neither side runs a blackboard or
 a behaviour tree: the sim suite measures puckboard's full stack.
 
 IR-SIM is not a dependency of puckboard: without it the suite is skipped with a note
@@ -160,7 +161,7 @@ def _puckboard_scene() -> Any:
 
 def _puckboard_rate(n_steps: int) -> tuple[float, float]:
     """Steps per second, and the fraction of robot-steps that saw something near."""
-    from ..records import Sensor
+    from ..records import Proximity
     from ..sim.world import World
 
     world = World(_puckboard_scene(), seed=0)
@@ -170,14 +171,15 @@ def _puckboard_rate(n_steps: int) -> tuple[float, float]:
     forward = (FORWARD / wheel, FORWARD / wheel)
     turn_v, half = FORWARD / 2, TURN * axle / 2
     turn = ((turn_v - half) / wheel, (turn_v + half) / wheel)
-    wanted = (Sensor.PROXIMITY,)
+    rows = [world.robot_arrays(i) for i in range(world.n)]
+    ranges = [p.prox_range for p in world.profiles]
     robots = range(world.n)
 
     near = [0]
 
     def step() -> None:
         for i in robots:
-            prox = world.read(i, wanted)[Sensor.PROXIMITY]
+            prox = Proximity(rows[i].prox_distance, rows[i].prox_raw, ranges[i])
             if min(prox.distance.tolist()) < NEAR:
                 world.set_wheel_speeds(i, *turn)
                 near[0] += 1

@@ -116,7 +116,7 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
 
 #: The phases of a cycle as :func:`_phases` reports them.
 PHASES = (
-    "sensing (world.read, records, blackboard)",
+    "sensing (adapter records, blackboard)",
     "arbitration (py_trees tick, wheel command)",
     "engine (world.step)",
 )
@@ -142,7 +142,7 @@ def _phases(scene: Any, cycles: int, n: int) -> dict[str, float]:
             t1 = clock()
             for adapter, controller in bindings:
                 cmd = controller.tick(adapter.ns)
-                adapter.set_wheel_speeds(cmd.left, cmd.right)
+                adapter.command_wheels(cmd)
             t2 = clock()
             world.step()
             t3 = clock()

@@ -69,6 +69,8 @@ def _build_stack(scene: Any, seed: int = 0) -> tuple[Any, Any]:
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """The two-robot pass, full stack, camera off: speed and where each step's time goes."""
+    from ..records import CameraImage
+
     scene = _bench_scene()
     n_steps = steps or 2000
     dt = scene.dt
@@ -125,7 +127,7 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
             t1, c1 = clock(), cpu_clock()
             for b in bindings:
                 cmd = b.controller.tick(b.adapter.ns)
-                b.adapter.set_wheel_speeds(cmd.left, cmd.right)
+                b.adapter.command_wheels(cmd)
             t2, c2 = clock(), cpu_clock()
             world.step()
             t3, c3 = clock(), cpu_clock()
@@ -156,9 +158,13 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     width, height = scene.camera_size
     out["camera_size"] = [width, height]
     frames = min(300, max(20, n_steps // 5))
-    out["camera_us_per_frame"] = _median_us(lambda: world.camera(0), frames)
+    out["camera_us_per_frame"] = _median_us(
+        lambda: CameraImage(pixels=world.render_camera(0)), frames
+    )
     big = (160, 120)
-    out["camera_160x120_us_per_frame"] = _median_us(lambda: world.camera(0, big), frames)
+    out["camera_160x120_us_per_frame"] = _median_us(
+        lambda: CameraImage(pixels=world.render_camera(0, big)), frames
+    )
     loop.close()
     return out
 

@@ -125,7 +125,7 @@ class Emulation:
         for adapter, controller in self._others:
             adapter.sense_all()
             cmd = controller.tick(adapter.ns)
-            adapter.set_wheel_speeds(cmd.left, cmd.right)
+            adapter.command_wheels(cmd)
 
     # -- running ---------------------------------------------------------------------------
     def start(self) -> None:

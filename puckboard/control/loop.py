@@ -19,7 +19,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from ..backends.base import RobotAdapter, Stepper, declare_robot_keys
+from ..backends.base import RobotAdapter, Stepper
 from ..behaviours.controller import Controller
 from ..records import Sensor
 
@@ -111,7 +111,7 @@ class ControlLoop:
         self.close_observers: list[CycleObserver] = []
         self._closed = False
         for b in self.bindings:
-            declare_robot_keys(b.adapter.ns, max_age=self.stale_after)
+            b.adapter.set_stale_after(self.stale_after)
 
     # -- properties ------------------------------------------------------------------------
     @property
@@ -168,7 +168,7 @@ class ControlLoop:
                 layer = getattr(b.controller, "failed_layer", None)
                 self.failure = ControllerFailure(b.adapter.name, self.time, layer)
                 raise
-            b.adapter.set_wheel_speeds(cmd.left, cmd.right)
+            b.adapter.command_wheels(cmd)
         if self.synchronous:
             for stepper in self.steppers:
                 stepper.step(self.steps_per_cycle)

@@ -2,11 +2,13 @@
 
 A :class:`Scene` is plain validated data (floor, track, obstacles, walls, robots, noise,
 goal) read from a scene file (:mod:`.scenefile`, TOML or JSON; the shipped ones live in
-``scenes/``). The engine (:mod:`puckboard.sim`) builds a world from it, and the
-:class:`~.judge.Judge` scores the robots' trajectories against the scene's goal. Nothing
-here knows the engine, an adapter or a controller.
+``scenes/``) through its dict form (:mod:`.conversion`). The engine
+(:mod:`puckboard.sim`) builds a world from it, and the :class:`~.judge.Judge` scores the
+robots' trajectories against the scene's goal. Nothing here knows the engine, an adapter
+or a controller.
 """
 
+from .conversion import scene_from_dict, scene_to_dict
 from .scene import Arena, CircleObstacle, Goal, Noise, PolygonObstacle, RobotSpec, Scene, Track
 from .scenefile import load_scene, scene_names
 
@@ -20,5 +22,7 @@ __all__ = [
     "Scene",
     "Track",
     "load_scene",
+    "scene_from_dict",
     "scene_names",
+    "scene_to_dict",
 ]

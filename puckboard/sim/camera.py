@@ -13,19 +13,24 @@ Mounting follows Webots' e-puck: 3 cm ahead of the axle, 2.8 cm above the floor
 at the top) and noise-free, so rendering never touches the simulation's random numbers.
 
 A frame is a few dozen numpy calls on arrays of W rays and (H/2)×W floor pixels.
+:class:`RobotCameras` keeps one renderer per image size and camera model of a world, so
+what a renderer prepares once (column angles, floor rows, the palette) is prepared once.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
 
+from ..profile import RobotProfile
 from .floor import Floor
 from .geometry import cast_rays
+from .surfaces import Surfaces
 
-__all__ = ["BACKGROUND", "CAMERA_FORWARD", "MAX_VIEW", "CameraRenderer"]
+__all__ = ["BACKGROUND", "CAMERA_FORWARD", "MAX_VIEW", "CameraRenderer", "RobotCameras"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -140,3 +145,56 @@ class CameraRenderer:
             covered = (self.row_v >= v_top) & (self.row_v <= v_bottom)
             np.copyto(index, (hit + 3)[None, :], where=covered)
         return self.palette[index]
+
+
+class RobotCameras:
+    """The cameras of a world's robots: a :class:`CameraRenderer` per image size and
+    camera model (field of view, mounting height), made on first use."""
+
+    def __init__(
+        self,
+        floor: Floor,
+        surfaces: Surfaces,
+        profiles: Sequence[RobotProfile],
+        default_size: tuple[int, int],
+    ) -> None:
+        self.floor = floor
+        self.surfaces = surfaces
+        self.profiles = profiles
+        self.default_size = default_size
+        self._renderers: dict[tuple[int, int, float, float], CameraRenderer] = {}
+
+    def render(
+        self, i: int, poses: FloatArray, size: tuple[int, int] | None = None
+    ) -> npt.NDArray[np.uint8]:
+        """Robot ``i``'s image with every robot at ``poses`` (N×3); ``size`` = (width,
+        height), the scene's by default."""
+        width, height = size if size is not None else self.default_size
+        profile = self.profiles[i]
+        key = (int(width), int(height), profile.camera_fov, profile.camera_height)
+        renderer = self._renderers.get(key)
+        if renderer is None:
+            renderer = CameraRenderer(
+                self.floor,
+                width=int(width),
+                height=int(height),
+                fov=profile.camera_fov,
+                camera_height=profile.camera_height,
+                object_colours=self.surfaces.object_colours,
+                object_heights=self.surfaces.object_heights,
+            )
+            self._renderers[key] = renderer
+        s = self.surfaces
+        n_static = s.n_static_circles
+        s.circle_centres[n_static:] = poses[:, :2]
+        x, y, th = poses[i].tolist()
+        return renderer.render(
+            x,
+            y,
+            th,
+            s.seg_start,
+            s.seg_vector,
+            s.circle_centres,
+            s.circle_radii,
+            ignore_circle=n_static + i,
+        )

@@ -34,7 +34,7 @@ order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,
 robot's layers in priority order, for timelines), ``colours`` (RGB per robot),
 ``scenario``, ``controller``, ``seed``, ``backend``, ``dt``, ``created`` (UTC, ISO
 8601), ``puckboard`` (version), ``scene`` (the scene in the scene file's JSON form, see
-:func:`~puckboard.scenario.scenefile.scene_to_dict`, so ``puckboard run`` can load it
+:func:`~puckboard.scenario.conversion.scene_to_dict`, so ``puckboard run`` can load it
 again; or ``null``) and, when the run was judged, ``events`` (``time_s``, ``robot``,
 ``kind``: collisions, passes, lost line, ...) and ``prox_range`` (m, the distance
 that means "nothing seen").
@@ -75,7 +75,7 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 FORMAT_NAME = "puckboard-recording"
-#: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.scenefile).
+#: 2: ``meta["scene"]`` is the scene file's own JSON form (scenario.conversion).
 #: 3: the arbiter's decisions (tree statuses, the values the layers read); optional.
 FORMAT_VERSION = 3
 #: The oldest format :func:`load_recording` reads (format 1 predates the first release).
@@ -601,14 +601,14 @@ def _encode(value: Any) -> Any:
 
 def scene_to_json(scene: Any) -> dict[str, Any]:
     """The scene as stored in a recording: the scene file's own JSON form."""
-    from ..scenario.scenefile import scene_to_dict
+    from ..scenario.conversion import scene_to_dict
 
     return scene_to_dict(scene)
 
 
 def scene_from_json(data: Mapping[str, Any]) -> Any:
     """Rebuild the recorded :class:`~puckboard.scenario.scene.Scene` from the scene file's
-    own form, read (and validated) by :func:`~puckboard.scenario.scenefile.scene_from_dict`."""
-    from ..scenario.scenefile import scene_from_dict
+    own form, read (and validated) by :func:`~puckboard.scenario.conversion.scene_from_dict`."""
+    from ..scenario.conversion import scene_from_dict
 
     return scene_from_dict(data, source="recording")

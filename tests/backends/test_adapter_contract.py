@@ -51,6 +51,26 @@ def test_wheel_commands_are_clamped_with_one_warning(caplog):
     assert caplog.text.count("exceeds") == 1
 
 
+def test_a_command_of_integers_is_sent_as_floats():
+    fake = FakeAdapter()
+    sent = fake.command_wheels(WheelCommand(1, -2))  # a layer may build one of ints
+    assert sent == WheelCommand(1.0, -2.0)
+    assert [type(v) for v in fake.commands[-1][1:]] == [float, float]
+
+
+def test_the_loop_sets_how_old_a_sensor_record_may_be():
+    clock = FakeClock(dt=0.05)
+    robot = FakeAdapter(clock=clock)
+    robot.sense_all()
+    clock.step(4)  # 0.2 s later
+    assert robot.ns.snapshot().status(Sensor.PROXIMITY.key) == "fresh"  # no limit yet
+    ControlLoop([(robot, improved())], stale_after=0.1)
+    assert robot.ns.snapshot().status(Sensor.PROXIMITY.key) == "stale"
+    assert robot.ns.snapshot().status(Sensor.CAMERA.key) == "missing"
+    with pytest.raises(ValueError, match="Proximity"):  # the schema is still declared
+        robot.ns.put(Sensor.PROXIMITY.key, np.zeros(8))
+
+
 def test_stepping_advances_the_shared_clock_and_moves_the_robot():
     clock = FakeClock(dt=0.05)
     a = FakeAdapter("a", clock=clock)

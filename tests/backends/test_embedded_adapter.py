@@ -4,13 +4,24 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
-from simworld_helpers import empty_scene, pass_scene, robot
+from simworld_helpers import empty_scene, noisy, pass_scene, robot
 
 from puckboard.backends.embedded import EmbeddedAdapter, open_embedded
 from puckboard.blackboard.store import MissingValueError
 from puckboard.errors import NotSupportedError
-from puckboard.records import Ground, Pose, Proximity, Sensor, WheelCommand
+from puckboard.records import (
+    Acceleration,
+    AngularVelocity,
+    Ground,
+    Pose,
+    Proximity,
+    Sensor,
+    WheelCommand,
+    WheelEncoders,
+    WheelSpeeds,
+)
 from puckboard.sim.world import World
 
 
@@ -37,6 +48,57 @@ def test_sense_all_writes_records_to_the_robot_namespace():
     assert pose.x == pytest.approx(0.5)
     with pytest.raises(MissingValueError):  # b has not sensed yet
         board.value("b/pose")
+    conn.close()
+
+
+def test_records_carry_the_world_rows_exactly_and_keep_them_after_a_step():
+    # a noisy world with the gyro's noise and bias too: every array is non-trivial
+    conn = open_embedded(pass_scene(noisy()), seed=4)
+    a = conn.adapters["b"]
+    a.enable(Sensor.GYRO)
+    world = conn.world
+    i = world.index("b")
+    a.set_wheel_speeds(3.0, 4.0)
+    world.step(7)
+    records = a.sense_all()
+    assert set(records) == a.enabled_sensors
+    prox, ground, pose = records[Sensor.PROXIMITY], records[Sensor.GROUND], records[Sensor.POSE]
+    assert isinstance(prox, Proximity) and prox.range == a.profile.prox_range
+    assert prox.distance.tolist() == world.prox_distance[i].tolist()
+    assert prox.raw.tolist() == world.prox_raw[i].tolist()
+    assert isinstance(ground, Ground)
+    assert ground.value.tolist() == world.ground[i].tolist()
+    assert ground.raw.tolist() == world.ground_raw[i].tolist()
+    assert isinstance(pose, Pose) and pose.ground_truth
+    assert [pose.x, pose.y, pose.theta] == world.poses[i].tolist()
+    assert records[Sensor.ENCODERS] == WheelEncoders(*world.encoders[i].tolist())
+    assert records[Sensor.WHEEL_SPEEDS] == WheelSpeeds(*world.wheel_speeds[i].tolist())
+    assert records[Sensor.ACCELERATION] == Acceleration(*world.accelerations[i].tolist())
+    assert records[Sensor.GYRO] == AngularVelocity(*world.angular_velocities[i].tolist())
+    # a record handed out is the reading of its step, not a window on the world
+    kept = prox.distance.copy(), pose
+    world.step(5)
+    assert world.poses[i].tolist() != [pose.x, pose.y, pose.theta]
+    assert np.array_equal(prox.distance, kept[0]) and records[Sensor.POSE] is kept[1]
+    assert not prox.distance.flags.writeable
+    conn.close()
+
+
+def test_a_controller_command_is_clamped_once_by_the_adapter_and_driven_as_sent(caplog):
+    conn = open_embedded(empty_scene(robot("a")))
+    a = conn.adapters["a"]
+    limit = a.profile.max_wheel_speed
+    within = WheelCommand(1.5, -2.0)
+    assert a.command_wheels(within) is within  # nothing to change: the same object
+    conn.world.step()
+    assert conn.world.wheel_speeds[0].tolist() == [1.5, -2.0]
+    with caplog.at_level("WARNING"):
+        sent = a.command_wheels(WheelCommand(100.0, 1.0))
+        a.command_wheels(WheelCommand(-100.0, 1.0))
+    assert sent == WheelCommand(limit, 1.0)
+    assert caplog.text.count("exceeds") == 1  # one warning per robot
+    conn.world.step()
+    assert conn.world.wheel_speeds[0].tolist() == [-limit, 1.0]
     conn.close()
 
 

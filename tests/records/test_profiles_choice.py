@@ -8,7 +8,7 @@ import pytest
 
 from puckboard.cli import main
 from puckboard.control.episode import run_episode
-from puckboard.scenario.scenefile import scene_from_dict
+from puckboard.scenario import scene_from_dict
 from puckboard.sim.world import World
 from puckboard.sweep.plan import PlanError, parse_set
 
@@ -37,8 +37,8 @@ def test_a_scene_names_a_default_profile_and_a_robot_may_differ():
 def test_one_world_mixes_cone_and_ray_sensing():
     world = World(two_robots(profile="epuck-vrep"))
     assert [p.name for p in world.profiles] == ["epuck-vrep", "epuck"]
-    assert world.cones.robots.tolist() == [0]  # only the V-REP robot senses with cones
-    assert world.proximity.casts == [False, True]
+    assert world.sensing.cones.robots.tolist() == [0]  # only the V-REP robot senses with cones
+    assert world.sensing.proximity.casts == [False, True]
 
 
 def test_shipped_thesis_scenes_use_vrep_s_model_and_arena_the_physical_robot():

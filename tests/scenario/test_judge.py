@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
+from puckboard.scenario import scene_from_dict
 from puckboard.scenario.judge import FAILURES, Judge, JudgeRules
-from puckboard.scenario.scenefile import scene_from_dict
 
 SPEED = 0.043  # m/s, the controllers' cruising speed
 DT = 0.05

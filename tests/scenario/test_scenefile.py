@@ -9,14 +9,9 @@ import numpy as np
 import pytest
 
 from puckboard.errors import SceneError
+from puckboard.scenario import load_scene, scene_from_dict, scene_names, scene_to_dict
 from puckboard.scenario.scene import CircleObstacle
-from puckboard.scenario.scenefile import (
-    load_scene,
-    parse_scene_text,
-    scene_from_dict,
-    scene_names,
-    scene_to_dict,
-)
+from puckboard.scenario.scenefile import parse_scene_text
 
 
 def minimal(**extra):

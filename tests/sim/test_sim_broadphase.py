@@ -80,7 +80,7 @@ def _random_swarm(n: int, seed: int):
 @pytest.mark.parametrize("n", [12, 30, 50])
 def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n):
     world = World(_random_swarm(n, seed), seed=seed)
-    sensors = world.proximity
+    sensors = world.sensing.proximity
     rng = np.random.default_rng(seed)
     for _ in range(5):
         poses = [
@@ -138,7 +138,7 @@ def test_contacts_through_the_broad_phase_equal_the_plain_loops(seed, n, spread)
     ]
     plain = [list(p) for p in start]
     broad = [list(p) for p in start]
-    radii = world._radius_list
+    radii = [p.body_radius for p in world.profiles]
     assert statics._resolve_plain(plain, radii) == statics._resolve_broad(broad, radii)
     assert plain == broad
 
@@ -157,12 +157,12 @@ def test_cones_through_the_broad_phase_equal_cones_against_everything(n):
             ]
             for _ in range(n)
         ]
-        world.proximity.sense(poses, np.zeros((n, 8)), np.zeros((n, 8)))
-        near = world.proximity.cones_near
-        candidates = world.proximity.cone_candidates
+        world.sensing.proximity.sense(poses, np.zeros((n, 8)), np.zeros((n, 8)))
+        near = world.sensing.proximity.cones_near
+        candidates = world.sensing.proximity.cone_candidates
         distance, raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.cones.sense(poses, distance, raw, near=near, candidates=candidates)
+        world.sensing.cones.sense(poses, distance, raw, near=near, candidates=candidates)
         every_distance, every_raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.cones.sense(poses, every_distance, every_raw)
+        world.sensing.cones.sense(poses, every_distance, every_raw)
         assert np.array_equal(distance, every_distance)
         assert np.array_equal(raw, every_raw)

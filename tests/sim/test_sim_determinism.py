@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from simworld_helpers import noisy, pass_scene
 
+from puckboard.backends.embedded import EmbeddedAdapter
 from puckboard.records import Sensor
 from puckboard.scenario.scene import Noise
 from puckboard.sim.world import World
@@ -13,17 +14,21 @@ ALL = frozenset(Sensor) - {Sensor.LIGHT, Sensor.CAMERA}
 
 
 def drive(world: World, steps: int = 120, *, look: bool = False) -> np.ndarray:
-    """A fixed wheel schedule; returns the pose trace. ``look`` reads everything each step."""
+    """A fixed wheel schedule; returns the pose trace. ``look`` reads every sensor of
+    both robots through their adapters and renders their cameras each step."""
+    adapters = [EmbeddedAdapter(world, i) for i in range(world.n)] if look else []
+    for adapter in adapters:
+        adapter.enable(*ALL)
     trace = []
     for k in range(steps):
         world.set_wheel_speeds(0, 3.0 + (k % 7) * 0.3, 3.5)
         world.set_wheel_speeds(1, 4.0, 2.0 + (k % 5) * 0.4)
         world.step()
+        for adapter in adapters:
+            assert set(adapter.sense_all()) == ALL
+            adapter.camera_image()
         if look:
-            world.read(0, ALL)
-            world.read(1, ALL)
-            world.camera(0)
-            world.camera(1, size=(80, 60))
+            world.render_camera(1, size=(80, 60))
         trace.append(world.poses.copy())
     return np.array(trace)
 

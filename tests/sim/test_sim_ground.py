@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from simworld_helpers import empty_scene, loop_track, robot
 
-from puckboard.records import Sensor
 from puckboard.scenario.scene import Noise, Track
 from puckboard.sim.floor import Floor, luminance
 from puckboard.sim.world import World
@@ -22,12 +21,12 @@ def world_at(y: float, theta: float = 0.0, track: Track = STRAIGHT, **kw) -> Wor
 
 def test_centre_sensor_on_a_narrow_line_is_dark_and_the_sides_light():
     w = world_at(0.0)
-    ground = w.read(0, {Sensor.GROUND})[Sensor.GROUND]
+    value = w.ground[0]
     floor = luminance(w.scene.floor_colour)
     line = luminance(STRAIGHT.colour)
-    assert ground.value.tolist() == pytest.approx([floor, line, floor])
-    assert ground.dark().tolist() == [False, True, False]
-    assert ground.raw == pytest.approx(ground.value * 1023)
+    assert value.tolist() == pytest.approx([floor, line, floor])
+    assert (value < 0.5).tolist() == [False, True, False]
+    assert w.ground_raw[0] == pytest.approx(value * 1023)
 
 
 def test_the_left_sensor_finds_a_line_to_the_robots_left():

@@ -10,7 +10,7 @@ from simworld_helpers import empty_scene, robot
 
 from puckboard.ir_response import TABLE, raw_from_distance
 from puckboard.profile import EPUCK2
-from puckboard.records import PROX_NAMES, Sensor
+from puckboard.records import PROX_NAMES
 from puckboard.scenario.scene import CircleObstacle, Noise, PolygonObstacle
 from puckboard.sim.world import World
 
@@ -47,10 +47,10 @@ def wall_facing_sensor(sensor: int, gap: float) -> PolygonObstacle:
 def test_obstacle_at_a_known_distance_reads_that_distance(sensor, gap):
     w = World(empty_scene(robot("a"), obstacles=(obstacle_on_sensor_axis(sensor, gap),)))
     assert w.prox_distance[0, sensor] == pytest.approx(gap, abs=1e-9)
-    prox = w.read(0, {Sensor.PROXIMITY})[Sensor.PROXIMITY]
-    assert prox.detected(PROX_NAMES[sensor])
+    reach = w.profiles[0].prox_range
+    assert w.prox_distance[0, sensor] < reach
     # the sensor on the far side of the robot sees nothing
-    assert prox.distance[(sensor + 4) % 8] == prox.range
+    assert w.prox_distance[0, (sensor + 4) % 8] == reach
 
 
 def test_nothing_in_range_reads_exactly_the_range_and_the_table_baseline():

@@ -61,7 +61,7 @@ def test_metadata_and_scene_survive_the_round_trip(tmp_path):
 
 
 def test_recorded_scene_is_the_scene_file_form_and_loads_as_a_scene(tmp_path):
-    from puckboard.scenario.scenefile import scene_from_dict, scene_to_dict
+    from puckboard.scenario import scene_from_dict, scene_to_dict
 
     ep, _ = _recorded(tmp_path, 0.5)
     rec = load_recording(tmp_path / "run.npz")

@@ -155,7 +155,6 @@ def test_the_live_panel_shows_the_tree_with_the_layer_in_control():
 def test_a_served_world_shows_the_tree_its_puckboard_client_publishes():
     pytest.importorskip("zmq")
     from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
-
     from puckboard.scenario.scenefile import load_scene
     from puckboard.web import watch_server
 

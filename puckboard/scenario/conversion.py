@@ -1,0 +1,232 @@
+"""A scene's dict form, both ways: validated into a :class:`~.scene.Scene`, and written back.
+
+The dict is what TOML or JSON gives (:mod:`.scenefile` reads the text); recordings store
+it too, so a recorded run can be loaded again. Reading checks everything a student can
+get wrong, table by table through :class:`~.reader.TableReader`, and refuses unknown
+keys; parametric tracks (:mod:`.tracks`) and positions on the track (:mod:`.placement`)
+are resolved here, so the :class:`Scene` holds only explicit SI values and radians.
+:func:`scene_to_dict` writes that explicit form, which :func:`scene_from_dict` reads
+back to an equal scene. The schema is documented in ``docs/scenarios.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..profile import profile_names
+from .placement import TrackFrame, read_dummy, read_obstacle, read_robot
+from .reader import TableReader, unique_names
+from .scene import (
+    GOAL_KINDS,
+    Arena,
+    CircleObstacle,
+    Goal,
+    Noise,
+    PolygonObstacle,
+    RobotSpec,
+    Scene,
+    Track,
+)
+from .tracks import read_track
+
+__all__ = ["scene_from_dict", "scene_to_dict"]
+
+
+# -- dict → Scene ------------------------------------------------------------------------------
+def scene_from_dict(
+    data: Mapping[str, Any], *, source: str = "<scene>", default_name: str = "scene"
+) -> Scene:
+    """Validate a scene description (as read from TOML/JSON) and build the :class:`Scene`.
+
+    Tables are read in file order (the track before what is placed on it), so the first
+    mistake reported is the first one a reader of the file meets.
+    """
+    top = TableReader(data, "", source)
+    name = top.string("name", default_name)
+    description = top.string("description", "")
+    dt = top.number("dt", 0.05, unit="s", low=0.0, high=1.0, low_open=True)
+    duration = top.number("duration", 120.0, unit="s", low=0.0, high=1e6, low_open=True)
+    floor = top.colour("floor_colour", (235, 235, 225))
+    camera_size = _camera_size(top)
+    track, frame = _track(top)
+    arena = _arena(top)
+    obstacles = tuple(read_obstacle(t, i, frame) for i, t in enumerate(top.items("obstacles")))
+    dummies = tuple(read_dummy(t, i, frame) for i, t in enumerate(top.items("dummies")))
+    unique_names([d.name for d in dummies], "dummies", source)
+    robots = _robots(top, frame)
+    noise = _noise(top)
+    goal = _goal(top, track)
+    top.finish()
+    return Scene(
+        name=name,
+        robots=robots,
+        track=track,
+        obstacles=obstacles,
+        arena=arena,
+        noise=noise,
+        dt=dt,
+        duration=duration,
+        description=description,
+        floor_colour=floor,
+        camera_size=camera_size,
+        goal=goal,
+        dummies=dummies,
+    )
+
+
+def _camera_size(top: TableReader) -> tuple[int, int]:
+    """``camera_size = [width, height]`` in pixels; the e-puck's 52×39 by default."""
+    if not top.has("camera_size"):
+        return (52, 39)
+    value = top.raw("camera_size")
+    ok = (
+        isinstance(value, list)
+        and len(value) == 2
+        and all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 2048 for v in value)
+    )
+    if not ok:
+        top.fail("camera_size", "[width, height] in pixels (integers 1..2048)", value)
+    return (value[0], value[1])
+
+
+def _track(top: TableReader) -> tuple[Track | None, TrackFrame | None]:
+    """The ``[track]`` and the frame that places things on it (None, None without one)."""
+    reader = top.sub("track")
+    if reader is None:
+        return None, None
+    track = read_track(reader)
+    return track, TrackFrame(track)
+
+
+def _arena(top: TableReader) -> Arena | None:
+    """The walled ``[arena]``: by ``size`` (and ``centre``) or by its four bounds."""
+    reader = top.sub("arena")
+    if reader is None:
+        return None
+    if reader.has("size"):
+        w, h = reader.pair("size", positive=True)
+        cx, cy = reader.pair("centre") if reader.has("centre") else (0.0, 0.0)
+        xmin, ymin, xmax, ymax = cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2
+    else:
+        xmin = reader.number("xmin", unit="m", required=True)
+        ymin = reader.number("ymin", unit="m", required=True)
+        xmax = reader.number("xmax", unit="m", required=True)
+        ymax = reader.number("ymax", unit="m", required=True)
+        if xmax <= xmin:
+            reader.fail("xmax", f"a number > xmin ({xmin:g})", xmax)
+        if ymax <= ymin:
+            reader.fail("ymax", f"a number > ymin ({ymin:g})", ymax)
+    colour = reader.colour("colour", (120, 120, 130))
+    reader.finish()
+    return Arena(xmin, ymin, xmax, ymax, colour=colour)
+
+
+def _robots(top: TableReader, frame: TrackFrame | None) -> tuple[RobotSpec, ...]:
+    """The ``[[robots]]``: at least one, names unique, ``profile`` the scene's default."""
+    if not top.has("robots"):
+        top.fail("robots", "", message="missing; a scene needs at least one [[robots]] entry")
+    if not top.table_list("robots"):
+        top.fail("robots", "at least one robot", [])
+    # the robots' profile unless a robot names its own (one scene can mix them)
+    default_profile = top.string("profile", "epuck", choices=profile_names())
+    robots = tuple(
+        read_robot(t, i, frame, default_profile) for i, t in enumerate(top.items("robots"))
+    )
+    unique_names([r.name for r in robots], "robots", top.source)
+    return robots
+
+
+def _noise(top: TableReader) -> Noise:
+    """The ``[noise]`` table; no noise at all without one."""
+    reader = top.sub("noise")
+    if reader is None:
+        return Noise()
+    noise = Noise(
+        wheel_speed=reader.number("wheel_speed", 0.0, unit="relative σ", low=0, high=1),
+        proximity=reader.number("proximity", 0.0, unit="relative σ", low=0, high=1),
+        ground=reader.number("ground", 0.0, unit="σ on the 0..1 scale", low=0, high=1),
+        start_jitter=reader.number("start_jitter", 0.0, unit="m and rad", low=0, high=0.5),
+        gyro=reader.number("gyro", 0.0, unit="rad/s σ", low=0, high=1),
+        gyro_bias=reader.number("gyro_bias", 0.0, unit="rad/s", low=-1, high=1),
+    )
+    reader.finish()
+    return noise
+
+
+def _goal(top: TableReader, track: Track | None) -> Goal:
+    """The ``[goal]`` table; a goal judged along the line needs a track."""
+    goal = Goal()
+    reader = top.sub("goal")
+    if reader is not None:
+        goal = Goal(
+            kind=reader.string("kind", "auto", choices=GOAL_KINDS),
+            laps=reader.number("laps", 1.0, unit="laps", low=0.0, high=1e4),
+        )
+        reader.finish()
+    if goal.kind in ("pass", "follow") and track is None:
+        top.fail("goal.kind", "", message=f"goal {goal.kind!r} needs a [track]")
+    return goal
+
+
+# -- Scene → dict ------------------------------------------------------------------------------
+def scene_to_dict(scene: Scene) -> dict[str, Any]:
+    """The explicit form of ``scene`` (points, coordinates, radians), loadable again by
+    :func:`scene_from_dict`; JSON- and TOML-friendly (only lists, numbers, strings)."""
+    out: dict[str, Any] = {
+        "name": scene.name,
+        "description": scene.description,
+        "dt": scene.dt,
+        "duration": scene.duration,
+        "floor_colour": list(scene.floor_colour),
+        "camera_size": list(scene.camera_size),
+        "goal": {"kind": scene.goal.kind, "laps": scene.goal.laps},
+        "noise": {
+            "wheel_speed": scene.noise.wheel_speed,
+            "proximity": scene.noise.proximity,
+            "ground": scene.noise.ground,
+            "start_jitter": scene.noise.start_jitter,
+            "gyro": scene.noise.gyro,
+            "gyro_bias": scene.noise.gyro_bias,
+        },
+    }
+    if scene.track is not None:
+        out["track"] = {
+            "shape": "points",
+            "points": [[_num(x), _num(y)] for x, y in scene.track.points],
+            "width": scene.track.width,
+            "closed": scene.track.closed,
+            "colour": list(scene.track.colour),
+        }
+    if scene.arena is not None:
+        a = scene.arena
+        out["arena"] = {
+            "xmin": a.xmin, "ymin": a.ymin, "xmax": a.xmax, "ymax": a.ymax,
+            "colour": list(a.colour),
+        }  # fmt: skip
+    if scene.obstacles:
+        out["obstacles"] = [_obstacle_to_dict(ob) for ob in scene.obstacles]
+    if scene.dummies:
+        out["dummies"] = [
+            {"name": d.name, "x": _num(d.x), "y": _num(d.y), "z": _num(d.z)} for d in scene.dummies
+        ]
+    out["robots"] = [
+        {"name": r.name, "x": _num(r.x), "y": _num(r.y), "theta": float(r.theta),
+         "controller": r.controller, "colour": list(r.colour), "profile": r.profile}
+        for r in scene.robots
+    ]  # fmt: skip
+    return out
+
+
+def _obstacle_to_dict(ob: CircleObstacle | PolygonObstacle) -> dict[str, Any]:
+    if isinstance(ob, CircleObstacle):
+        return {"shape": "circle", "name": ob.name, "x": _num(ob.x), "y": _num(ob.y),
+                "radius": ob.radius, "colour": list(ob.colour)}  # fmt: skip
+    return {"shape": "polygon", "name": ob.name,
+            "vertices": [[_num(x), _num(y)] for x, y in ob.vertices],
+            "colour": list(ob.colour)}  # fmt: skip
+
+
+def _num(v: float) -> float:
+    """Coordinates rounded to the nanometre: sampled shapes give no longer tails in files."""
+    return round(float(v), 9)

@@ -1,0 +1,151 @@
+"""The sensor layout and the sensing pass: every IR and ground sensor of every robot at once.
+
+A world senses after every step, for every robot, whether or not anyone reads: the
+readings must describe the state at the end of the step, and the random numbers drawn
+for their noise must not depend on who is watching. So the pass is built for all robots
+together: the IR rays of every robot near something in one cast (:mod:`.proximity`), the
+exact cones of robots with V-REP's sensing model after them (:mod:`.cone`), and all
+ground sensors in one query of the nearby track segments (:mod:`.floor`).
+
+:class:`Sensing` holds where each sensor sits (from the robots' profiles) and writes the
+readings into four N×k arrays, in place, so that a view of a row stays live.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from ..profile import RobotProfile
+from .cone import ConeSensors
+from .floor import Floor
+from .proximity import ProximitySensors
+from .surfaces import Surfaces
+
+__all__ = ["Sensing"]
+
+FloatArray = npt.NDArray[np.float64]
+
+
+class Sensing:
+    """The IR and ground sensors of every robot of a world; see the module docstring.
+
+    ``rays`` rays per IR sensor; ``proximity_noise`` and ``ground_noise`` are the
+    scene's σ, applied to the normals the world draws each step.
+    """
+
+    def __init__(
+        self,
+        profiles: Sequence[RobotProfile],
+        floor: Floor,
+        surfaces: Surfaces,
+        *,
+        rays: int,
+        proximity_noise: float,
+        ground_noise: float,
+    ) -> None:
+        for p in profiles:
+            if len(p.ground_poses) != 3:
+                raise ValueError(f"profile {p.name!r} must have 3 ground sensor poses")
+        n = len(profiles)
+        self.floor = floor
+        self._proximity_noise = proximity_noise
+        self._ground_noise = ground_noise
+        self.proximity = ProximitySensors(
+            profiles,
+            rays=rays,
+            seg_start=surfaces.seg_start,
+            seg_vector=surfaces.seg_vector,
+            static_circles=surfaces.static_circles,
+            polygons=surfaces.polygons,
+            walls=surfaces.walls,
+        )
+        # robots whose profile senses as V-REP does: exact cones, computed after the rays
+        cone_robots = [i for i, p in enumerate(profiles) if p.prox_model == "cone"]
+        self.cones = ConeSensors(
+            profiles,
+            cone_robots,
+            static_circles=surfaces.static_circles,
+            seg_start=surfaces.seg_start,
+            seg_vector=surfaces.seg_vector,
+        )
+        # ground sensors: local positions, and their centroid for the segment grid
+        self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in profiles]
+        self._ground_mid = [
+            (sum(q[0] for q in g) / len(g), sum(q[1] for q in g) / len(g))
+            for g in self._ground_local
+        ]
+        self._ground_reach = max(
+            math.hypot(q[0] - m[0], q[1] - m[1])
+            for g, m in zip(self._ground_local, self._ground_mid)
+            for q in g
+        )
+        self._no_track = floor.seg_start.shape[0] == 0
+        self._floor_values = floor.brightness_values(np.zeros((3 * n, 2)))
+        #: N×8 IR distances (m) and raw values, N×3 ground brightness (0..1) and raw values
+        self.prox_distance = np.zeros((n, 8))
+        self.prox_raw = np.zeros((n, 8))
+        self.ground = np.zeros((n, 3))
+        self.ground_raw = np.zeros((n, 3))
+        self._ground_flat = self.ground.reshape(-1)  # views, written in place
+        self._ground_raw_flat = self.ground_raw.reshape(-1)
+
+    def sense(
+        self,
+        poses: list[list[float]],
+        ir_normals: FloatArray | None,
+        ground_normals: FloatArray | None,
+    ) -> None:
+        """Every robot's IR and ground sensors at ``poses`` (N [x, y, theta] lists).
+
+        ``ir_normals`` (N×8) and ``ground_normals`` (3N) are the step's standard normals
+        for the sensors' noise, or None for a noise-free reading (the start pose, a pose
+        set by hand).
+        """
+        # -- IR: the rays of every robot near something, in one cast ----------------------
+        self.proximity.sense(
+            poses,
+            self.prox_distance,
+            self.prox_raw,
+            noise=self._proximity_noise,
+            z=ir_normals,
+        )
+        self.cones.sense(
+            poses,
+            self.prox_distance,
+            self.prox_raw,
+            near=self.proximity.cones_near,
+            candidates=self.proximity.cone_candidates,
+        )
+        self._sense_ground(poses, ground_normals)
+
+    def _sense_ground(self, poses: list[list[float]], normals: FloatArray | None) -> None:
+        """Ground sensors: only the track segments near the robots are tested."""
+        if self._no_track:
+            # no line on the floor (the swarm's arena): every sensor sees the floor, as
+            # the search below would find with no segment near any point
+            values = self._floor_values
+        else:
+            # three points per robot: plain floats are cheaper than a dozen numpy calls
+            points: list[complex] = []
+            centres = []
+            for i, (x, y, th) in enumerate(poses):
+                c, s = math.cos(th), math.sin(th)
+                for lx, ly in self._ground_local[i]:
+                    points.append(complex(x + c * lx - s * ly, y + s * lx + c * ly))
+                mx, my = self._ground_mid[i]
+                centres.append((x + c * mx - s * my, y + s * mx + c * my))
+            near = self.floor.segments_near(centres, self._ground_reach)
+            values = self.floor.brightness_values(np.array(points), near)
+        # The 3N readings stay flat (robot-major, as the N×3 arrays store them). Noise,
+        # clamping and the raw scale are a few float operations per reading: plain
+        # floats, in the order the arrays would apply them, cost less than numpy calls.
+        if normals is not None and self._ground_noise > 0:
+            sigma = self._ground_noise
+            values = [v + sigma * zk for v, zk in zip(values, normals.tolist())]
+        values = [0.0 if v < 0.0 else 1.0 if v > 1.0 else v for v in values]
+        self._ground_flat[:] = values
+        self._ground_raw_flat[:] = [v * 1023.0 for v in values]
