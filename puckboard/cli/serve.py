@@ -22,6 +22,7 @@ import sys
 
 from .common import (
     CliError,
+    add_variation_argument,
     add_web_arguments,
     bind_error_message,
     check_port,
@@ -67,10 +68,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--profile",
         default="epuck-vrep",
-        metavar="NAME",
-        help="robot profile of every served robot (default epuck-vrep: the server stands in "
-        "for CoppeliaSim and its stock e-puck model; 'scene' keeps the scene's)",
+        metavar="NAME|FILE.toml",
+        help="robot profile of every served robot, shipped or a profile file (default "
+        "epuck-vrep: the server stands in for CoppeliaSim and its stock e-puck model; "
+        "'scene' keeps the scene's)",
     )
+    add_variation_argument(p)
     p.add_argument(
         "--stepping-timeout",
         type=float,
@@ -107,7 +110,9 @@ def main(args: argparse.Namespace) -> int:
 
     from ..errors import SceneError
     from ..profile import get_profile
+    from ..scenario.robot_profiles import scene_profile
     from ..scenario.scenefile import load_scene
+    from ..scenario.variation import vary_scene
 
     if args.functions:
         return _list_functions()
@@ -121,7 +126,9 @@ def main(args: argparse.Namespace) -> int:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
     try:
         scene = load_scene(args.scenario)
-        profile = None if args.profile == "scene" else get_profile(args.profile).name
+        if args.profile != "scene":
+            scene = scene.with_profile(scene_profile(args.profile))
+        scene = vary_scene(scene, args.seed, args.variation)
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise CliError(str(exc)) from None
     try:
@@ -132,7 +139,7 @@ def main(args: argparse.Namespace) -> int:
             seed=args.seed,
             stepping_timeout=args.stepping_timeout,
             max_idle=args.idle_timeout,
-            profile=profile,
+            profile=None,  # the scene's robots have theirs already
             script_functions=not args.stock_script,
         )
     except ImportError as exc:
@@ -156,8 +163,9 @@ def main(args: argparse.Namespace) -> int:
         f"remote API, protocol 2, at tcp://{args.host}:{server.port}",
         file=out,
     )
-    profiles = sorted({r.profile for r in server.api.world.scene.robots})
-    print(f"  robot profile: {', '.join(profiles)} (--profile to change)", file=out)
+    profiles = sorted({get_profile(r.profile).name for r in server.api.world.scene.robots})
+    varied = "; each robot drawn within plausible ranges" if args.variation != "none" else ""
+    print(f"  robot profile: {', '.join(profiles)} (--profile to change){varied}", file=out)
     for line in server.describe():
         print(f"  {line}", file=out)
     if args.host in ("0.0.0.0", "*"):

@@ -57,7 +57,12 @@ _TOML_WHERE = re.compile(r"\s*\(at line (\d+), column (\d+)\)\s*$")
 def is_profile_file(ref: str | Path) -> bool:
     """Whether ``ref`` names a profile file rather than a shipped profile."""
     text = str(ref)
-    return isinstance(ref, Path) or text.lower().endswith(PROFILE_SUFFIX) or "/" in text or "\\" in text
+    return (
+        isinstance(ref, Path)
+        or text.lower().endswith(PROFILE_SUFFIX)
+        or "/" in text
+        or "\\" in text
+    )
 
 
 def load_profile_file(path: str | Path) -> RobotProfile:
@@ -68,7 +73,9 @@ def load_profile_file(path: str | Path) -> RobotProfile:
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise ProfileError(f"cannot read profile file {str(path)!r}: {exc.strerror or exc}") from None
+        raise ProfileError(
+            f"cannot read profile file {str(path)!r}: {exc.strerror or exc}"
+        ) from None
     except UnicodeDecodeError:
         raise ProfileError(f"{path}: profile files must be UTF-8 text") from None
     try:
@@ -205,7 +212,7 @@ def resolve_profile(
         return load_profile_file(path)
     if ref not in profile_names():
         raise ProfileError(
-            f"unknown robot profile {ref!r}; known profiles: {', '.join(sorted(PROFILES))} "
-            "(or a profile file, NAME.toml)"
+            f"unknown robot profile {ref!r}; expected one of {', '.join(profile_names())} "
+            "or a profile file (NAME.toml)"
         )
     return str(ref)

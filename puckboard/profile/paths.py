@@ -26,7 +26,7 @@ import dataclasses
 import difflib
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any
@@ -45,9 +45,9 @@ __all__ = [
     "describe_paths",
     "expand_path",
     "is_set",
-    "recorded_numbers",
     "path_unit",
     "path_value",
+    "recorded_numbers",
 ]
 
 #: The symmetric pairs of IR sensors as (left, right) sensor indices, by group name.
@@ -127,10 +127,10 @@ PATH_FIELDS: dict[str, _Field] = {
     ),
 }  # fmt: skip
 
-_UNITS = {
-    "m": {"m": 1.0, "cm": 0.01, "mm": 0.001},
-    "rad": {"rad": 1.0, "deg": math.pi / 180.0, "°": math.pi / 180.0},
-    "rad/s": {"rad/s": 1.0},
+_UNITS: dict[str, dict[str, Callable[[float], float]]] = {
+    "m": {"m": float, "cm": lambda x: x / 100.0, "mm": lambda x: x / 1000.0},
+    "rad": {"rad": float, "deg": math.radians, "°": math.radians},
+    "rad/s": {"rad/s": float},
     "1": {},
     "raw": {},
 }
@@ -291,7 +291,7 @@ def _number(path: str, value: Any, unit: str) -> float:
     factors = _UNITS[unit]
     if suffix not in factors:
         raise ProfileError(f"{path} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}")
-    return number * factors[suffix]
+    return factors[suffix](number)
 
 
 def _unit_words(unit: str) -> str:
@@ -345,7 +345,9 @@ def _numbers(record: list[tuple[str, float]]) -> dict[str, float | None]:
     for path, value in record:
         target = _resolve(path)
         if target.head == "wheel_radius" and not target.suffix:
-            out.update({"wheel_radius": value, "wheel_radius.left": None, "wheel_radius.right": None})
+            out.update(
+                {"wheel_radius": value, "wheel_radius.left": None, "wheel_radius.right": None}
+            )
         elif target.sensors:
             left = PROX_GROUPS[target.suffix][0] if target.rank == 1 else -1
             mirror = target.field.pairs_mirror and target.rank == 1
@@ -384,10 +386,14 @@ def _set(profile: Any, path: str, value: float | None) -> dict[str, Any]:
         if value == now:
             return {}
         centre = poses[len(poses) // 2].y
-        moved = tuple(dataclasses.replace(q, y=centre + (q.y - centre) * value / now) for q in poses)
+        moved = tuple(
+            dataclasses.replace(q, y=centre + (q.y - centre) * value / now) for q in poses
+        )
         return {"ground_poses": moved}
     if head == "ground_forward":
-        return {"ground_poses": tuple(dataclasses.replace(q, x=value) for q in profile.ground_poses)}
+        return {
+            "ground_poses": tuple(dataclasses.replace(q, x=value) for q in profile.ground_poses)
+        }
     return {head: value}
 
 
@@ -448,8 +454,8 @@ def apply_overrides(
     start = origin if origin is not None else profile
     # the fields as plain attributes: the record checks its invariants once, at the end
     current = SimpleNamespace(**{f.name: getattr(start, f.name) for f in dataclasses.fields(start)})
-    for path, value in numbers.items():
-        vars(current).update(_set(current, path, value))
+    for single, number in numbers.items():
+        vars(current).update(_set(current, single, number))
     _check_detection(current, [(path, given) for path, _, given in checked])
     return dataclasses.replace(
         start,
@@ -484,29 +490,6 @@ def _check_detection(profile: Any, given: list[tuple[str, Any]]) -> None:
         allowed = f"[0, {hi:g} m): short of prox_max_distance"
     value = _given(named[path]) if path in named else f"{getattr(profile, path):g}"
     raise ProfileError(f"{path} = {value}: outside {allowed}")
-
-
-def recorded_numbers(profile: RobotProfile) -> dict[str, float | None]:
-    """The single numbers ``profile``'s overrides set, by single-number path."""
-    return _numbers(list(profile.overrides))
-
-
-def _check_detection(profile: Any, given: list[tuple[str, Any]]) -> None:
-    """0 <= prox_min_distance < prox_max_distance <= prox_range, named by the path set."""
-    lo, hi, rng = profile.prox_min_distance, profile.prox_max_distance, profile.prox_range
-    if lo < hi <= rng:
-        return
-    named = {path: value for path, value in given}
-    if "prox_max_distance" in named or "prox_min_distance" not in named:
-        path = "prox_max_distance"
-        allowed = f"({lo:g} m, {rng:g} m]: beyond prox_min_distance, within prox_range"
-    else:
-        path = "prox_min_distance"
-        allowed = f"[0, {hi:g} m): short of prox_max_distance"
-    value = _given(named[path]) if path in named else f"{getattr(profile, path):g}"
-    raise ProfileError(
-        f"{path} = {value}: outside {allowed} (the distance a reading of nothing reports)"
-    )
 
 
 def is_set(profile: RobotProfile, path: str) -> bool:

@@ -39,6 +39,7 @@ __all__ = [
     "VARIATIONS",
     "VARIATION_STREAM",
     "Range",
+    "certainty_note",
     "draw",
     "profile_values",
     "uncertainty",
@@ -192,7 +193,8 @@ _PHYSICAL: dict[str, Range] = {
 # 0.1 mm on every sensor (one user moved one sensor in one scene: an edit, not a variant).
 _VREP: dict[str, Range] = {
     "body_radius": Range(
-        0.0352, 0.0362,
+        0.0352,
+        0.0362,
         "35.2 mm: the stock e-puck.ttm (faroub/VREPSimEPuck, clement-moulin-frier/pyvrep_epuck "
         "scenes); 36.2 mm: the university's variant (pgr3931/EPuck_CoppeliaSim_1_6 "
         "basicReactiveWS19.ttt)",
@@ -200,7 +202,36 @@ _VREP: dict[str, Range] = {
     ),
 }
 
-_RANGES: dict[str, dict[str, Range]] = {"epuck": _PHYSICAL, "e-puck1": _PHYSICAL, "epuck-vrep": _VREP}
+# Why a shown number has no range: every source agrees, or none measures a spread.
+_PHYSICAL_CERTAIN = {
+    "wheel_radius": "nominal: what the robot's conversions and odometry believe; each wheel's "
+    "true radius has its range",
+    "max_wheel_speed": "the firmware's own clamp (e-puck2 MOTOR_SPEED_LIMIT 1100 steps/s, "
+    "e-puck1 1000): no disagreement",
+    "prox_min_distance": "the response table starts at 0 mm",
+    "prox_heading.side": "90° in Webots, Enki and the GCtronic ROS driver",
+    "ir_offset": "what the start-up calibration leaves over: no source measures it; measure "
+    "yours with puckboard calibrate ir",
+    "ground_forward": "30 mm in Webots and ARGoS",
+}
+_VREP_CERTAIN = {
+    "": "decoded: the four public scene files agree to 0.1 mm",
+    "max_wheel_speed": "not in the decoded model: the e-puck1's 1000 steps/s",
+    "prox_max_distance": "decoded: inner radius + range; the stock script scales its "
+    "no-detection distance with the model's size factor, but none of the four public scene "
+    "files rescales the model",
+    "ir_gain": "a cone sensor reports exact distances: no response to scale",
+    "ir_offset": "a cone sensor reports exact distances: no calibration to leave over",
+    "ground_footprint": "the simulator's floor model (one pixel of the decoded vision sensor "
+    "is 1.4 mm wide)",
+}
+_CERTAIN = {"epuck": _PHYSICAL_CERTAIN, "e-puck1": _PHYSICAL_CERTAIN, "epuck-vrep": _VREP_CERTAIN}
+
+_RANGES: dict[str, dict[str, Range]] = {
+    "epuck": _PHYSICAL,
+    "e-puck1": _PHYSICAL,
+    "epuck-vrep": _VREP,
+}
 for _table in _RANGES.values():
     for _path in _table:
         check_path(_path)
@@ -210,6 +241,12 @@ def uncertainty(profile: RobotProfile) -> dict[str, Range]:
     """Every uncertain path of ``profile`` (of the shipped profile it derives from) with its
     plausible :class:`Range`; ``{}`` for a profile that derives from none."""
     return dict(_RANGES.get(profile.base or profile.name, {}))
+
+
+def certainty_note(profile: RobotProfile, path: str) -> str:
+    """Why ``path`` of ``profile`` has no range (``""`` when nothing is said)."""
+    notes = _CERTAIN.get(profile.base or profile.name, {})
+    return notes.get(path, notes.get("", ""))
 
 
 def _sensor_paths(path: str) -> list[tuple[str, bool]]:

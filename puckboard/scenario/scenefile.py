@@ -29,7 +29,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import SceneError
-from ..profile import profile_names
+from ..profile import RobotProfile
+from .robot_profiles import read_default_profile, read_robot_profiles, robot_profile_data
 from .scene import (
     GOAL_KINDS,
     Arena,
@@ -429,7 +430,7 @@ def _a(noun: str) -> str:
 
 
 def _robot(
-    reader: _Reader, index: int, frame: _TrackFrame | None, default_profile: str
+    reader: _Reader, index: int, frame: _TrackFrame | None, default_profile: str | RobotProfile
 ) -> RobotSpec:
     name = reader.string("name", f"epuck{index + 1}")
     if not name.strip():
@@ -450,10 +451,12 @@ def _robot(
         reader.fail(
             "controller", "a controller spec such as improved, stock or module:factory", controller
         )
-    profile = reader.string("profile", default_profile, choices=profile_names())
+    profile, actual = read_robot_profiles(reader, default_profile)
     colour = reader.colour("colour", _ROBOT_COLOURS[index % len(_ROBOT_COLOURS)])
     reader.finish()
-    return RobotSpec(name, x, y, theta, controller=controller, colour=colour, profile=profile)
+    return RobotSpec(
+        name, x, y, theta, controller=controller, colour=colour, profile=profile, actual=actual
+    )
 
 
 def _obstacle(
@@ -578,7 +581,7 @@ def scene_from_dict(
     if not robot_items:
         top.fail("robots", "at least one robot", robot_items)
     # the robots' profile unless a robot names its own (one scene can mix them)
-    default_profile = top.string("profile", "epuck", choices=profile_names())
+    default_profile = read_default_profile(top)
     robots = []
     for i, item in enumerate(robot_items):
         robots.append(_robot(_Reader(item, f"robots[{i}]", source), i, frame, default_profile))
@@ -696,7 +699,7 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
         ]
     out["robots"] = [
         {"name": r.name, "x": num(r.x), "y": num(r.y), "theta": float(r.theta),
-         "controller": r.controller, "colour": list(r.colour), "profile": r.profile}
+         "controller": r.controller, "colour": list(r.colour), **robot_profile_data(r)}
         for r in scene.robots
     ]  # fmt: skip
     return out
