@@ -28,6 +28,7 @@ import math
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from decimal import Decimal
 from types import SimpleNamespace
 from typing import Any
 
@@ -127,9 +128,18 @@ PATH_FIELDS: dict[str, _Field] = {
     ),
 }  # fmt: skip
 
-_UNITS: dict[str, dict[str, Callable[[float], float]]] = {
-    "m": {"m": float, "cm": lambda x: x / 100.0, "mm": lambda x: x / 1000.0},
-    "rad": {"rad": float, "deg": math.radians, "°": math.radians},
+# a unit's conversion of the written number: decimal, so "20.3mm" is exactly 0.0203
+_UNITS: dict[str, dict[str, Callable[[str], float]]] = {
+    "m": {
+        "m": float,
+        "cm": lambda x: float(Decimal(x) / 100),
+        "mm": lambda x: float(Decimal(x) / 1000),
+    },
+    "rad": {
+        "rad": float,
+        "deg": lambda x: math.radians(float(x)),
+        "°": lambda x: math.radians(float(x)),
+    },
     "rad/s": {"rad/s": float},
     "1": {},
     "raw": {},
@@ -285,9 +295,9 @@ def _number(path: str, value: Any, unit: str) -> float:
     match = _NUMBER_WITH_UNIT.match(value)
     if match is None:
         raise ProfileError(f"{path} = {value!r}: expected a number ({_unit_words(unit)})")
-    number, suffix = float(match.group(1)), match.group(2)
+    number, suffix = match.group(1), match.group(2)
     if not suffix:
-        return number
+        return float(number)
     factors = _UNITS[unit]
     if suffix not in factors:
         raise ProfileError(f"{path} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}")
