@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from .common import (
     CliError,
@@ -108,11 +109,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def main(args: argparse.Namespace) -> int:
     import logging
 
-    from ..errors import SceneError
     from ..profile import get_profile
-    from ..scenario.robot_profiles import scene_profile
-    from ..scenario.scenefile import load_scene
-    from ..scenario.variation import vary_scene
 
     if args.functions:
         return _list_functions()
@@ -124,13 +121,7 @@ def main(args: argparse.Namespace) -> int:
         from ..backends.coppeliasim.server.server import RemoteApiServer
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
-    try:
-        scene = load_scene(args.scenario)
-        if args.profile != "scene":
-            scene = scene.with_profile(scene_profile(args.profile))
-        scene = vary_scene(scene, args.seed, args.variation)
-    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        raise CliError(str(exc)) from None
+    scene = served_scene(args)
     try:
         server = RemoteApiServer(
             scene,
@@ -204,6 +195,23 @@ def main(args: argparse.Namespace) -> int:
             file=out,
         )
     return 0
+
+
+def served_scene(args: argparse.Namespace) -> Any:
+    """The scene to serve: its robots given ``--profile`` (unless 'scene') and, with
+    ``--variation plausible``, each drawn within its plausible ranges."""
+    from ..errors import SceneError
+    from ..scenario.robot_profiles import scene_profile
+    from ..scenario.scenefile import load_scene
+    from ..scenario.variation import vary_scene
+
+    try:
+        scene = load_scene(args.scenario)
+        if args.profile != "scene":
+            scene = scene.with_profile(scene_profile(args.profile))
+        return vary_scene(scene, args.seed, args.variation)
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        raise CliError(str(exc)) from None
 
 
 def _list_functions() -> int:

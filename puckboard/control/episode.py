@@ -19,7 +19,11 @@ run is the same with or without them.
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
 ``robot.profile`` (every robot's profile), ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
 ``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
-robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
+robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``); ``profile.<path>``
+and ``robot.<name>.profile.<path>`` set a number of every robot's or one robot's profile
+(:mod:`puckboard.scenario.robot_profiles`); ``variation`` = ``plausible`` (also the
+``variation`` argument) builds each robot from numbers drawn within its profile's
+plausible ranges.
 """
 
 from __future__ import annotations
