@@ -238,11 +238,10 @@ class Judge:
         self._first_failure_time: float | None = None
         self.events: list[Event] = []
         self.robots: list[_RobotState] = []
-        profiles = [get_profile(spec.profile) for spec in scene.robots]
+        # the judge sees the robots as built (their truth), not as their controllers believe
+        profiles = [spec.actual or get_profile(spec.profile) for spec in scene.robots]
         self.profiles = tuple(p.name for p in profiles)
-        self.profile_values = tuple(
-            profile_values(r.actual or p) for r, p in zip(scene.robots, profiles)
-        )
+        self.profile_values = tuple(profile_values(p) for p in profiles)
         for spec, profile in zip(scene.robots, profiles):
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))

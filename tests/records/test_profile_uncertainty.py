@@ -100,3 +100,14 @@ def test_a_varied_scene_gives_each_robot_its_truth_and_keeps_its_belief():
     assert vary_scene(varied, 4, "plausible").robots[0].actual == truths[0]
     with pytest.raises(ValueError, match="unknown variation 'wild'; use one of none, plausible"):
         vary_scene(scene, 3, "wild")
+
+
+def test_the_judge_measures_the_robots_as_built():
+    from puckboard.scenario.judge import Judge
+
+    varied = vary_scene(load_scene("arena"), 3, "plausible")
+    judge = Judge(varied)
+    truths = [r.actual for r in varied.robots]
+    assert [r.radius for r in judge.robots] == [t.body_radius for t in truths]
+    assert [m.profile_values for m in judge.metrics()] == [profile_values(t) for t in truths]
+    assert [m.profile for m in judge.metrics()] == ["epuck", "epuck"]
