@@ -7,6 +7,7 @@ __all__ = [
     "AdapterError",
     "ConnectionLostError",
     "NotSupportedError",
+    "ProfileError",
     "PuckboardError",
     "SceneError",
 ]
@@ -34,3 +35,8 @@ class ConnectionLostError(AdapterError):
 
 class SceneError(PuckboardError, ValueError):
     """A scene file or scene description is invalid; the message names the field."""
+
+
+class ProfileError(PuckboardError, ValueError):
+    """A robot profile, a profile path or a value set on one is invalid; the message
+    names the path (and the file), the value and what is allowed."""

@@ -23,6 +23,7 @@ from .._extras import missing_package_message
 
 __all__ = [
     "CliError",
+    "add_variation_argument",
     "add_web_arguments",
     "bind_error_message",
     "check_port",
@@ -351,6 +352,18 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
     reason = getattr(cause, "strerror", None) or str(cause) or type(cause).__name__
     hint = f" (ports below 1024 need administrator rights; try {flag} 10000)" if privileged else ""
     return f"{where}: {reason}{hint}"
+
+
+def add_variation_argument(parser: argparse.ArgumentParser) -> None:
+    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``."""
+    parser.add_argument(
+        "--variation",
+        choices=("none", "plausible"),
+        default="none",
+        help="plausible: build each robot from numbers drawn within what the sources allow "
+        "(seeded by --seed, a robot each; its controller still believes the profile); "
+        "default none: every robot exactly as its profile says",
+    )
 
 
 def add_web_arguments(parser: argparse.ArgumentParser, web_help: str | None = None) -> None:

@@ -71,9 +71,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--profile",
         default="epuck",
-        metavar="NAME",
-        help="robot profile of the emulated robot and the others (default epuck: it stands in "
-        "for the physical robot; 'scene' keeps the scene's)",
+        metavar="NAME|FILE.toml",
+        help="robot profile of the emulated robot and the others, shipped or a profile file "
+        "(default epuck: it stands in for the physical robot; 'scene' keeps the scene's)",
     )
     p.add_argument(
         "--others",

@@ -16,15 +16,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="list the robot profiles (physical e-puck, V-REP's model) with their sources",
         description=(
             "List the robot profiles a scene, 'run --profile' or 'sweep --set robot.profile=' "
-            "can use, with their headline numbers; 'profiles show NAME' also prints where "
-            "every number comes from."
+            "can use, with their headline numbers (--markdown: where each comes from). "
+            "'profiles show NAME|FILE.toml' prints every number you can set "
+            "(--set profile.PATH=VALUE) with its value, its plausible range and the sources; "
+            "a profile file beside the shipped profile it changes."
         ),
     )
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
-    parser.add_argument("name", nargs="?", help="profile to show")
+    parser.add_argument("name", nargs="?", help="profile to show: a name or a profile file")
     parser.add_argument("--json", action="store_true", help="print JSON")
     parser.add_argument(
-        "--markdown", action="store_true", help="print the sources table of docs/profiles.md"
+        "--markdown",
+        action="store_true",
+        help="print the Markdown table of docs/profiles.md (show: the profile's paths)",
     )
     parser.set_defaults(func=main)
 
@@ -59,25 +63,19 @@ def headline(profile: object) -> dict[str, Any]:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..profile import PROFILES, get_profile
+    from ..profile import PROFILES
 
     if args.action == "show":
-        if not args.name:
-            raise CliError(f"which profile? puckboard profiles show NAME ({', '.join(PROFILES)})")
-        try:
-            chosen = [get_profile(args.name)]
-        except ValueError as exc:
-            raise CliError(str(exc)) from None
-    else:
-        if args.name:
-            raise CliError("'puckboard profiles' takes no name; use 'profiles show NAME'")
-        chosen = list(PROFILES.values())
+        return _show(args)
+    if args.name:
+        raise CliError("'puckboard profiles' takes no name; use 'profiles show NAME'")
+    chosen = list(PROFILES.values())
     rows = [headline(p) for p in chosen]
     if args.markdown:
         print(markdown_table(chosen))
         return 0
     if args.json:
-        print(json.dumps(rows if args.action == "list" else rows[0], indent=2))
+        print(json.dumps(rows, indent=2))
         return 0
     for row in rows:
         aliases = f" (also {', '.join(row['aliases'])})" if row["aliases"] else ""
@@ -93,9 +91,29 @@ def main(args: argparse.Namespace) -> int:
             f"aperture {row['ir_aperture_deg']}°, detects {lo}-{hi} mm, headings "
             f"{', '.join(f'{h:g}' for h in row['ir_headings_deg'])}°"
         )
-        if args.action == "show":
-            for key, source in row["sources"].items():
-                print(f"  {key}: {source}")
+    return 0
+
+
+def _show(args: argparse.Namespace) -> int:
+    """``profiles show NAME|FILE.toml``: every path's value, plausible range and source."""
+    from ..errors import PuckboardError
+    from ..profile import PROFILES, get_profile, resolve_profile
+    from .profile_table import path_table_json, path_table_markdown, path_table_text
+
+    if not args.name:
+        raise CliError(
+            f"which profile? puckboard profiles show NAME|FILE.toml ({', '.join(PROFILES)})"
+        )
+    try:
+        profile = get_profile(resolve_profile(args.name))
+    except PuckboardError as exc:
+        raise CliError(str(exc)) from None
+    if args.markdown:
+        print(path_table_markdown(profile))
+    elif args.json:
+        print(json.dumps(path_table_json(profile), indent=2))
+    else:
+        print(path_table_text(profile))
     return 0
 
 

@@ -18,6 +18,7 @@ from typing import Any
 
 from .common import (
     CliError,
+    add_variation_argument,
     add_web_arguments,
     check_port,
     check_seconds,
@@ -64,10 +65,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument("--seed", type=seed_type, default=0, help="random seed (default: 0)")
     parser.add_argument(
         "--profile",
-        metavar="NAME",
-        help="robot profile for every robot (epuck, epuck-vrep, e-puck1; default: the scene's; "
-        "see puckboard profiles)",
+        metavar="NAME|FILE.toml",
+        help="robot profile for every robot: epuck, epuck-vrep, e-puck1 or a profile file "
+        "(default: the scene's; see puckboard profiles)",
     )
+    add_variation_argument(parser)
     parser.add_argument(
         "--duration", type=float, default=None, metavar="SECONDS",
         help="simulated seconds (default: the scene's)",
@@ -92,8 +94,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default=[],
         metavar="NAME=VALUE",
         help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
-        "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration or "
-        "layer.<LayerName>.<attribute> (repeatable)",
+        "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
+        "layer.<LayerName>.<attribute>, profile.<path> (every robot's, e.g. "
+        "profile.prox_max_distance=0.045 or profile.prox_radius.side=31mm; paths: "
+        "puckboard profiles show) or robot.<name>.profile.<path> (repeatable)",
     )
     parser.add_argument("--view", action="store_true", help="show a live view of the run")
     parser.add_argument(
@@ -193,6 +197,7 @@ def main(args: argparse.Namespace) -> int:
             seed=args.seed,
             backend=args.backend,
             overrides=overrides,
+            variation=args.variation,
             **backend_options,
         )
     except Exception as exc:
@@ -329,6 +334,7 @@ def format_summary(result: Any) -> str:
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
             f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
+    lines += _profile_value_lines(d["robots"])
     lines.append("")
     if d["success"]:
         lines.append("outcome: SUCCESS")
@@ -345,6 +351,39 @@ def format_summary(result: Any) -> str:
             who = e["robot"] or "-"
             lines.append(f"  {e['time_s']:7.2f} s  {who:<12} {e['kind']}")
     return "\n".join(lines)
+
+
+def _profile_value_lines(robots: list[dict[str, Any]]) -> list[str]:
+    """The robots' uncertain numbers that differ from their shipped profile's, one row each
+    (nothing when every robot is as shipped): what makes this run's robots this run's."""
+    from ..profile import get_profile, profile_values
+
+    shipped: list[dict[str, float]] = []
+    for r in robots:
+        try:
+            shipped.append(profile_values(get_profile(r["profile"])))
+        except ValueError:  # a profile file's own name: every value is worth showing
+            shipped.append({})
+    paths: list[str] = []
+    for r, ref in zip(robots, shipped):
+        for path, value in r.get("profile_values", {}).items():
+            if ref.get(path) != value and path not in paths:
+                paths.append(path)
+    if not paths:
+        return []
+    width = max(len(p) for p in paths) + 2
+    lines = [
+        "",
+        "profile values unlike the shipped profile's (SI; exact in --json; "
+        "--set profile.PATH=VALUE repeats one):",
+        f"  {'':<{width}}" + "".join(f"{r['name']:>14}" for r in robots),
+    ]
+    for path in paths:
+        cells = "".join(
+            f"{r.get('profile_values', {}).get(path, float('nan')):>14.6g}" for r in robots
+        )
+        lines.append(f"  {path:<{width}}{cells}")
+    return lines
 
 
 class _Progress:

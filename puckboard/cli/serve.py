@@ -19,9 +19,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from .common import (
     CliError,
+    add_variation_argument,
     add_web_arguments,
     bind_error_message,
     check_port,
@@ -67,10 +69,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--profile",
         default="epuck-vrep",
-        metavar="NAME",
-        help="robot profile of every served robot (default epuck-vrep: the server stands in "
-        "for CoppeliaSim and its stock e-puck model; 'scene' keeps the scene's)",
+        metavar="NAME|FILE.toml",
+        help="robot profile of every served robot, shipped or a profile file (default "
+        "epuck-vrep: the server stands in for CoppeliaSim and its stock e-puck model; "
+        "'scene' keeps the scene's)",
     )
+    add_variation_argument(p)
     p.add_argument(
         "--stepping-timeout",
         type=float,
@@ -105,9 +109,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 def main(args: argparse.Namespace) -> int:
     import logging
 
-    from ..errors import SceneError
     from ..profile import get_profile
-    from ..scenario.scenefile import load_scene
 
     if args.functions:
         return _list_functions()
@@ -119,11 +121,7 @@ def main(args: argparse.Namespace) -> int:
         from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
     except ImportError as exc:
         raise missing_extra(exc, "serving over the ZeroMQ remote API") from None
-    try:
-        scene = load_scene(args.scenario)
-        profile = None if args.profile == "scene" else get_profile(args.profile).name
-    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        raise CliError(str(exc)) from None
+    scene = served_scene(args)
     try:
         server = RemoteApiServer(
             scene,
@@ -132,7 +130,7 @@ def main(args: argparse.Namespace) -> int:
             seed=args.seed,
             stepping_timeout=args.stepping_timeout,
             max_idle=args.idle_timeout,
-            profile=profile,
+            profile=None,  # the scene's robots have theirs already
             script_functions=not args.stock_script,
         )
     except ImportError as exc:
@@ -156,8 +154,9 @@ def main(args: argparse.Namespace) -> int:
         f"remote API, protocol 2, at tcp://{args.host}:{server.port}",
         file=out,
     )
-    profiles = sorted({r.profile for r in server.api.world.scene.robots})
-    print(f"  robot profile: {', '.join(profiles)} (--profile to change)", file=out)
+    profiles = sorted({get_profile(r.profile).name for r in server.api.world.scene.robots})
+    varied = "; each robot drawn within plausible ranges" if args.variation != "none" else ""
+    print(f"  robot profile: {', '.join(profiles)} (--profile to change){varied}", file=out)
     for line in server.describe():
         print(f"  {line}", file=out)
     if args.host in ("0.0.0.0", "*"):
@@ -196,6 +195,23 @@ def main(args: argparse.Namespace) -> int:
             file=out,
         )
     return 0
+
+
+def served_scene(args: argparse.Namespace) -> Any:
+    """The scene to serve: its robots given ``--profile`` (unless 'scene') and, with
+    ``--variation plausible``, each drawn within its plausible ranges."""
+    from ..errors import SceneError
+    from ..scenario.robot_profiles import scene_profile
+    from ..scenario.scenefile import load_scene
+    from ..scenario.variation import vary_scene
+
+    try:
+        scene = load_scene(args.scenario)
+        if args.profile != "scene":
+            scene = scene.with_profile(scene_profile(args.profile))
+        return vary_scene(scene, args.seed, args.variation)
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        raise CliError(str(exc)) from None
 
 
 def _list_functions() -> int:

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .common import CliError, check_seconds
+from .common import CliError, add_variation_argument, check_seconds
 
 DEFAULT_SCENARIO = "two-robot-pass"
 
@@ -30,8 +30,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         ),
         epilog=(
             "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
-            "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
-            "layer.<LayerName>.<attribute>. Example: "
+            "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, variation, "
+            "layer.<LayerName>.<attribute>, profile.<path> (every robot's, SI or with a unit: "
+            "profile.prox_radius.side=30mm,33mm; paths: puckboard profiles show), "
+            "robot.<name>.profile.<path>. Example: "
             "puckboard sweep two-robot-pass --controller stock --controller improved "
             "--seeds 0:50 --set noise.proximity=0,0.05,0.1 --out runs.csv"
         ),
@@ -88,10 +90,12 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--profile",
-        metavar="NAME",
-        help="robot profile for every robot (default: the scene's; to compare profiles, "
-        "--set robot.profile=epuck,epuck-vrep)",
+        metavar="NAME|FILE.toml",
+        help="robot profile for every robot, shipped or a profile file (its base and its "
+        "values become fixed parameters of every episode; default: the scene's; to compare "
+        "profiles, --set robot.profile=epuck,epuck-vrep)",
     )
+    add_variation_argument(parser)
 
 
 def _add_where_to_run(parser: argparse.ArgumentParser) -> None:
@@ -211,7 +215,9 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
     if args.profile is not None:
         if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
             raise CliError("give either --profile or --set robot.profile=..., not both")
-        fixed["robot.profile"] = args.profile
+        fixed.update(_profile_parameters(args.profile))
+    if args.variation != "none":
+        fixed["variation"] = args.variation
     try:
         plan = SweepPlan.from_specs(
             scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
@@ -224,6 +230,24 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
             f"puckboard sweep: warning: {warning} (its episodes count as 'error')", file=sys.stderr
         )
     return plan
+
+
+def _profile_parameters(ref: str) -> dict[str, Any]:
+    """``--profile`` as fixed parameters: a shipped profile by name; a profile file as its
+    base plus each value it sets, so every episode's identity holds the numbers it ran
+    with and no worker needs the file."""
+    from ..errors import PuckboardError
+    from ..profile import get_profile
+    from ..scenario.robot_profiles import scene_profile
+
+    try:
+        profile = scene_profile(ref)
+    except PuckboardError as exc:
+        raise CliError(str(exc)) from None
+    if isinstance(profile, str):
+        return {"robot.profile": profile}
+    base = profile.base or get_profile(profile).name
+    return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
 def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:

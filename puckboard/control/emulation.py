@@ -28,6 +28,7 @@ from typing import Any
 
 from ..backends.epuck.emulator.endpoint import PROTOCOLS, open_endpoint
 from ..backends.epuck.emulator.robot import EmulatedRobot
+from ..profile import RobotProfile
 from ..scenario.judge import Judge
 from ..scenario.scene import Scene
 
@@ -45,7 +46,8 @@ class Emulation:
     ``protocol`` is ``"wifi"`` or ``"sercom"``; ``port`` is the TCP port (``0``: any free
     one). For sercom, ``serial="pty"`` (POSIX) or ``"tcp"`` chooses the carrier. The
     emulator stands in for the physical robot, so every robot is given the ``epuck``
-    profile unless ``profile`` names another (``None`` keeps the scene's).
+    profile unless ``profile`` names another, shipped or a profile file (``None`` keeps
+    the scene's).
     """
 
     def __init__(
@@ -61,7 +63,7 @@ class Emulation:
         others: str = "controller",
         until_client_leaves: bool = True,
         idle_timeout: float | None = 2.0,
-        profile: str | None = "epuck",
+        profile: str | RobotProfile | None = "epuck",
     ) -> None:
         from ..sim.world import World
 
@@ -76,9 +78,9 @@ class Emulation:
 
             scene = load_scene(scene)
         if profile is not None:  # it stands in for the physical robot
-            from ..profile import get_profile
+            from ..scenario.robot_profiles import scene_profile
 
-            scene = scene.with_profile(get_profile(profile).name)
+            scene = scene.with_profile(scene_profile(profile))
         self.scene = scene
         self.protocol = protocol
         self.seed = seed

@@ -19,7 +19,11 @@ run is the same with or without them.
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
 ``robot.profile`` (every robot's profile), ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
 ``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
-robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``).
+robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``); ``profile.<path>``
+and ``robot.<name>.profile.<path>`` set a number of every robot's or one robot's profile
+(:mod:`puckboard.scenario.robot_profiles`); ``variation`` = ``plausible`` (also the
+``variation`` argument) builds each robot from numbers drawn within its profile's
+plausible ranges.
 """
 
 from __future__ import annotations
@@ -41,10 +45,11 @@ from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
-from ..profile import get_profile
 from ..scenario.judge import Judge
 from ..scenario.result import EpisodeResult
+from ..scenario.robot_profiles import apply_profile_overrides, is_profile_override, scene_profile
 from ..scenario.scene import Scene
+from ..scenario.variation import vary_scene
 from .loop import ControlLoop
 
 __all__ = [
@@ -76,6 +81,9 @@ OVERRIDE_NAMES = (
     "dt",
     "duration",
     "layer.<LayerName>.<attribute>",
+    "profile.<path>",
+    "robot.<name>.profile.<path>",
+    "variation",
 )
 """The dotted names :class:`Episode` accepts in ``overrides``."""
 
@@ -121,18 +129,19 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
                 )
             noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
         elif name == "robot.profile":
-            profile = get_profile(str(value)).name  # a clear error names the known profiles
+            profile = scene_profile(value)  # a clear error names the known profiles
             scene_changes["robots"] = scene.with_profile(profile).robots
         elif name in ("dt", "duration"):
             number = _number(name, value)
             if number <= 0:
                 raise ValueError(f"override {name} must be positive seconds, got {value!r}")
             scene_changes[name] = number
-        else:
+        elif not is_profile_override(name):
             raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
     if noise_changes:
         scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
-    return dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
+    scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
+    return apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
 
 
 #: Noise fields that are offsets rather than spreads, so either sign means something.
@@ -246,10 +255,13 @@ class Episode:
         seed: int = 0,
         backend: str | None = None,
         overrides: Mapping[str, Any] | None = None,
+        variation: str = "none",
         **backend_options: Any,
     ) -> None:
         overrides = dict(overrides or {})
+        variation = str(overrides.pop("variation", variation))
         self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
+        self.scene = vary_scene(self.scene, int(seed), variation)
         self.seed = int(seed)
         self.backend = backend if backend is not None else default_backend()
         specs = {
@@ -484,11 +496,12 @@ def run_episode(
     overrides: Mapping[str, Any] | None = None,
     backend: str | None = None,
     stop_early: bool = True,
+    variation: str = "none",
     **backend_options: Any,
 ) -> EpisodeResult:
     """Build an :class:`Episode` and run it; see the module docstring."""
     episode = Episode(
         scene, controller=controller, seed=seed, backend=backend, overrides=overrides,
-        **backend_options,
+        variation=variation, **backend_options,
     )  # fmt: skip
     return episode.run(duration, stop_early=stop_early)

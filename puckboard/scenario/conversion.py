@@ -14,9 +14,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..profile import profile_names
 from .placement import TrackFrame, read_dummy, read_obstacle, read_robot
 from .reader import TableReader, unique_names
+from .robot_profiles import read_default_profile, robot_profile_data
 from .scene import (
     GOAL_KINDS,
     Arena,
@@ -129,7 +129,7 @@ def _robots(top: TableReader, frame: TrackFrame | None) -> tuple[RobotSpec, ...]
     if not top.table_list("robots"):
         top.fail("robots", "at least one robot", [])
     # the robots' profile unless a robot names its own (one scene can mix them)
-    default_profile = top.string("profile", "epuck", choices=profile_names())
+    default_profile = read_default_profile(top)
     robots = tuple(
         read_robot(t, i, frame, default_profile) for i, t in enumerate(top.items("robots"))
     )
@@ -212,7 +212,7 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
         ]
     out["robots"] = [
         {"name": r.name, "x": _num(r.x), "y": _num(r.y), "theta": float(r.theta),
-         "controller": r.controller, "colour": list(r.colour), "profile": r.profile}
+         "controller": r.controller, "colour": list(r.colour), **robot_profile_data(r)}
         for r in scene.robots
     ]  # fmt: skip
     return out

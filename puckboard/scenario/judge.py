@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..profile import get_profile
+from ..profile import get_profile, profile_values
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = ["FAILURES", "Event", "Judge", "JudgeRules", "RobotMetrics"]
@@ -127,11 +127,14 @@ class RobotMetrics:
     obstacles_passed: int = 0
     passed_other: bool = False
     profile: str = ""
+    #: the robot's true value of every uncertain number (``--set profile.PATH=VALUE``)
+    profile_values: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "name": self.name,
             "profile": self.profile,
+            "profile_values": dict(self.profile_values),
             "progress_laps": round(self.progress_laps, 4),
             "distance_m": round(self.distance_m, 4),
             "collisions": self.collisions,
@@ -235,8 +238,10 @@ class Judge:
         self._first_failure_time: float | None = None
         self.events: list[Event] = []
         self.robots: list[_RobotState] = []
-        profiles = [get_profile(spec.profile) for spec in scene.robots]
+        # the judge sees the robots as built (their truth), not as their controllers believe
+        profiles = [spec.actual or get_profile(spec.profile) for spec in scene.robots]
         self.profiles = tuple(p.name for p in profiles)
+        self.profile_values = tuple(profile_values(p) for p in profiles)
         for spec, profile in zip(scene.robots, profiles):
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))
@@ -609,6 +614,7 @@ class Judge:
                     ),
                     passed_other=passed,
                     profile=self.profiles[i],
+                    profile_values=self.profile_values[i],
                 )
             )
         return out

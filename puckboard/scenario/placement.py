@@ -15,8 +15,9 @@ import math
 
 import numpy as np
 
-from ..profile import profile_names
+from ..profile import RobotProfile
 from .reader import TableReader
+from .robot_profiles import read_robot_profiles
 from .scene import CircleObstacle, Dummy, PolygonObstacle, RobotSpec, Track
 
 __all__ = ["TrackFrame", "place", "read_dummy", "read_obstacle", "read_robot"]
@@ -99,7 +100,10 @@ def _a(noun: str) -> str:
 
 
 def read_robot(
-    reader: TableReader, index: int, frame: TrackFrame | None, default_profile: str
+    reader: TableReader,
+    index: int,
+    frame: TrackFrame | None,
+    default_profile: str | RobotProfile,
 ) -> RobotSpec:
     """One ``[[robots]]`` table; ``default_profile`` is the scene's."""
     name = reader.string("name", f"epuck{index + 1}")
@@ -113,10 +117,12 @@ def read_robot(
         reader.fail(
             "controller", "a controller spec such as improved, stock or module:factory", controller
         )
-    profile = reader.string("profile", default_profile, choices=profile_names())
+    profile, actual = read_robot_profiles(reader, default_profile)
     colour = reader.colour("colour", ROBOT_COLOURS[index % len(ROBOT_COLOURS)])
     reader.finish()
-    return RobotSpec(name, x, y, theta, controller=controller, colour=colour, profile=profile)
+    return RobotSpec(
+        name, x, y, theta, controller=controller, colour=colour, profile=profile, actual=actual
+    )
 
 
 def _robot_heading(reader: TableReader, track_heading: float) -> float:

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from ..profile.model import RobotProfile
+
 __all__ = [
     "GOAL_KINDS",
     "Arena",
@@ -150,8 +152,15 @@ class Dummy:
 @dataclass(frozen=True)
 class RobotSpec:
     """One robot: name, start pose (m, m, rad), controller spec, body colour, robot profile
-    (:mod:`puckboard.profile`: ``epuck``, the physical robot, or ``epuck-vrep``, V-REP's
-    model)."""
+    (:mod:`puckboard.profile`: a shipped one by name, ``epuck``, the physical robot, or
+    ``epuck-vrep``, V-REP's model; or a :class:`~puckboard.profile.RobotProfile` with
+    changes, from ``--set profile.*`` or a profile file).
+
+    ``profile`` is what the robot is believed to be: its controller, odometry and unit
+    conversions go by it. ``actual``, when given, is what it truly is (a robot drawn by
+    ``--variation plausible``): the simulator simulates that one, and nothing the
+    controller sees tells it the difference.
+    """
 
     name: str
     x: float
@@ -159,7 +168,8 @@ class RobotSpec:
     theta: float
     controller: str = "improved"
     colour: Colour = (60, 160, 60)
-    profile: str = "epuck"
+    profile: str | RobotProfile = "epuck"
+    actual: RobotProfile | None = None
 
 
 @dataclass(frozen=True)
@@ -232,9 +242,10 @@ class Scene:
     goal: Goal = field(default_factory=Goal)
     dummies: tuple[Dummy, ...] = ()
 
-    def with_profile(self, profile: str) -> Scene:
-        """This scene with every robot given robot profile ``profile`` (by name)."""
-        robots = tuple(dataclasses.replace(r, profile=profile) for r in self.robots)
+    def with_profile(self, profile: str | RobotProfile) -> Scene:
+        """This scene with every robot given robot profile ``profile`` (a shipped one by
+        name, or a profile); a truth drawn for the old profile goes with it."""
+        robots = tuple(dataclasses.replace(r, profile=profile, actual=None) for r in self.robots)
         return dataclasses.replace(self, robots=robots)
 
     def robot(self, name: str) -> RobotSpec:

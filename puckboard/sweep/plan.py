@@ -44,6 +44,8 @@ PARAMETERS: dict[str, str] = {
     "noise.gyro_bias": "constant offset of the gyro's yaw rate (rad/s)",
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
+    "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
+    "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
 
 _LAYER_PARAM = re.compile(r"^layer\.([A-Za-z_][\w-]*)\.([A-Za-z_]\w*)$")
@@ -114,7 +116,15 @@ def parse_value(text: str) -> bool | int | float | str:
 
 def check_parameter(name: str) -> str:
     """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
-    if name in PARAMETERS or _LAYER_PARAM.match(name):
+    if _is_profile_param(name):
+        from ..profile import check_path
+
+        try:
+            check_path(_profile_path(name))
+        except ValueError as exc:
+            raise PlanError(f"parameter {name}: {exc}") from None
+        return name
+    if (name in PARAMETERS and "<" not in name) or _LAYER_PARAM.match(name):
         return name
     known = ", ".join(PARAMETERS)
     raise PlanError(
@@ -123,8 +133,42 @@ def check_parameter(name: str) -> str:
     )
 
 
+_ROBOT_PROFILE_PARAM = re.compile(r"^robot\.(.+)\.profile\.(.+)$")
+
+
+def _is_profile_param(name: str) -> bool:
+    return name.startswith("profile.") or _ROBOT_PROFILE_PARAM.match(name) is not None
+
+
+def _profile_path(name: str) -> str:
+    match = _ROBOT_PROFILE_PARAM.match(name)
+    return match.group(2) if match else name[len("profile.") :]
+
+
+def _profile_value(name: str, value: Any) -> Any:
+    """A ``profile.<path>`` value in SI (``31mm`` → 0.031), checked against the path's
+    bounds; other parameters' values as they are."""
+    if not _is_profile_param(name):
+        return value
+    from ..profile import check_value
+
+    try:
+        return check_value(_profile_path(name), value)
+    except ValueError as exc:
+        raise PlanError(f"parameter {name}: {exc}") from None
+
+
 def _check_value(name: str, value: Any) -> None:
     if name.startswith("layer."):
+        return
+    if _is_profile_param(name):
+        _profile_value(name, value)
+        return
+    if name == "variation":
+        from ..profile import VARIATIONS
+
+        if value not in VARIATIONS:
+            raise PlanError(f"parameter variation: {value!r} is not one of {', '.join(VARIATIONS)}")
         return
     if name == "robot.profile":
         from ..profile import profile_names
@@ -157,7 +201,7 @@ def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
     parts = [p for p in (v.strip() for v in values_text.split(",")) if p]
     if not parts:
         raise PlanError(f"--set {spec!r}: no values after '='; give one or more, comma-separated")
-    values = tuple(parse_value(p) for p in parts)
+    values = tuple(_profile_value(name, parse_value(p)) for p in parts)
     for value in values:
         _check_value(name, value)
     seen: set[str] = set()

@@ -4,7 +4,8 @@
 Parquet want flat columns, so a row keeps the scalar fields as they are, adds
 episode-level aggregates of the per-robot metrics (``progress_laps`` is the mean over
 robots, ``collisions`` and ``obstacles_passed`` the sums), spreads each robot's metrics
-into ``robot.<name>.<metric>`` columns, stores the event list as a JSON string, and
+into ``robot.<name>.<metric>`` columns (with its ``profile`` and, as JSON, its
+``profile_values``), stores the event list as a JSON string, and
 adds the sweep's own columns: ``key`` (the episode's identity), ``controller`` (the spec
 as given), ``params`` (JSON) and one ``param.<name>`` column per parameter.
 
@@ -35,6 +36,7 @@ _ROBOT_METRICS = (
     "on_line_fraction",
     "obstacles_passed",
     "passed_other",
+    "profile",
 )
 
 
@@ -71,6 +73,10 @@ def result_row(scenario: str, spec: EpisodeSpec, result: Mapping[str, Any]) -> d
         for metric in _ROBOT_METRICS:
             if metric in robot:
                 row[f"robot.{name}.{metric}"] = robot[metric]
+        if robot.get("profile_values"):  # JSON: the numbers that make this robot this robot
+            row[f"robot.{name}.profile_values"] = json.dumps(
+                robot["profile_values"], separators=(",", ":")
+            )
     events = list(result.get("events") or [])
     row["n_events"] = len(events)
     row["events"] = json.dumps(events, separators=(",", ":"))

@@ -11,7 +11,7 @@ FIELDS = {
     "realtime_factor", "success", "failure", "failures", "robots", "events",
 }  # fmt: skip
 ROBOT_FIELDS = {
-    "name", "profile", "progress_laps", "distance_m", "collisions", "on_line_fraction",
+    "name", "profile", "profile_values", "progress_laps", "distance_m", "collisions", "on_line_fraction",
     "obstacles_passed", "passed_other",
 }  # fmt: skip
 

@@ -145,7 +145,8 @@ def test_robots_and_obstacles_on_the_track():
         ),
         (
             {"robots": [{"x": 0, "y": 0, "theta": 0, "profile": "e-puck9"}]},
-            "robots[0].profile: expected one of epuck, epuck-vrep, e-puck1, e-puck2",
+            "robots[0].profile: unknown robot profile 'e-puck9'; expected one of epuck, "
+            "epuck-vrep, e-puck1, e-puck2 or a profile file",
         ),
     ],
 )
