@@ -45,10 +45,11 @@ from ..behaviours.layer import Layer
 from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
+from ..profile import RobotProfile, get_profile
 from ..scenario.judge import Judge
 from ..scenario.result import EpisodeResult
 from ..scenario.robot_profiles import apply_profile_overrides, is_profile_override, scene_profile
-from ..scenario.scene import Scene
+from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
 from .loop import ControlLoop
 
@@ -453,14 +454,20 @@ def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:
     the results name it, so both must be the driven robot's.
     """
     robots = tuple(
-        dataclasses.replace(r, profile=adapters[r.name].profile.name)
-        if r.name in adapters and adapters[r.name].profile.name != r.profile
-        else r
-        for r in scene.robots
+        _driven(r, adapters[r.name].profile) if r.name in adapters else r for r in scene.robots
     )
     if all(a is b for a, b in zip(robots, scene.robots)):
         return scene
     return dataclasses.replace(scene, robots=robots)
+
+
+def _driven(robot: RobotSpec, driven: RobotProfile) -> RobotSpec:
+    """``robot`` as driven: unchanged when its adapter drives the profile the scene
+    believes (overrides included); else the adapter's profile, and no drawn truth (what
+    a real robot truly is, nobody drew)."""
+    if get_profile(robot.profile) == driven:
+        return robot
+    return dataclasses.replace(robot, profile=driven, actual=None)
 
 
 def _show_tree(tr: TreeTrace, show: Callable[[str], None]) -> None:

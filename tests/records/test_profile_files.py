@@ -10,7 +10,7 @@ import pytest
 
 from puckboard.errors import ProfileError, SceneError
 from puckboard.profile import EPUCK, load_profile_file, profile_to_data, resolve_profile
-from puckboard.scenario.scenefile import load_scene, scene_from_dict, scene_to_dict
+from puckboard.scenario import load_scene, scene_from_dict, scene_to_dict
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "my-epuck.toml"
