@@ -5,7 +5,11 @@ controller in the embedded simulator. ``--json`` prints exactly one JSON object 
 stdout (the fields of :meth:`puckboard.scenario.result.EpisodeResult.to_dict`) and nothing else,
 so scripts can pipe it. The exit status is 0 whenever the run completed, whatever its
 outcome; bad input (unknown scenario, unreadable scene, bad controller, bad ``--set``)
-exits with 2 and one line on stderr.
+exits with 2 and one line on stderr. A controller that fails during the run ends it with
+status 1: what puckboard refused (a ``command()`` that returns no finite
+:class:`~puckboard.records.WheelCommand`, a key the robot does not have) is one line
+naming robot, time and layer; an exception in the controller's own code prints the
+traceback of that code's frames (not puckboard's or py_trees'), then that line.
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ import argparse
 import json
 import sys
 import traceback
+from pathlib import Path
 from typing import Any
 
 from .common import (
@@ -140,7 +145,7 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
 
 def main(args: argparse.Namespace) -> int:
     from ..control.episode import Episode
-    from ..errors import PuckboardError
+    from ..errors import LayerError, PuckboardError
 
     overrides = parse_overrides(args.overrides)
     if args.profile is not None:
@@ -240,8 +245,14 @@ def main(args: argparse.Namespace) -> int:
         failure = episode.loop.failure
         if failure is None:
             raise
-        # a student's layer raised: the traceback says what, the last line says where
-        traceback.print_exc()
+        if isinstance(exc, PuckboardError):
+            # puckboard refused what a layer did (a command that is no WheelCommand, a
+            # speed that is not finite, an unknown key): the line says what and where
+            problem = exc.problem if isinstance(exc, LayerError) else str(exc)
+            print(f"puckboard run: error: {failure.describe()}: {problem}", file=sys.stderr)
+            return 1
+        # the controller's own code raised: its own frames say what, the last line where
+        sys.stderr.write(own_traceback(exc))
         print(
             f"puckboard run: error: {failure.describe()}: {type(exc).__name__}: {exc}",
             file=sys.stderr,
@@ -277,6 +288,36 @@ def _keep_web_view(web: Any) -> None:
         pass
     finally:
         web.close()
+
+
+def own_traceback(exc: BaseException) -> str:
+    """The traceback of ``exc`` without the frames inside puckboard and py_trees.
+
+    What is left is the controller author's own code, where the fix goes; a student
+    need not read the loop, the arbiter and py_trees' tick to find their line. When no
+    frame is left (the error is puckboard's own), the whole traceback is kept.
+    """
+    import py_trees
+
+    package = Path(__file__).resolve().parents[1]
+    hidden = (package, Path(py_trees.__file__).resolve().parent)
+    shown = package / "examples"  # installed teaching examples are code to read
+
+    def own(frame: traceback.FrameSummary) -> bool:
+        path = Path(frame.filename).resolve()
+        return path.is_relative_to(shown) or not any(path.is_relative_to(h) for h in hidden)
+
+    frames = traceback.extract_tb(exc.__traceback__)
+    kept = [f for f in frames if own(f)]
+    if not kept:
+        return "".join(traceback.format_exception(exc))
+    return "".join(
+        [
+            "Traceback (most recent call last):\n",
+            *traceback.format_list(kept),
+            *traceback.format_exception_only(exc),
+        ]
+    )
 
 
 def _first_line(exc: BaseException) -> str:
