@@ -52,6 +52,9 @@ class Controller:
 
     ``requires`` names keys that must be fresh: when one is missing or stale the robot is
     commanded to stop instead of acting on old data.
+
+    Each tick, every :class:`Layer` of the tree first observes the frame
+    (:meth:`Layer.observe`), then the arbiter asks the layers in priority order.
     """
 
     def __init__(
@@ -83,7 +86,7 @@ class Controller:
             reads.update(keys_read(node))
         self.reads = tuple(sorted(reads))
         #: Every layer of the tree, in tree order: each observes every tick's frame.
-        self.observers = [node for node in self.root.iterate() if isinstance(node, Layer)]
+        self.every_layer = [node for node in self.root.iterate() if isinstance(node, Layer)]
         #: What the behaviours of the tree are handed for each tick (see TickContext).
         self.context = TickContext()
         self.active_layer: str = NO_LAYER
@@ -119,7 +122,7 @@ class Controller:
         frame = Frame(snapshot)
         context = self.context
         context.begin(frame)
-        for layer in self.observers:  # every layer sees every tick, whoever drives
+        for layer in self.every_layer:  # every layer sees every tick, whoever drives
             try:
                 layer.observe(frame)
             except Exception as exc:

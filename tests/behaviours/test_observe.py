@@ -131,7 +131,7 @@ def test_every_layer_observes_every_tick_inside_decorators_and_composites():
     assert ctl.active_layer == "(stale inputs)"
     for layer in (top, held, nested):
         assert layer.frames == [0.0, 0.05, 0.1, 1.0], layer.name
-    assert [n.name for n in ctl.observers] == ["top", "held", "Cruise", "nested"]
+    assert [n.name for n in ctl.every_layer] == ["top", "held", "Cruise", "nested"]
 
 
 def test_a_layer_that_raises_in_observe_is_named():
