@@ -38,7 +38,7 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from puckboard.behaviours import Controller, Cruise, Frame, Layer, LineFollow
+from puckboard.behaviours import Controller, Cruise, Frame, Layer, LineFollow, TickContext
 from puckboard.control.episode import Episode
 from puckboard.profile import EPUCK2
 from puckboard.records import WheelCommand, WheelEncoders
@@ -79,14 +79,16 @@ class Task(py_trees.decorators.Decorator):
         self._start: WheelEncoders | None = None
 
     def setup(self, **kwargs: Any) -> None:
-        self.controller = kwargs.get("controller")  # to see the tick's Frame
+        self.context: TickContext | None = kwargs.get("context")  # holds the tick's Frame
 
     def initialise(self) -> None:
         self._start = None  # measure from the first tick of this task
 
     def update(self) -> Status:
-        assert self.controller is not None, "a Task runs inside a Controller"
-        frame: Frame = self.controller.frame
+        assert self.context is not None and self.context.frame is not None, (
+            "a Task runs inside a Controller"
+        )
+        frame: Frame = self.context.frame
         encoders = frame.value("encoders")
         if encoders is None:
             return Status.RUNNING

@@ -6,6 +6,8 @@ __all__ = [
     "AdapterClosedError",
     "AdapterError",
     "ConnectionLostError",
+    "LayerError",
+    "NonFiniteError",
     "NotSupportedError",
     "ProfileError",
     "PuckboardError",
@@ -40,3 +42,22 @@ class SceneError(PuckboardError, ValueError):
 class ProfileError(PuckboardError, ValueError):
     """A robot profile, a profile path or a value set on one is invalid; the message
     names the path (and the file), the value and what is allowed."""
+
+
+class NonFiniteError(PuckboardError, ValueError):
+    """A record (a wheel command, a pose) was given something that is not a finite number:
+    ``nan``, ``inf``, text. Caught where it is made, so the number never reaches a wheel."""
+
+
+class LayerError(PuckboardError, ValueError):
+    """A behaviour layer broke a rule puckboard checks for every layer: ``command()``
+    returned something that is not a :class:`~puckboard.records.WheelCommand` of finite
+    speeds, ``reads`` names a key the robot does not have, ``__init__`` skipped
+    ``super().__init__()``. These are the controller's author's to fix, and the message
+    says how; ``layer`` names the layer (``None`` for the controller as a whole).
+    """
+
+    def __init__(self, problem: str, layer: str | None = None) -> None:
+        super().__init__(f"layer {layer!r}: {problem}" if layer is not None else problem)
+        self.problem = problem
+        self.layer = layer

@@ -40,6 +40,8 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
+from .errors import NonFiniteError
+
 _R = TypeVar("_R")
 
 __all__ = [
@@ -120,7 +122,7 @@ def _frozen_array(values: Any, n: int, what: str, *, dtype: Any = np.float64) ->
 def _check_finite(cls_name: str, **values: float) -> None:
     for name, value in values.items():
         if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
-            raise ValueError(f"{cls_name}.{name} must be a finite number, got {value!r}")
+            raise NonFiniteError(f"{cls_name}.{name} must be a finite number, got {value!r}")
 
 
 class _Named:

@@ -5,6 +5,10 @@ A student who runs ``puckboard run --controller my_layer.py:make`` with a typo i
 caret and the message. Python's traceback would add a dozen frames of puckboard's loader
 and of importlib, which say nothing to the student and hide the one frame that matters.
 
+:func:`own_traceback` does the same for an error raised while the code runs (a layer's
+``command`` called by the loop, the arbiter and py_trees): it keeps the frames outside
+puckboard and py_trees, which are the user's.
+
 :func:`user_traceback` keeps the frames *below* a loader function (the code it ran on the
 user's behalf) and drops importlib's and runpy's plumbing from them, as Python does for
 its own ``python file.py``. The loader is named by the functions that run user code
@@ -17,10 +21,10 @@ from __future__ import annotations
 
 import traceback
 from collections.abc import Callable
-from pathlib import PurePath
+from pathlib import Path, PurePath
 from typing import Any
 
-__all__ = ["user_traceback"]
+__all__ = ["own_traceback", "user_traceback"]
 
 #: Modules whose frames are plumbing between a loader and the code it runs.
 _PLUMBING = ("importlib", "runpy", "pkgutil")
@@ -68,3 +72,33 @@ def _plumbing(filename: str) -> bool:
         return True
     path = PurePath(filename)
     return path.stem in _PLUMBING or any(part in _PLUMBING for part in path.parts[-3:-1])
+
+
+def own_traceback(exc: BaseException) -> str:
+    """The traceback of ``exc`` without the frames inside puckboard and py_trees.
+
+    What is left is the controller author's own code, where the fix goes; a student
+    need not read the loop, the arbiter and py_trees' tick to find their line. When no
+    frame is left (the error is puckboard's own), the whole traceback is kept.
+    """
+    import py_trees
+
+    package = Path(__file__).resolve().parent
+    hidden = (package, Path(py_trees.__file__).resolve().parent)
+    shown = package / "examples"  # installed teaching examples are code to read
+
+    def own(frame: traceback.FrameSummary) -> bool:
+        path = Path(frame.filename).resolve()
+        return path.is_relative_to(shown) or not any(path.is_relative_to(h) for h in hidden)
+
+    frames = traceback.extract_tb(exc.__traceback__)
+    kept = [f for f in frames if own(f)]
+    if not kept:
+        return "".join(traceback.format_exception(exc))
+    return "".join(
+        [
+            "Traceback (most recent call last):\n",
+            *traceback.format_list(kept),
+            *traceback.format_exception_only(exc),
+        ]
+    )

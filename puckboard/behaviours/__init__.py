@@ -4,6 +4,7 @@ A layer knows the blackboard and nothing of the backend behind it: this package 
 neither :mod:`puckboard.backends` nor :mod:`puckboard.sim`.
 """
 
+from .context import TickContext
 from .controller import NO_LAYER, Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .go_home import GoHome
@@ -28,6 +29,7 @@ __all__ = [
     "Layer",
     "LineFollow",
     "SideWallKeep",
+    "TickContext",
     "improved",
     "load_controller",
     "obstacle_in_front",

@@ -5,26 +5,43 @@ from the highest priority down and gives the wheels to the first that applies. W
 higher layer takes over, py_trees stops the layer that had control (``terminate`` with
 ``INVALID``), which is exactly subsumption's suppression of the lower layer.
 
+The Selector stops asking at the first layer that applies, so a tick alone would leave
+the layers below the driver unaware of the world. In Brooks' subsumption every layer
+runs all the time and suppression acts only on outputs; so before the arbiter asks
+anyone, the controller lets every :class:`~puckboard.behaviours.Layer` of the tree
+(inside decorators and composites too) ``observe`` the tick's frame.
+
 Each tick writes two keys to the robot's namespace: ``command/wheels`` (the
 :class:`~puckboard.records.WheelCommand`) and ``command/layer`` (the name of the layer in
 control), so traces, plots and monitors can show who drove when.
+
+The first tick against a namespace checks that every key the layers read is one the
+robot can have: a sensor key, or a key declared or written on its namespace (knowledge
+sources declare theirs when they are attached). A misspelt key would otherwise read as
+"no value" for ever, and the layer would silently never apply.
 """
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Iterable, Sequence
 
 import py_trees
 from py_trees.common import Status
 
 from ..blackboard import Namespace
-from ..records import WheelCommand
-from .layer import Frame, Layer
+from ..errors import LayerError
+from ..records import Sensor, WheelCommand
+from .context import Frame, TickContext
+from .layer import Layer, require_initialised
 
 __all__ = ["NO_LAYER", "Controller"]
 
 NO_LAYER = "(none)"
 """``command/layer`` when no layer applied (the robot then stops)."""
+
+#: Keys every robot may have whatever its backend: its sensors and its commands.
+ROBOT_KEYS = frozenset([*(sensor.key for sensor in Sensor), "command/wheels", "command/layer"])
 
 
 class Controller:
@@ -35,6 +52,9 @@ class Controller:
 
     ``requires`` names keys that must be fresh: when one is missing or stale the robot is
     commanded to stop instead of acting on old data.
+
+    Each tick, every :class:`Layer` of the tree first observes the frame
+    (:meth:`Layer.observe`), then the arbiter asks the layers in priority order.
     """
 
     def __init__(
@@ -46,27 +66,39 @@ class Controller:
     ) -> None:
         if not layers:
             raise ValueError("a Controller needs at least one layer")
+        if isinstance(requires, str):
+            raise TypeError(
+                f"requires={requires!r} is one string; write a tuple: requires=({requires!r},)"
+            )
         for layer in layers:
             if not isinstance(layer, py_trees.behaviour.Behaviour):
                 raise TypeError(
                     f"controller layers must be Layer (py_trees behaviour) objects, got "
                     f"{type(layer).__name__}"
                 )
+            require_initialised(layer)
         self.name = name
         self.root = py_trees.composites.Selector(name, memory=False, children=list(layers))
         self.tree = py_trees.trees.BehaviourTree(self.root)
         self.requires = tuple(requires)
         reads: set[str] = set(self.requires)
         for node in self.root.iterate():
-            reads.update(getattr(node, "reads", ()))
+            reads.update(keys_read(node))
         self.reads = tuple(sorted(reads))
-        self.frame: Frame | None = None
+        #: Every layer of the tree, in tree order: each observes every tick's frame.
+        self.every_layer = [node for node in self.root.iterate() if isinstance(node, Layer)]
+        #: What the behaviours of the tree are handed for each tick (see TickContext).
+        self.context = TickContext()
         self.active_layer: str = NO_LAYER
         self.last_command = WheelCommand.stop()
-        self._proposal: tuple[py_trees.behaviour.Behaviour, WheelCommand] | None = None
-        #: the layer whose applies() or command() raised during the last tick, if any
-        self.failed_layer: str | None = None
-        self.tree.setup(controller=self)
+        self._checked: Namespace | None = None  # the namespace whose keys were checked
+        self.tree.setup(context=self.context)
+
+    @property
+    def failed_layer(self) -> str | None:
+        """The layer whose ``observe``, ``applies`` or ``command`` raised during the last
+        tick, if any (the loop's error report names it)."""
+        return self.context.failed_layer
 
     @property
     def layers(self) -> list[py_trees.behaviour.Behaviour]:
@@ -81,20 +113,23 @@ class Controller:
         names = [n.name for n in self.root.iterate() if isinstance(n, Layer)]
         raise KeyError(f"no layer named {name!r}; layers: {', '.join(names)}")
 
-    def propose(self, layer: py_trees.behaviour.Behaviour, command: WheelCommand) -> None:
-        """Called by the layer in control during the tick."""
-        if not isinstance(command, WheelCommand):
-            raise TypeError(
-                f"layer {layer.name!r} returned {command!r}; command() must return a WheelCommand"
-            )
-        self._proposal = (layer, command)
-
     def tick(self, ns: Namespace) -> WheelCommand:
-        """Snapshot ``ns``, tick the tree, write and return the winning wheel command."""
+        """Snapshot ``ns``, let every layer observe, tick the tree, write and return the
+        winning wheel command."""
+        if ns is not self._checked:
+            self.check_keys(ns)
         snapshot = ns.snapshot(self.reads)
-        self.frame = Frame(snapshot)
-        self._proposal = None
-        self.failed_layer = None
+        frame = Frame(snapshot)
+        context = self.context
+        context.begin(frame)
+        for layer in self.every_layer:  # every layer sees every tick, whoever drives
+            try:
+                layer.observe(frame)
+            except Exception as exc:
+                error = context.blame(layer.name, exc)
+                if error is None:
+                    raise
+                raise error from exc
         status = snapshot.status
         for key in self.requires:
             if status(key) != "fresh":
@@ -103,10 +138,11 @@ class Controller:
                 break
         else:
             self.tree.tick()
-            if self._proposal is None:
+            proposal = context.proposal
+            if proposal is None:
                 layer_name, cmd = NO_LAYER, WheelCommand.stop()
             else:
-                layer_name, cmd = self._proposal[0].name, self._proposal[1]
+                layer_name, cmd = proposal
         self.active_layer = layer_name
         self.last_command = cmd
         ns.put_many(
@@ -115,6 +151,24 @@ class Controller:
             writer=self.name,
         )
         return cmd
+
+    def check_keys(self, ns: Namespace) -> None:
+        """Refuse a key read by a layer (or in ``requires``) that robot ``ns`` cannot have.
+
+        Done at the first tick against a namespace rather than when the controller is
+        built: the keys a knowledge source derives exist only once it is attached.
+        """
+        known = ROBOT_KEYS.union(ns.declared_keys())
+        for node in self.root.iterate():
+            for key in keys_read(node):
+                if key not in known:
+                    self.context.failed_layer = node.name
+                    raise LayerError(f"reads {_unknown_key(key, ns, known)}", node.name)
+        for key in self.requires:
+            if key not in known:
+                unknown = _unknown_key(key, ns, known)
+                raise LayerError(f"controller {self.name!r} requires {unknown}")
+        self._checked = ns
 
     def reset(self) -> None:
         """Stop every layer (they forget held state) and clear the last decision."""
@@ -131,3 +185,29 @@ class Controller:
 
     def __repr__(self) -> str:
         return f"<Controller {self.name!r}: {' > '.join(n.name for n in self.layers)}>"
+
+
+def keys_read(node: py_trees.behaviour.Behaviour) -> tuple[str, ...]:
+    """The ``reads`` of a behaviour of the tree, refusing what is not a tuple of keys."""
+    reads = getattr(node, "reads", ())
+    if isinstance(reads, str):  # tuple("proximity") would be its letters
+        raise LayerError(
+            f"reads = {reads!r} is one string; write a tuple: reads = ({reads!r},) "
+            "(mind the comma)",
+            node.name,
+        )
+    for key in reads:
+        if not isinstance(key, str) or not key:
+            raise LayerError(f"reads must name blackboard keys as text, got {key!r}", node.name)
+    return tuple(reads)
+
+
+def _unknown_key(key: str, ns: Namespace, known: Iterable[str]) -> str:
+    close = difflib.get_close_matches(key, list(known), n=1)
+    guess = f" (did you mean {close[0]!r}?)" if close else ""
+    return (
+        f"{key!r}, which robot {ns.name!r} does not have{guess}; its keys: "
+        f"{', '.join(sorted(known))}. To read a key of your own, declare it on the robot's "
+        f"namespace before the run (ns.declare({key!r})) or have a knowledge source "
+        "write it"
+    )

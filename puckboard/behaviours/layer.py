@@ -2,34 +2,41 @@
 
 In Brooks' subsumption architecture every layer is a complete little controller that
 wants the wheels under some condition; a fixed priority decides which one gets them.
-A :class:`Layer` says three things:
+A :class:`Layer` says up to four things:
 
 * ``reads``: the blackboard keys it looks at (relative to the robot's namespace);
+* ``observe(frame)``: what it notes at every tick, whichever layer drives (optional);
 * ``applies(frame)``: whether it wants control now;
 * ``command(frame)``: the wheel speeds it wants (rad/s).
 
 Inside the tree a layer that applies returns ``RUNNING`` and proposes its command; one
 that does not returns ``FAILURE`` and the arbiter (a Selector without memory) asks the
-next layer down. A layer never talks to an adapter: it sees a :class:`Frame`, a
-consistent snapshot of the blackboard taken once at the start of the tick, so all the
-values behind one decision describe the same instant.
+next layer down. The arbiter stops asking at the first layer that applies, so while a
+higher layer drives, ``applies`` and ``command`` of the layers below it are not called
+at all; ``observe`` is, on every layer at every tick, before the arbiter asks anyone.
+That is where a layer keeps what it remembers (on which side the line was last seen,
+say): in Brooks' machines every layer runs all the time, and suppression acts only on
+what a layer *outputs*.
+
+A layer never talks to an adapter or to the controller: it is handed a
+:class:`~puckboard.behaviours.context.TickContext` when the tree is set up and reads the
+tick's :class:`Frame` from it, a consistent snapshot of the blackboard taken once at the
+start of the tick, so all the values behind one decision describe the same instant.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import py_trees
 import py_trees.logging
 from py_trees.common import Status
 
-from ..blackboard import Snapshot
-from ..records import Ground, Proximity, WheelCommand
+from ..errors import LayerError
+from ..records import WheelCommand
+from .context import Frame, TickContext
 
-if TYPE_CHECKING:
-    from .controller import Controller
-
-__all__ = ["Frame", "Layer"]
+__all__ = ["Frame", "Layer", "require_initialised"]
 
 # Public attributes py_trees sets on every behaviour: bookkeeping, not tunable parameters.
 _PY_TREES_ATTRIBUTES = frozenset(
@@ -37,47 +44,41 @@ _PY_TREES_ATTRIBUTES = frozenset(
 )
 
 
-class Frame:
-    """What the layers see during one tick: a snapshot plus convenient typed accessors.
+def require_initialised(behaviour: py_trees.behaviour.Behaviour) -> None:
+    """Refuse a behaviour whose ``__init__`` never called ``super().__init__()``.
 
-    Missing or stale values read as ``None``; a layer decides what that means (the
-    source controllers treat "ground not updated" as "no line").
+    py_trees would fail later, deep inside the tree, with "object has no attribute
+    'parent'", which names neither the layer nor the fix.
     """
-
-    __slots__ = ("snapshot", "time")
-
-    def __init__(self, snapshot: Snapshot) -> None:
-        self.snapshot = snapshot
-        self.time = snapshot.now
-
-    def value(self, key: str, default: Any = None) -> Any:
-        """The fresh value of ``key``, else ``default``."""
-        return self.snapshot.value(key, default)
-
-    @property
-    def proximity(self) -> Proximity | None:
-        return self.snapshot.value("proximity")  # type: ignore[no-any-return]
-
-    @property
-    def ground(self) -> Ground | None:
-        return self.snapshot.value("ground")  # type: ignore[no-any-return]
+    if not hasattr(behaviour, "parent"):
+        cls = type(behaviour).__name__
+        raise LayerError(
+            f"{cls}.__init__ never calls super().__init__(); add super().__init__() as the "
+            f"first line of {cls}.__init__",
+            cls,
+        )
 
 
 class Layer(py_trees.behaviour.Behaviour):
-    """Base class of behaviour layers; subclass and implement ``applies`` and ``command``."""
+    """Base class of behaviour layers; subclass and implement ``applies`` and ``command``
+    (and ``observe`` for a layer that must notice things while others drive)."""
 
     #: Blackboard keys (relative to the robot's namespace) this layer reads.
     reads: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, name: str | None = None) -> None:
         super().__init__(name or type(self).__name__)
-        self.controller: Controller | None = None
+        self.context: TickContext | None = None
 
     def setup(self, **kwargs: Any) -> None:
-        """py_trees hands every behaviour the controller when the tree is set up."""
-        self.controller = kwargs.get("controller")
+        """py_trees hands every behaviour the controller's tick context at tree setup."""
+        self.context = kwargs.get("context")
 
     # -- what subclasses write -------------------------------------------------------------
+    def observe(self, frame: Frame) -> None:
+        """Called at every tick before any layer is asked, whether or not this one will
+        be asked or will drive: update what the layer remembers. Default: nothing."""
+
     def applies(self, frame: Frame) -> bool:
         """Whether this layer wants the wheels now. Default: always."""
         return True
@@ -88,20 +89,23 @@ class Layer(py_trees.behaviour.Behaviour):
 
     # -- py_trees plumbing -----------------------------------------------------------------
     def update(self) -> Status:
-        ctrl = self.controller
-        if ctrl is None or ctrl.frame is None:
+        context = self.context
+        frame = context.frame if context is not None else None
+        if context is None or frame is None:
             raise RuntimeError(
                 f"layer {self.name!r} was ticked outside a Controller; build a Controller "
                 "from your layers and call controller.tick()"
             )
-        frame = ctrl.frame
         try:
             if not self.applies(frame):
                 return Status.FAILURE
-            ctrl.propose(self, self.command(frame))
-        except Exception:
-            ctrl.failed_layer = self.name  # so the error report can say which layer raised
-            raise
+            command = self.command(frame)
+        except Exception as exc:
+            error = context.blame(self.name, exc)  # so the error report can name the layer
+            if error is None:
+                raise
+            raise error from exc
+        context.propose(self.name, command)
         return Status.RUNNING
 
     def parameters(self) -> dict[str, Any]:

@@ -18,7 +18,8 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from .layer import Layer
+from .context import TickContext
+from .layer import Layer, require_initialised
 
 __all__ = ["HoldFor"]
 
@@ -38,32 +39,40 @@ class HoldFor(py_trees.decorators.Decorator):
             raise ValueError(f"HoldFor duration must be >= 0 seconds, got {duration}")
         if not isinstance(layer, Layer):
             raise TypeError(f"HoldFor wraps a Layer, got {type(layer).__name__}")
+        require_initialised(layer)
         super().__init__(name=name or f"HoldFor({layer.name}, {duration:g}s)", child=layer)
         self.layer = layer
         self.duration = duration
         self.clock = clock
         self.reads = layer.reads
+        self.context: TickContext | None = None
         self._last_active: float | None = None
 
     def setup(self, **kwargs: Any) -> None:
-        self.controller = kwargs.get("controller")
-
-    def _now(self) -> float:
-        if self.clock is not None:
-            return self.clock()
-        ctrl = self.controller
-        assert ctrl is not None and ctrl.frame is not None
-        return ctrl.frame.time
+        self.context = kwargs.get("context")
 
     def update(self) -> Status:
-        now = self._now()
+        context = self.context
+        frame = context.frame if context is not None else None
+        if context is None or frame is None:
+            raise RuntimeError(
+                f"{self.name!r} was ticked outside a Controller; build a Controller from "
+                "your layers and call controller.tick()"
+            )
+        now = self.clock() if self.clock is not None else frame.time
         if self.decorated.status == Status.RUNNING:
             self._last_active = now
             return Status.RUNNING
         if self._last_active is not None and now - self._last_active < self.duration:
-            ctrl = self.controller
-            assert ctrl is not None and ctrl.frame is not None
-            ctrl.propose(self.layer, self.layer.command(ctrl.frame))
+            layer = self.layer
+            try:
+                command = layer.command(frame)
+            except Exception as exc:
+                error = context.blame(layer.name, exc)
+                if error is None:
+                    raise
+                raise error from exc
+            context.propose(layer.name, command)
             return Status.RUNNING
         self._last_active = None
         return Status.FAILURE

@@ -278,6 +278,12 @@ class Blackboard:
         with self._lock:
             return sorted(k for k, s in self._slots.items() if s.record and k.startswith(prefix))
 
+    def declared_keys(self, prefix: str = "") -> list[str]:
+        """Every key declared or written, sorted: what a reader may expect to see, where
+        :meth:`keys` lists only what holds a value now."""
+        with self._lock:
+            return sorted(k for k in self._slots if k.startswith(prefix))
+
     def wait_for(self, key: str, *, after_seq: int = 0, timeout: float | None = None) -> Record:
         """Block until ``key`` holds a record newer than ``after_seq``; return it.
 
@@ -413,6 +419,10 @@ class Namespace:
     def keys(self) -> list[str]:
         n = len(self.prefix)
         return [k[n:] for k in self.board.keys(self.prefix)]
+
+    def declared_keys(self) -> list[str]:
+        n = len(self.prefix)
+        return [k[n:] for k in self.board.declared_keys(self.prefix)]
 
     def wait_for(self, key: str, *, after_seq: int = 0, timeout: float | None = None) -> Record:
         return self.board.wait_for(self.prefix + key, after_seq=after_seq, timeout=timeout)

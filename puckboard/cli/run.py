@@ -5,7 +5,11 @@ controller in the embedded simulator. ``--json`` prints exactly one JSON object 
 stdout (the fields of :meth:`puckboard.scenario.result.EpisodeResult.to_dict`) and nothing else,
 so scripts can pipe it. The exit status is 0 whenever the run completed, whatever its
 outcome; bad input (unknown scenario, unreadable scene, bad controller, bad ``--set``)
-exits with 2 and one line on stderr.
+exits with 2 and one line on stderr. A controller that fails during the run ends it with
+status 1: what puckboard refused (a ``command()`` that returns no finite
+:class:`~puckboard.records.WheelCommand`, a key the robot does not have) is one line
+naming robot, time and layer; an exception in the controller's own code prints the
+traceback of that code's frames (not puckboard's or py_trees'), then that line.
 """
 
 from __future__ import annotations
@@ -13,7 +17,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import traceback
 from typing import Any
 
 from .common import (
@@ -147,7 +150,7 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
 
 def main(args: argparse.Namespace) -> int:
     from ..control.episode import Episode
-    from ..errors import PuckboardError
+    from ..errors import LayerError, PuckboardError
 
     overrides = parse_overrides(args.overrides)
     if args.profile is not None:
@@ -256,8 +259,16 @@ def main(args: argparse.Namespace) -> int:
         failure = episode.loop.failure
         if failure is None:
             raise
-        # a student's layer raised: the traceback says what, the last line says where
-        traceback.print_exc()
+        if isinstance(exc, PuckboardError):
+            # puckboard refused what a layer did (a command that is no WheelCommand, a
+            # speed that is not finite, an unknown key): the line says what and where
+            problem = exc.problem if isinstance(exc, LayerError) else str(exc)
+            print(f"puckboard run: error: {failure.describe()}: {problem}", file=sys.stderr)
+            return 1
+        # the controller's own code raised: its own frames say what, the last line where
+        from ..usercode import own_traceback
+
+        sys.stderr.write(own_traceback(exc))
         print(
             f"puckboard run: error: {failure.describe()}: {type(exc).__name__}: {exc}",
             file=sys.stderr,

@@ -155,12 +155,20 @@ class KnowledgeSource:
         return self.trigger if self.trigger is not None else self.reads[0]
 
     def bind(self: S, ns: Namespace | Blackboard, robot: str | None = None) -> S:
-        """Bind to a robot's namespace (or to ``board.namespace(robot)``); resets state."""
+        """Bind to a robot's namespace (or to ``board.namespace(robot)``), declare the
+        ``writes`` there (a key declared already keeps its settings) and reset state."""
         if isinstance(ns, Blackboard):
             if robot is None:
                 raise ValueError("bind(blackboard) needs the robot's name: bind(board, 'epuck0')")
             ns = ns.namespace(robot)
         self.ns = ns
+        # declared before the first write, so a layer's ``reads`` can name a derived key
+        # from the first tick on (the controller refuses keys nobody declared or wrote);
+        # a key declared already keeps its settings
+        known = set(ns.declared_keys())
+        for key in self.writes:
+            if key not in known:
+                ns.declare(key)
         self._last_seq = 0
         self.reset()
         return self

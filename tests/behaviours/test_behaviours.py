@@ -35,9 +35,17 @@ class Clock:
         return self.t
 
 
+#: the keys the test layers below read: keys of their own, so declared (a controller
+#: refuses a key its robot cannot have)
+FLAG_KEYS = ("flag/high", "flag/low", "flag/only", "flag/trig")
+
+
 def make_ns(clock=None):
     bb = Blackboard(clock=clock or Clock())
-    return bb.namespace("r")
+    ns = bb.namespace("r")
+    for key in FLAG_KEYS:
+        ns.declare(key)
+    return ns
 
 
 def prox(**d):

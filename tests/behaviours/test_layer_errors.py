@@ -1,0 +1,146 @@
+"""The mistakes a student makes writing a layer end in one line that says what to write.
+
+Each of these used to surface as something else: py_trees' "no attribute 'parent'", a
+``reads`` split into letters, a key misspelt for ever reading as "no value", a bare
+``TypeError`` or ``ValueError`` from deep inside the loop.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from puckboard.backends import FakeAdapter
+from puckboard.behaviours import Controller, Cruise, HoldFor, Layer
+from puckboard.blackboard import Blackboard
+from puckboard.errors import LayerError
+from puckboard.estimation.knowledge import KnowledgeSource
+from puckboard.records import WheelCommand
+
+
+class Forgetful(Layer):
+    def __init__(self, speed=1.0):
+        self.speed = speed  # no super().__init__()
+
+    def command(self, frame):
+        return WheelCommand(self.speed, self.speed)
+
+
+@pytest.mark.parametrize("wrap", [False, True], ids=["layer", "inside HoldFor"])
+def test_a_layer_without_super_init_is_named_with_the_line_to_add(wrap):
+    with pytest.raises(LayerError) as caught:
+        Controller([HoldFor(Forgetful(), 0.5) if wrap else Forgetful(), Cruise()])
+    message = str(caught.value)
+    assert "\n" not in message
+    assert "Forgetful.__init__ never calls super().__init__()" in message
+    assert "add super().__init__() as the first line of Forgetful.__init__" in message
+
+
+class Reads(Layer):
+    def __init__(self, reads):
+        super().__init__()
+        self.reads = reads
+
+    def command(self, frame):
+        return WheelCommand(1.0, 1.0)
+
+
+def test_reads_given_as_one_string_is_refused_when_the_controller_is_built():
+    with pytest.raises(LayerError, match=r"reads = 'proximity' is one string; write a tuple: "
+                       r"reads = \('proximity',\)"):  # fmt: skip
+        Controller([Reads("proximity"), Cruise()])
+    with pytest.raises(LayerError, match="as text, got 3"):
+        Controller([Reads(("ground", 3)), Cruise()])
+    with pytest.raises(TypeError, match=r"requires=\('proximity',\)"):
+        Controller([Cruise()], requires="proximity")
+
+
+def test_an_unknown_key_is_refused_at_the_first_tick_naming_the_robot_s_keys():
+    robot = FakeAdapter()
+    ctl = Controller([Reads(("proximty",)), Cruise()])
+    robot.sense_all()
+    with pytest.raises(LayerError) as caught:
+        ctl.tick(robot.ns)
+    message = str(caught.value)
+    assert message.startswith("layer 'Reads': reads 'proximty', which robot 'epuck' does not")
+    assert "did you mean 'proximity'?" in message
+    assert "its keys: acceleration, camera, " in message and ", proximity, " in message
+    assert "ns.declare('proximty')" in message  # how to read a key of one's own
+    assert ctl.failed_layer == "Reads"
+    with pytest.raises(LayerError, match="controller 'Arbiter' requires 'proximty'"):
+        Controller([Cruise()], requires=("proximty",)).tick(robot.ns)
+
+
+def test_keys_declared_written_or_derived_are_known():
+    board = Blackboard(clock=lambda: 0.0)
+    ns = board.namespace("r")
+    ns.declare("mission/goal")
+    ns.put("mission/speed", 1.0)
+
+    class Derived(KnowledgeSource):
+        reads = ("encoders",)
+        writes = ("percept/derived",)
+
+        def compute(self, inputs):
+            return None  # nothing written yet: the key is known all the same
+
+    Derived(ns)
+    ctl = Controller([Reads(("mission/goal", "mission/speed", "percept/derived", "camera"))])
+    assert ctl.tick(ns) == WheelCommand(1.0, 1.0)
+
+
+def test_a_knowledge_source_keeps_the_settings_of_a_key_declared_before():
+    ns = Blackboard(clock=lambda: 0.0).namespace("r")
+    ns.declare("percept/derived", max_age=0.1)
+
+    class Derived(KnowledgeSource):
+        reads = ("encoders",)
+        writes = ("percept/derived",)
+
+    Derived(ns)
+    ns.put("percept/derived", 1.0, stamp=-1.0)
+    assert ns.snapshot(["percept/derived"]).status("percept/derived") == "stale"
+
+
+class Returns(Layer):
+    reads = ("proximity",)
+
+    def __init__(self, value):
+        super().__init__()
+        self.value = value
+
+    def command(self, frame):
+        return self.value()
+
+
+@pytest.mark.parametrize(
+    ("value", "says"),
+    [
+        (lambda: "fast", "command() returned 'fast', a str; it must return WheelCommand(left,"),
+        (lambda: (1.0, 2.0), "command() returned (1.0, 2.0), a tuple; it must return"),
+        (lambda: None, "command() returned None (is a 'return' missing?)"),
+        (lambda: math.nan, "command() returned nan, a float"),
+        (lambda: WheelCommand(math.nan, 1.0), "WheelCommand.left must be a finite number, got nan"),
+        (
+            lambda: WheelCommand(1.0, -math.inf),
+            "WheelCommand.right must be a finite number, got -inf",
+        ),
+    ],
+    ids=["str", "tuple", "None", "bare nan", "nan", "inf"],
+)
+@pytest.mark.parametrize("wrap", [False, True], ids=["layer", "held"])
+def test_a_command_that_is_no_finite_wheel_command_is_a_layer_error(value, says, wrap):
+    robot = FakeAdapter()
+    robot.sense_all()
+    layer = Returns(lambda: WheelCommand(1.0, 1.0))
+    ctl = Controller([HoldFor(layer, 1.0) if wrap else layer, Cruise()])
+    ctl.tick(robot.ns)
+    layer.value = value
+    if wrap:  # the hold keeps asking the layer for its command after it stops applying
+        layer.applies = lambda frame: False  # type: ignore[method-assign]
+    with pytest.raises(LayerError) as caught:
+        ctl.tick(robot.ns)
+    assert str(caught.value).startswith("layer 'Returns': ")
+    assert says in caught.value.problem
+    assert ctl.failed_layer == "Returns"
