@@ -307,15 +307,20 @@ def _keep_web_view(web: Any) -> None:
 
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:
-    """What to raise when building the episode failed: the student's code as Python
-    shows it, one line for bad input, else the error itself (a bug: its traceback)."""
+    """What to raise when building the episode failed: one line for what puckboard
+    refused, the student's code as Python shows it, one line for other bad input, else
+    the error itself (a bug: its traceback)."""
     from ..errors import PuckboardError
 
+    if isinstance(exc, PuckboardError):
+        # puckboard refused what the code built (a layer without super().__init__(),
+        # reads as a string): the line says what to write, the traceback would not
+        return CliError(_first_line(exc))
     what = f"the controller {controller!r}" if controller else "a robot's controller"
     shown = user_code_error(exc, what)
     if shown is not None:
         return shown
-    if isinstance(exc, (PuckboardError, ValueError, TypeError, ImportError, OSError)):
+    if isinstance(exc, (ValueError, TypeError, ImportError, OSError)):
         return CliError(_first_line(exc))
     return exc
 

@@ -7,7 +7,7 @@ Per robot and control tick a recording (format 3) keeps
   :class:`~puckboard.behaviours.tracing.TreeTrace`: not asked, ``FAILURE`` = asked and
   did not apply, ``RUNNING`` = applies or holds, ...), one ``int8`` per node;
 * the blackboard values the layers read during that tick, taken from the very snapshot
-  the controller handed its layers (``controller.frame``), with their ages and whether
+  the controller handed its layers (``controller.context.frame``), with their ages and whether
   they were fresh or stale.
 
 Together with the ``layer`` array (which layer drove) that answers "who wanted the
@@ -221,7 +221,7 @@ class DecisionRecorder:
                 self._seen[r] = tr.ticks
             else:  # the tree was not ticked (inputs stale): nobody was asked
                 self._status[i, r] = 0
-            frame = getattr(ctrl, "frame", None)
+            frame = ctrl.context.frame  # what the layers were handed this tick
             if frame is None:
                 continue
             snap = frame.snapshot
