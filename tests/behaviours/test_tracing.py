@@ -53,6 +53,8 @@ def test_layers_above_the_winner_failed_the_winner_runs_those_below_were_not_ask
     ctl = Controller([Flag("high"), Flag("mid"), Flag("low"), Cruise(0.1)], name="arb")
     trace(ctl)  # attached before the first tick
     ns = Blackboard(clock=Clock()).namespace("r")
+    for name in ("high", "mid", "low"):
+        ns.declare(f"flag/{name}")  # keys of the test's own: declared, as a controller checks
     ns.put("flag/mid", True)
     ctl.tick(ns)
     assert statuses(ctl) == {
