@@ -158,8 +158,11 @@ class _Follower:
         self._next_detail = 0.0
         self._rtf_window: deque[tuple[float, float]] = deque(maxlen=int(2 * FRAME_RATE))
         self.frames = 0
-        #: the simulation time of the newest trail point's step (s)
+        #: the simulation time of the newest step seen (s)
         self.t = 0.0
+        #: which run the trails and timelines are of: a page that sees another number
+        #: starts new trails (counts the served world's restores)
+        self.run = 0
         #: the run that ended, while the page shows it as such (:class:`ServerFollower`)
         self.previous: PreviousRun | None = None
         publish("scene", self.scene_json)
@@ -206,7 +209,8 @@ class _Follower:
             "robots": robots,
             "events": [],
             "verdict": None,
-            "previous": None if self.previous is None else {"t": self.previous.t},
+            "run": self.run,
+            "previous": None if self.previous is None else self.previous.header(),
         }
         if judge is not None:
             frame["events"] = [
@@ -224,15 +228,15 @@ class _Follower:
         return frame
 
     def trails_json(self) -> dict[str, Any]:
-        """Every robot's trail so far (``trails``) and the time of its newest point
-        (``t``: a page that then sees an earlier time knows the simulation restarted);
-        ``previous``: the previous run's trails and end time, while it is shown."""
+        """Every robot's trail so far (``trails``) and which run it is of (``run``: a page
+        that then gets a frame of another run starts new trails); ``previous``: the
+        previous run's number, end time and trails, while it is shown."""
         prev = self.previous
         return {
-            "t": round(self.t, 3),
+            "run": self.run,
             "trails": {name: list(trail) for name, trail in zip(self.names, self.trails)},
             "previous": None if prev is None else {
-                "t": prev.t, "trails": dict(zip(self.names, prev.trails)),
+                **prev.header(), "trails": dict(zip(self.names, prev.trails)),
             },
         }  # fmt: skip
 
@@ -248,16 +252,21 @@ class PreviousRun:
     """A served world's run that ``sim.stopSimulation`` ended: what the page keeps
     showing, labelled as the previous run, until the next run steps."""
 
-    __slots__ = ("judge", "t", "timelines", "trails")
+    __slots__ = ("judge", "run", "t", "timelines", "trails")
 
     def __init__(
-        self, t: float, judge: Judge, trails: list[list[tuple[float, float]]],
+        self, run: int, t: float, judge: Judge, trails: list[list[tuple[float, float]]],
         timelines: list[list[tuple[float, str]]],
     ) -> None:  # fmt: skip
+        self.run = run
         self.t = round(t, 3)
         self.judge = judge
         self.trails = trails
         self.timelines = timelines
+
+    def header(self) -> dict[str, Any]:
+        """Which run it was and when it ended (s)."""
+        return {"run": self.run, "t": self.t}
 
 
 def _robot_entry(
@@ -417,8 +426,9 @@ class ServerFollower(_Follower):
             self.judge.finish()  # the run is over: its outcome, as the client's judge has it
         if self.judge.started or any(len(trail) > 1 for trail in self.trails):
             self.previous = PreviousRun(
-                self.t, self.judge, [list(trail) for trail in self.trails], self.timelines
+                self.run, self.t, self.judge, [list(t) for t in self.trails], self.timelines
             )
+        self.run += 1
         self._world = world
         self.judge = self._new_judge()
         for trail in self.trails:

@@ -60,6 +60,9 @@ def test_the_page_draws_every_robot_and_time_advances(live_run):
         assert later > first + 0.5  # it streams: real time, so about 1.5 s later
         shown = browser.evaluate("document.getElementById('time').textContent")
         assert shown.startswith("t = ")
+        # the trails go back to the start, though the page was opened after it
+        starts = browser.evaluate("state.scene.robots.map(r => state.trails[r.name][0])")
+        assert starts == [pytest.approx(list(t[0])) for t in live_run.follower.trails]
         layers = browser.evaluate(
             "Array.from(document.querySelectorAll('#robots .layer')).map(e => e.textContent)"
         )

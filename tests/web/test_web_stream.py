@@ -85,7 +85,7 @@ def test_page_scene_and_final_frame(finished_run):
     assert timeline[0]["t"] <= 0.1 and [c["t"] for c in timeline] == sorted(c["t"] for c in timeline)
     trails = json.loads(get(view.url + "trails.json")[1])
     assert len(trails["trails"]["left"]) > 50 and trails["previous"] is None
-    assert trails["t"] == pytest.approx(result.sim_time_s)
+    assert trails["run"] == frame["run"] == 0
 
 
 def test_the_view_is_read_only_and_serves_nothing_else(finished_run):
@@ -230,7 +230,7 @@ def test_a_restored_served_world_labels_the_previous_run_and_starts_new_trails()
         ]  # the run is over when the scene is restored: judged to the end, as the client's
         assert frame["verdict"]["success"] == result.success
         assert frame["verdict"]["failure"] == result.failure
-        assert trails["t"] == 0.0
+        assert trails["run"] == frame["run"] and trails["previous"]["run"] == frame["run"] - 1
         for robot, metrics in zip(frame["robots"], result.robots):
             current = trails["trails"][robot["name"]]
             assert len(current) <= 1 and all(  # the new trail: nothing but the start
@@ -241,3 +241,4 @@ def test_a_restored_served_world_labels_the_previous_run_and_starts_new_trails()
             # the previous run's trail is that run's path alone (one point each 5 mm)
             assert path_length(before) == pytest.approx(metrics.distance_m, abs=0.02)
         assert trails["previous"]["t"] == frame["previous"]["t"]
+    assert [frame["run"] for frame, _ in shown] == [1, 2]  # each restore, a new run

@@ -7,7 +7,7 @@ const FAILURES = new Set(["collision", "lost_line", "parallel_driving", "stuck",
 // state.player is the replay's player (replay.js) when the page replays a recording;
 // state.previous the run a served world's restore ended ({t, trails}), shown as such;
 // state.spots where each robot's name was put last (kept while it stays clear)
-var state = { scene: null, frame: null, trails: {}, trailsT: null, previous: null, details: {}, selected: null,
+var state = { scene: null, frame: null, trails: {}, run: null, previous: null, details: {}, selected: null,
               view: null, player: null, spots: {} };
 const canvas = document.getElementById("arena");
 const ctx = canvas.getContext("2d");
@@ -212,13 +212,12 @@ function showScene(sc) {
 }
 
 function liveFrame(f) {
-  // an earlier time than the last frame's (or the trails' when this is the first): the
-  // simulation was restarted or its scene restored, and the robots start new trails there
-  const last = state.frame ? state.frame.t : state.trailsT;
-  if (last !== null && f.t < last) state.trails = {};
-  state.trailsT = f.t;
+  // a frame of another run than the trails': the served world's scene was restored, and
+  // the robots start new trails where they now are
+  if (state.run !== null && f.run !== state.run) state.trails = {};
+  state.run = f.run;
   if (!f.previous) state.previous = null;
-  else if (!state.previous || state.previous.t !== f.previous.t) loadPrevious(f.previous.t);
+  else if (!state.previous || state.previous.run !== f.previous.run) loadPrevious(f.previous.run);
   for (const r of f.robots) {
     const trail = state.trails[r.name] || (state.trails[r.name] = []);
     const last = trail[trail.length - 1];
@@ -228,12 +227,12 @@ function liveFrame(f) {
 }
 
 // A served world whose scene was restored shows the run that ended as the previous run.
-async function loadPrevious(t) {
-  if (state.loadingPrevious === t) return;
-  state.loadingPrevious = t;
+async function loadPrevious(run) {
+  if (state.loadingPrevious === run) return;
+  state.loadingPrevious = run;
   const d = await fetchJson("/trails.json");
   state.loadingPrevious = null;
-  if (d && d.previous && d.previous.t === t && state.frame && state.frame.previous) { state.previous = d.previous; draw(); }
+  if (d && d.previous && d.previous.run === run && state.frame && state.frame.previous) { state.previous = d.previous; draw(); }
 }
 
 function showFrame(f) {
@@ -416,7 +415,7 @@ async function start() {
   const sc = await fetchJson("/scene.json");
   if (sc) showScene(sc);
   const trails = await fetchJson("/trails.json");
-  if (trails) { state.trails = trails.trails; state.trailsT = trails.t; state.previous = trails.previous; }
+  if (trails) { state.trails = trails.trails; state.run = trails.run; state.previous = trails.previous; }
   const source = new EventSource("/stream");
   source.addEventListener("scene", e => showScene(JSON.parse(e.data)));
   source.addEventListener("frame", e => liveFrame(JSON.parse(e.data)));
