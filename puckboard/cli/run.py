@@ -361,11 +361,13 @@ def format_summary(result: Any) -> str:
         if len(d["failures"]) > 1:
             lines.append(f"failures detected, in order: {', '.join(d['failures'])}")
     if d["events"]:
+        from ..viz.style import event_label
+
         lines.append("")
         lines.append("events:")
-        for e in d["events"]:
-            who = e["robot"] or "-"
-            lines.append(f"  {e['time_s']:7.2f} s  {who:<12} {e['kind']}")
+        for e in d["events"]:  # the robot set off by a colon: 'left: left the line'
+            who = f"{e['robot']}: " if e["robot"] else ""
+            lines.append(f"  {e['time_s']:7.2f} s  {who}{event_label(e['kind'])}")
     return "\n".join(lines)
 
 

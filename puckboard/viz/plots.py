@@ -67,15 +67,16 @@ def _style_axes(ax: Any) -> None:
 def plot_trajectories(rec: Recording) -> Any:
     """The scene with every robot's path, its start (circle) and end (triangle)."""
     from .animation import _bounds
-    from .scene_art import draw_scene
+    from .scene_art import draw_scene, label_obstacles
 
     fig = _figure(10, 6.5)
     ax = fig.add_subplot()
-    draw_scene(ax, rec.scene)
+    draw_scene(ax, rec.scene, labels=False)  # named once the markers are down, clear of them
     xmin, xmax, ymin, ymax = _bounds(rec.scene, rec.pose[..., :2])
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax)
     colours = _colours(rec)
+    markers = []
     for name in rec.robot_names:
         s = rec.robot(name)
         ok = np.isfinite(s.pose[:, 0])
@@ -83,15 +84,18 @@ def plot_trajectories(rec: Recording) -> Any:
             continue
         xy = s.pose[ok, :2]
         ax.plot(xy[:, 0], xy[:, 1], color=colours[name], lw=LINE["trail"], label=name, zorder=5)
-        ax.plot(*xy[0], "o", ms=12, color=colours[name], mec="white", mew=2, zorder=6)
+        markers += ax.plot(*xy[0], "o", ms=12, color=colours[name], mec="white", mew=2, zorder=6)
         th = s.pose[ok, 2][-1]
-        ax.plot(
+        markers += ax.plot(
             *xy[-1], marker=(3, 0, np.degrees(th) - 90), ms=16, color=colours[name],
             mec="black", mew=1.5, zorder=6, ls="none",
         )  # fmt: skip
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(f"Trajectories: {rec.title}", fontsize=FONT["title"])
+    _style_axes(ax)
+    fig.draw_without_rendering()  # laid out as it will be saved: names are placed by size
+    label_obstacles(ax, rec.scene, avoid=markers)
     from matplotlib.lines import Line2D
 
     handles, _ = ax.get_legend_handles_labels()
@@ -100,7 +104,6 @@ def plot_trajectories(rec: Recording) -> Any:
         Line2D([], [], marker=(3, 0, -90), ls="none", color="#606060", ms=12, label="end"),
     ]
     ax.legend(handles=handles, fontsize=FONT["legend"], loc="best", framealpha=0.9)
-    _style_axes(ax)
     return fig
 
 

@@ -7,13 +7,14 @@ or beside it. Everything is drawn in the world frame (x right, y up, metres).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from .style import LINE, rgb01
 
-__all__ = ["draw_scene", "scene_bounds"]
+__all__ = ["draw_scene", "label_obstacles", "scene_bounds"]
 
 
 def scene_bounds(scene: Any, poses: np.ndarray | None = None, margin: float = 0.08) -> tuple:
@@ -90,18 +91,12 @@ def draw_scene(ax: Any, scene: Any, *, labels: bool = True) -> None:
         patch: Any
         if hasattr(ob, "radius"):
             patch = Circle((ob.x, ob.y), ob.radius)
-            cx, below = ob.x, ob.y - ob.radius
         else:
-            vertices = np.asarray(ob.vertices)
-            patch = Polygon(vertices, closed=True)
-            cx, below = float(vertices[:, 0].mean()), float(vertices[:, 1].min())
+            patch = Polygon(np.asarray(ob.vertices), closed=True)
         patch.set(facecolor=colour, edgecolor="#202020", linewidth=1.5, zorder=3)
         ax.add_patch(patch)
         if labels and ob.name:  # under the obstacle: a name never fits inside one
-            ax.annotate(
-                ob.name, (cx, below), xytext=(0, -3), textcoords="offset points",
-                ha="center", va="top", fontsize=10, color="#303030", zorder=4,
-            )  # fmt: skip
+            _name(ax, ob, _SPOTS[0], placed=False)
     arena = getattr(scene, "arena", None)
     if arena is not None:
         ax.add_patch(
@@ -115,3 +110,92 @@ def draw_scene(ax: Any, scene: Any, *, labels: bool = True) -> None:
                 zorder=2,
             )
         )
+
+
+# Where an obstacle's name may go: (side, offset in points, alignment). Under it first, as
+# the moving views put it; then above, then beside it.
+_SPOTS = (
+    ("below", (0, -3), {"ha": "center", "va": "top"}),
+    ("above", (0, 3), {"ha": "center", "va": "bottom"}),
+    ("right", (4, 0), {"ha": "left", "va": "center"}),
+    ("left", (-4, 0), {"ha": "right", "va": "center"}),
+)
+
+
+def _anchor(ob: Any, side: str) -> tuple[float, float]:
+    """The point of ``ob``'s outline (its bounding box's, for a polygon) on ``side``."""
+    if hasattr(ob, "radius"):
+        x0, x1, y0, y1 = ob.x - ob.radius, ob.x + ob.radius, ob.y - ob.radius, ob.y + ob.radius
+    else:
+        v = np.asarray(ob.vertices)
+        x0, x1, y0, y1 = (float(v[:, 0].min()), float(v[:, 0].max()),
+                          float(v[:, 1].min()), float(v[:, 1].max()))  # fmt: skip
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    return {"below": (cx, y0), "above": (cx, y1), "right": (x1, cy), "left": (x0, cy)}[side]
+
+
+def _name(
+    ax: Any, ob: Any, spot: tuple[str, tuple[int, int], dict[str, str]], *, placed: bool = True
+) -> Any:
+    """``ob``'s name at ``spot``; a ``placed`` name (:func:`label_obstacles`) is drawn over
+    the trails, with a light edge that keeps it legible where one runs under it."""
+    from matplotlib import patheffects
+
+    side, offset, align = spot
+    text = ax.annotate(
+        ob.name, _anchor(ob, side), xytext=offset, textcoords="offset points", fontsize=10,
+        color="#303030", zorder=7 if placed else 4, **align,
+    )  # fmt: skip
+    if placed:
+        text.set_path_effects(
+            [patheffects.withStroke(linewidth=2.5, foreground="white", alpha=0.8)]
+        )
+        text.set_in_layout(False)  # placed by measuring the laid-out axes: must not move them
+    return text
+
+
+def label_obstacles(ax: Any, scene: Any, avoid: Sequence[Any] = ()) -> list[Any]:
+    """Name every obstacle of ``scene`` beside it, where the name covers nothing else.
+
+    Each name goes to the first of below, above, right and left of its obstacle where it
+    covers none of the ``avoid`` artists (start and end markers, say), no obstacle, no
+    name placed before and no track, and stays inside the axes; trails it would cross
+    count against a spot too, a little. Where no spot is clear, the one covering least.
+    Text is measured, so the figure must be laid out as it will be drawn (call
+    ``fig.draw_without_rendering()`` first). Returns the names' text artists.
+    """
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    hard = [a.get_window_extent(renderer) for a in avoid]
+    hard += [p.get_window_extent(renderer) for p in ax.patches if p.get_zorder() == 3]
+    track = next((p for p in ax.patches if p.get_zorder() == 1), None)
+    ink = None if track is None else track.get_transform().transform_path(track.get_path())
+    trails = [
+        line.get_transform().transform(line.get_xydata())
+        for line in ax.lines if line.get_marker() in (None, "", "None") and len(line.get_xydata()) > 1
+    ]  # fmt: skip
+    frame = ax.get_window_extent(renderer)
+    placed = []
+    for ob in getattr(scene, "obstacles", ()):
+        if not ob.name:
+            continue
+        best: tuple[float, Any] | None = None
+        for spot in _SPOTS:
+            text = _name(ax, ob, spot)
+            box = text.get_window_extent(renderer)
+            cost = 1000.0 * sum(box.overlaps(other) for other in hard)
+            cost += 1000.0 * (box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0 or box.y1 > frame.y1)
+            cost += 100.0 * bool(ink is not None and ink.intersects_bbox(box, filled=True))
+            cost += sum(int(box.count_contains(points)) for points in trails)
+            if best is None or cost < best[0]:
+                if best is not None:
+                    best[1].remove()
+                best = (cost, text)
+            else:
+                text.remove()
+            if cost == 0:
+                break
+        assert best is not None
+        hard.append(best[1].get_window_extent(renderer))
+        placed.append(best[1])
+    return placed

@@ -7,7 +7,9 @@ The page draws three things, each sent as it changes:
 * a **frame**, up to :data:`FRAME_RATE` times a second: simulation time, real-time
   factor, per robot its pose, IR distances, wheel command, layer in control (with the
   layer's colour) and who drives it, the judge's events so far and, at the end, its
-  verdict;
+  verdict; in a served world whose scene a client's ``sim.stopSimulation`` has just
+  restored, the events and verdict of the run that ended, marked ``previous`` (see
+  :class:`ServerFollower`);
 * a robot's **details** when someone opens its panel: its blackboard keys with values and
   ages (what ``puckboard monitor`` shows), or, for a served world whose controllers run in
   other processes, the served sensor values; its arbitration timeline so far; and its
@@ -156,10 +158,18 @@ class _Follower:
         self._next_detail = 0.0
         self._rtf_window: deque[tuple[float, float]] = deque(maxlen=int(2 * FRAME_RATE))
         self.frames = 0
+        #: the simulation time of the newest step seen (s)
+        self.t = 0.0
+        #: which run the trails and timelines are of: a page that sees another number
+        #: starts new trails (counts the served world's restores)
+        self.run = 0
+        #: the run that ended, while the page shows it as such (:class:`ServerFollower`)
+        self.previous: PreviousRun | None = None
         publish("scene", self.scene_json)
 
     def _track(self, t: float, poses: np.ndarray, layers: Sequence[str | None]) -> None:
         """Every step: layer changes (for complete timelines) and trail points."""
+        self.t = t
         for i, layer in enumerate(layers):
             if layer is None:
                 continue
@@ -189,6 +199,8 @@ class _Follower:
         self, t: float, now: float, robots: list[dict[str, Any]], judge: Judge | None,
         status: str,
     ) -> dict[str, Any]:  # fmt: skip
+        """A frame; ``judge``'s events and verdict, which are the previous run's while
+        :attr:`previous` is set (then ``previous`` says when that run ended)."""
         self.frames += 1
         frame: dict[str, Any] = {
             "t": round(t, 3),
@@ -197,6 +209,8 @@ class _Follower:
             "robots": robots,
             "events": [],
             "verdict": None,
+            "run": self.run,
+            "previous": None if self.previous is None else self.previous.header(),
         }
         if judge is not None:
             frame["events"] = [
@@ -214,11 +228,45 @@ class _Follower:
         return frame
 
     def trails_json(self) -> dict[str, Any]:
-        return {name: list(trail) for name, trail in zip(self.names, self.trails)}
+        """Every robot's trail so far (``trails``) and which run it is of (``run``: a page
+        that then gets a frame of another run starts new trails); ``previous``: the
+        previous run's number, end time and trails, while it is shown."""
+        prev = self.previous
+        return {
+            "run": self.run,
+            "trails": {name: list(trail) for name, trail in zip(self.names, self.trails)},
+            "previous": None if prev is None else {
+                **prev.header(), "trails": dict(zip(self.names, prev.trails)),
+            },
+        }  # fmt: skip
 
     def timeline(self, i: int) -> list[dict[str, Any]]:
+        """Robot ``i``'s layer changes: this run's, or the previous run's while it is
+        shown (the details then say when it ended: ``end``)."""
+        line = self.timelines[i] if self.previous is None else self.previous.timelines[i]
         return [{"t": t, "layer": layer, "colour": layer_colour(layer)}
-                for t, layer in list(self.timelines[i])]  # fmt: skip
+                for t, layer in list(line)]  # fmt: skip
+
+
+class PreviousRun:
+    """A served world's run that ``sim.stopSimulation`` ended: what the page keeps
+    showing, labelled as the previous run, until the next run steps."""
+
+    __slots__ = ("judge", "run", "t", "timelines", "trails")
+
+    def __init__(
+        self, run: int, t: float, judge: Judge, trails: list[list[tuple[float, float]]],
+        timelines: list[list[tuple[float, str]]],
+    ) -> None:  # fmt: skip
+        self.run = run
+        self.t = round(t, 3)
+        self.judge = judge
+        self.trails = trails
+        self.timelines = timelines
+
+    def header(self) -> dict[str, Any]:
+        """Which run it was and when it ended (s)."""
+        return {"run": self.run, "t": self.t}
 
 
 def _robot_entry(
@@ -346,13 +394,22 @@ class EpisodeFollower(_Follower):
 
 class ServerFollower(_Follower):
     """Follows a served world; register it with ``server.add_step_observer``. The judge
-    of the scene watches the served world too (restarted when a client restarts it)."""
+    of the scene watches the served world too (restarted when a client restarts it).
+
+    A client's ``sim.stopSimulation`` restores the scene the moment its run ends: the
+    robots jump back to their start. The view then shows the restored scene as it is
+    (a new trail from each robot's start, the time back at 0) *and* the run that ended,
+    labelled as the previous run: its verdict, events, timelines and (faded) trails stay
+    until the next run steps. Clearing them instead would take the verdict off the
+    projector a fraction of a second after it was reached, before the class has read it;
+    leaving them unlabelled would say the robots at their start had just succeeded.
+    """
 
     def __init__(self, server: Any, publish: Publish) -> None:
         api = server.api
         super().__init__(api.world.scene, publish, driver="puckboard serve")
         self.server = server
-        self._world_id = id(api.world)
+        self._world = api.world
         self.judge = self._new_judge()
         self._model_names = [b.name for b in api.objects.bases]
         self._trees: dict[str, tuple[Any, dict[str, Any] | None]] = {}  # signal → parsed
@@ -362,26 +419,36 @@ class ServerFollower(_Follower):
 
         return Judge(self.scene)
 
+    def _restored(self, world: Any) -> None:
+        """The served world was replaced (``sim.stopSimulation`` restored the scene): the
+        run that ended becomes the previous run, and a new one begins (not yet stepped)."""
+        if self.judge.started:
+            self.judge.finish()  # the run is over: its outcome, as the client's judge has it
+        if self.judge.started or any(len(trail) > 1 for trail in self.trails):
+            self.previous = PreviousRun(
+                self.run, self.t, self.judge, [list(t) for t in self.trails], self.timelines
+            )
+        self.run += 1
+        self._world = world
+        self.judge = self._new_judge()
+        for trail in self.trails:
+            trail.clear()
+        self.timelines = [[] for _ in self.names]
+        self.t = float(world.time)
+
     def __call__(self, server: Any) -> None:
         api = server.api
         world = api.world
-        if id(world) != self._world_id and world.step_count > 0:
-            # a new run after sim.stopSimulation restored the scene: until it steps, the
-            # page keeps showing how the last run went
-            self._world_id = id(world)
-            self.judge = self._new_judge()
-            for trail in self.trails:
-                trail.clear()
-            for line in self.timelines:
-                line.clear()
+        if world is not self._world:
+            self._restored(world)
+        if self.previous is not None and world.step_count > 0:
+            self.previous = None  # the next run has begun: only its own trails and events
         poses = np.asarray(world.poses)
         signals = api.signals.string
         layers = [_text(signals.get(f"{m}.layer")) for m in self._model_names]
-        fresh = id(world) == self._world_id
         if api.running and world.step_count > 0:
             self.judge.update(world.time, poses, world.collisions)
-        if fresh:
-            self._track(float(world.time), poses, layers)
+        self._track(float(world.time), poses, layers)
         now = time.monotonic()
         if not self._due(now):
             return
@@ -394,8 +461,14 @@ class ServerFollower(_Follower):
         status = (
             "paused" if api.running and api.paused else "running" if api.running else "stopped"
         )
-        judge = self.judge if self.judge.started else None
-        self.publish("frame", self._frame(float(world.time), now, robots, judge, status))
+        if self.previous is not None:
+            judge: Judge | None = self.previous.judge
+        else:
+            judge = self.judge if self.judge.started else None
+        frame = self._frame(float(world.time), now, robots, judge, status)
+        if status != "running":
+            frame["rtf"] = None  # standing still: no rate to speak of
+        self.publish("frame", frame)
         if now >= self._next_detail:
             self._next_detail = now + 1.0 / DETAIL_RATE
             t = round(float(world.time), 3)
@@ -445,7 +518,12 @@ class ServerFollower(_Follower):
             {"key": "pose", "value": f"x {x:+.3f} m  y {y:+.3f} m  θ {math.degrees(th):+6.1f}°",
              "age": 0.0, "status": "fresh"},
         ]  # fmt: skip
-        return {"keys": keys, "timeline": self.timeline(i), "source": "served sensors"}
+        out: dict[str, Any] = {
+            "keys": keys, "timeline": self.timeline(i), "source": "served sensors",
+        }  # fmt: skip
+        if self.previous is not None:  # the previous run's timeline, to the time it ended
+            out["end"] = self.previous.t
+        return out
 
 
 def _parse_tree(raw: Any) -> dict[str, Any] | None:

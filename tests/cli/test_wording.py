@@ -81,3 +81,21 @@ def test_a_duration_shorter_than_one_step_is_refused_not_rounded_up_unsaid(capsy
 def test_one_step_is_one_step(capsys):
     assert main(["run", "line-follow", "--duration", "0.05"]) == 0
     assert "1 step of 50 ms)" in capsys.readouterr().out
+
+
+def test_event_lines_set_the_robots_name_off_from_the_events_words(capsys):
+    """Robots called left and right: '5.00 s  left: left the line', as the web view and
+    the animation say it, never 'left  left_line'."""
+    from puckboard.control.episode import run_episode
+    from puckboard.viz.style import event_label
+
+    assert main(["run", "--duration", "12"]) == 0
+    out = capsys.readouterr().out
+    shown = out[out.index("\nevents:\n") + len("\nevents:\n") :].splitlines()
+    result = run_episode("two-robot-pass", seed=0, duration=12.0)
+    events = sorted(result.events, key=lambda e: e.time_s)
+    assert any(e.robot == "left" and e.kind == "left_line" for e in events)
+    assert shown == [
+        f"  {e.time_s:7.2f} s  " + (f"{e.robot}: " if e.robot else "") + event_label(e.kind)
+        for e in events
+    ]

@@ -79,3 +79,57 @@ def test_wheel_plot_says_wheel_for_the_lines_and_robot_for_the_panels(rec):
         labels = [t.get_text() for t in ax.get_legend().get_texts()]
         assert labels == ["left wheel", "right wheel"]
         assert ax.get_title(loc="left").startswith("robot ")
+
+
+@pytest.fixture(scope="module")
+def two_robot_pass(tmp_path_factory):
+    from puckboard.control.episode import Episode
+    from puckboard.viz.recording import Recorder, load_recording
+
+    path = tmp_path_factory.mktemp("pass") / "pass.npz"
+    episode = Episode("two-robot-pass", seed=0)
+    Recorder.for_episode(episode, path).attach(episode)
+    episode.run()
+    return load_recording(path)
+
+
+def test_obstacle_names_on_the_trajectories_are_covered_by_nothing(two_robot_pass):
+    """Each obstacle's name beside it, clear of every start and end marker (the left
+    robot of seed 0 ends right under the west cylinder, where its name was), of the
+    obstacles, the legend, the other names and the track; measured as drawn."""
+    from matplotlib.lines import Line2D
+
+    from puckboard.viz.plots import plot_trajectories
+
+    rec = two_robot_pass
+    fig = plot_trajectories(rec)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    names = [ob.name for ob in rec.scene.obstacles]
+    labels = [t for t in ax.texts if t.get_text() in names]
+    assert sorted(t.get_text() for t in labels) == sorted(names)
+    markers = [
+        line for line in ax.lines
+        if isinstance(line, Line2D) and line.get_marker() not in (None, "", "None")
+    ]  # fmt: skip
+    assert len(markers) == 2 * len(rec.robot_names)  # a start and an end each
+    others = [m.get_window_extent(renderer) for m in markers]
+    others += [p.get_window_extent(renderer) for p in ax.patches if p.get_zorder() == 3]  # obstacles
+    others.append(ax.get_legend().get_window_extent(renderer))
+    inside = ax.get_window_extent(renderer)
+    track = ax.patches[0]
+    assert track.get_zorder() == 1  # the track's ink, drawn first
+    ink = track.get_transform().transform_path(track.get_path())
+    for label in labels:
+        box = label.get_window_extent(renderer)
+        for other in [*others, *(t.get_window_extent(renderer) for t in labels if t is not label)]:
+            assert not box.overlaps(other), (label.get_text(), box, other)
+        assert inside.x0 <= box.x0 and box.x1 <= inside.x1  # within the axes
+        assert inside.y0 <= box.y0 and box.y1 <= inside.y1
+        assert not ink.intersects_bbox(box, filled=True), label.get_text()  # not on the track
+        ob = next(o for o in rec.scene.obstacles if o.name == label.get_text())
+        centre = ax.transData.transform((ob.x, ob.y))
+        reach = ax.transData.transform((ob.x + ob.radius, ob.y))[0] - centre[0]
+        gap = max(box.x0 - centre[0], centre[0] - box.x1, box.y0 - centre[1], centre[1] - box.y1)
+        assert gap < reach + 10, label.get_text()  # beside its obstacle, not anywhere

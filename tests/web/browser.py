@@ -105,6 +105,14 @@ class Browser:
         self.call("Page.enable")
         self.call("Page.navigate", url=url)
 
+    def emulate(self, width: int, height: int, *, mobile: bool = False) -> None:
+        """Lay the page out at ``width`` x ``height`` CSS pixels, as a phone of that size
+        when ``mobile`` (a headless window cannot be made narrower than 500 px)."""
+        self.call(
+            "Emulation.setDeviceMetricsOverride", width=width, height=height,
+            deviceScaleFactor=1, mobile=mobile,
+        )  # fmt: skip
+
     def evaluate(self, expression: str) -> Any:
         result = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
         return result.get("result", {}).get("value")

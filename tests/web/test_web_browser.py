@@ -60,6 +60,9 @@ def test_the_page_draws_every_robot_and_time_advances(live_run):
         assert later > first + 0.5  # it streams: real time, so about 1.5 s later
         shown = browser.evaluate("document.getElementById('time').textContent")
         assert shown.startswith("t = ")
+        # the trails go back to the start, though the page was opened after it
+        starts = browser.evaluate("state.scene.robots.map(r => state.trails[r.name][0])")
+        assert starts == [pytest.approx(list(t[0])) for t in live_run.follower.trails]
         layers = browser.evaluate(
             "Array.from(document.querySelectorAll('#robots .layer')).map(e => e.textContent)"
         )
@@ -103,3 +106,58 @@ def test_clicking_a_robot_opens_its_panel(live_run):
             "document.querySelector('#robots tr[data-robot=\"right\"] .layer').textContent]"
         )
         assert marked[0] in nodes[1:] and marked[1] in nodes[1:]
+
+
+RESTORED_PAGE = """(() => ({
+  banner: document.getElementById('verdict').hidden ? null : document.getElementById('verdict').textContent,
+  status: document.getElementById('status').textContent,
+  title: document.getElementById('events').previousElementSibling.textContent,
+  events: document.querySelectorAll('#events li').length,
+  // how far each robot's trail strays from where the robot now is
+  strays: state.frame.robots.map(r => Math.max(0, ...(state.trails[r.name] || []).map(
+    ([x, y]) => Math.hypot(x - r.pose[0], y - r.pose[1])))),
+  previous: state.frame.robots.map(r => ((state.previous || { trails: {} }).trails[r.name] || []).length),
+}))()"""
+
+
+def restored(browser: Browser) -> dict:
+    """The page once it shows the restored scene (time 0, stopped) and has had a moment
+    to fetch what it needs."""
+    browser.wait_for("window.state && state.frame && state.frame.t === 0 && state.frame.status == 'stopped'")
+    time.sleep(1.0)
+    return browser.evaluate(RESTORED_PAGE)
+
+
+def test_a_restored_served_world_shows_the_run_that_ended_as_the_previous_run():
+    """A client's run ends with sim.stopSimulation: the robots are back at their start.
+    A page watching then, and one opened after, draw no trail from where the robots ended
+    back to the start, and say that the verdict and events are the previous run's."""
+    pytest.importorskip("zmq")
+    from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
+    from puckboard.control.episode import run_episode
+    from puckboard.scenario.scenefile import load_scene
+    from puckboard.web import watch_server
+
+    assert BINARY is not None
+    server = RemoteApiServer(load_scene("two-robot-pass"), host="127.0.0.1", port=0).start()
+    view = watch_server(server, port=0)
+    try:
+        with Browser(BINARY) as watching:
+            watching.open(view.url)
+            watching.wait_for("window.state && state.frame && state.frame.status == 'stopped'")
+            result = run_episode("two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port)
+            seen = [restored(watching)]
+        with Browser(BINARY) as opened_after:
+            opened_after.open(view.url)
+            seen.append(restored(opened_after))
+    finally:
+        view.close()
+        server.close()
+    assert result.failure == "not_passed"  # 8 s: time ran out before the robots met
+    for page in seen:
+        assert page["banner"] == "previous run: FAILED: not passed"
+        assert page["status"] == "stopped · scene restored"
+        assert page["title"] == f"Events of the previous run (ended at {result.sim_time_s:.1f} s)"
+        assert page["events"] == len(result.events)
+        assert max(page["strays"]) < 1e-3  # a new trail, from the start
+        assert min(page["previous"]) > 20  # the run that ended, drawn as such

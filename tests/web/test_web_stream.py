@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import http.client
+import itertools
 import json
+import math
 import time
 import urllib.error
 import urllib.request
@@ -82,7 +84,8 @@ def test_page_scene_and_final_frame(finished_run):
     timeline = details["left"]["timeline"]
     assert timeline[0]["t"] <= 0.1 and [c["t"] for c in timeline] == sorted(c["t"] for c in timeline)
     trails = json.loads(get(view.url + "trails.json")[1])
-    assert len(trails["left"]) > 50
+    assert len(trails["trails"]["left"]) > 50 and trails["previous"] is None
+    assert trails["run"] == frame["run"] == 0
 
 
 def test_the_view_is_read_only_and_serves_nothing_else(finished_run):
@@ -175,3 +178,67 @@ def test_cli_web_errors_are_one_line(monkeypatch, capsys):
     assert "pip install 'puckboard[web]'" in capsys.readouterr().err
     assert main(["run", "--speed", "2"]) == 2
     assert "use it with --web" in capsys.readouterr().err
+
+
+def wait_for_frame(view, ok, timeout: float = 5.0) -> dict:
+    """The served view's newest frame, once ``ok(frame)`` holds (observers run 4x/s when
+    the world stands still)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        frame = json.loads(get(view.url + "frame.json")[1] or b"null")
+        if frame is not None and ok(frame):
+            return frame
+        assert time.monotonic() < deadline, frame
+        time.sleep(0.05)
+
+
+def path_length(points) -> float:
+    return sum(math.dist(a, b) for a, b in itertools.pairwise(points))
+
+
+def test_a_restored_served_world_labels_the_previous_run_and_starts_new_trails():
+    """After a client's run, sim.stopSimulation puts the robots back at their start: the
+    view then shows the scene as restored, a new trail from the start, and the run that
+    ended as the *previous* run (its events, verdict and trails), until the next run
+    steps, which replaces it."""
+    pytest.importorskip("zmq")
+    from puckboard.backends.coppeliasim.server.socket_loop import RemoteApiServer
+    from puckboard.scenario.scenefile import load_scene
+
+    server = RemoteApiServer(load_scene("two-robot-pass"), host="127.0.0.1", port=0).start()
+    view = watch_server(server, port=0)
+    try:
+        wait_for_frame(view, lambda f: f["status"] == "stopped")
+        results, shown = [], []
+        for duration in (8.0, 3.0):
+            results.append(run_episode(
+                "two-robot-pass", duration=duration, backend="coppeliasim", port=server.port
+            ))  # fmt: skip
+            frame = wait_for_frame(
+                view, lambda f, d=duration: (f.get("previous") or {}).get("t") == pytest.approx(d, abs=0.06)
+            )  # fmt: skip
+            shown.append((frame, json.loads(get(view.url + "trails.json")[1])))
+    finally:
+        view.close()
+        server.close()
+    for result, (frame, trails) in zip(results, shown):
+        assert frame["status"] == "stopped" and frame["t"] == 0.0  # the scene as restored
+        assert frame["rtf"] is None  # standing still: no "0.0x real time"
+        assert frame["previous"]["t"] == pytest.approx(result.sim_time_s, abs=0.06)
+        assert [e["kind"] for e in frame["events"]] == [
+            e.kind for e in sorted(result.events, key=lambda e: e.time_s)
+        ]  # the run is over when the scene is restored: judged to the end, as the client's
+        assert frame["verdict"]["success"] == result.success
+        assert frame["verdict"]["failure"] == result.failure
+        assert trails["run"] == frame["run"] and trails["previous"]["run"] == frame["run"] - 1
+        for robot, metrics in zip(frame["robots"], result.robots):
+            current = trails["trails"][robot["name"]]
+            assert len(current) <= 1 and all(  # the new trail: nothing but the start
+                abs(x - robot["pose"][0]) < 1e-3 and abs(y - robot["pose"][1]) < 1e-3
+                for x, y in current
+            ), current
+            before = trails["previous"]["trails"][robot["name"]]
+            # the previous run's trail is that run's path alone (one point each 5 mm)
+            assert path_length(before) == pytest.approx(metrics.distance_m, abs=0.02)
+        assert trails["previous"]["t"] == frame["previous"]["t"]
+    assert [frame["run"] for frame, _ in shown] == [1, 2]  # each restore, a new run

@@ -4,8 +4,11 @@
 "use strict";
 
 const FAILURES = new Set(["collision", "lost_line", "parallel_driving", "stuck", "turned_back"]);
-// state.player is the replay's player (replay.js) when the page replays a recording
-var state = { scene: null, frame: null, trails: {}, details: {}, selected: null, view: null, player: null };
+// state.player is the replay's player (replay.js) when the page replays a recording;
+// state.previous the run a served world's restore ended ({t, trails}), shown as such;
+// state.spots where each robot's name was put last (kept while it stays clear)
+var state = { scene: null, frame: null, trails: {}, run: null, previous: null, details: {}, selected: null,
+              view: null, player: null, spots: {} };
 const canvas = document.getElementById("arena");
 const ctx = canvas.getContext("2d");
 
@@ -21,6 +24,11 @@ function el(tag, attrs, text) {
 // -- geometry: world metres to canvas pixels, keeping the aspect ratio ------------------------
 function fit() {
   const ratio = window.devicePixelRatio || 1;
+  if (state.scene) {  // one column (a phone): the arena only as tall as the scene needs
+    const [x0, y0, x1, y1] = state.scene.bounds, pad = 0.12 * Math.max(x1 - x0, y1 - y0);
+    const tall = canvas.clientWidth * (y1 - y0 + pad) / (x1 - x0 + pad);
+    canvas.style.height = matchMedia("(max-width: 800px)").matches ? `${Math.round(Math.min(tall, 0.6 * innerHeight))}px` : "";
+  }
   const w = canvas.clientWidth, h = canvas.clientHeight;
   canvas.width = Math.round(w * ratio);
   canvas.height = Math.round(h * ratio);
@@ -59,13 +67,25 @@ function draw() {
     else ob.polygon.forEach(([x, y], i) => { const [u, w] = px(x, y); i ? ctx.lineTo(u, w) : ctx.moveTo(u, w); });
     ctx.fill();
   }
-  for (const d of sc.dummies) {
+  const dummyBoxes = sc.dummies.map(d => {
     const [u, w] = px(d.x, d.y), r = 8 * v.ratio;
     ctx.strokeStyle = "#444"; ctx.lineWidth = 2 * v.ratio; ctx.beginPath();
     ctx.moveTo(u - r, w); ctx.lineTo(u + r, w); ctx.moveTo(u, w - r); ctx.lineTo(u, w + r); ctx.stroke();
-    label(d.name, u + r, w - r, "#444");
-  }
+    const box = label(d.name, u + r, w - r, "#444");
+    return [Math.min(box[0], u - r), Math.min(box[1], w - r), Math.max(box[2], u + r), Math.max(box[3], w + r)];
+  });
   const frame = state.frame;
+  if (state.previous) {  // the previous run's trails: faded and dashed, under everything
+    ctx.setLineDash([6 * v.ratio, 6 * v.ratio]); ctx.globalAlpha = 0.35; ctx.lineWidth = 2 * v.ratio;
+    for (const spec of sc.robots) {
+      const trail = state.previous.trails[spec.name] || [];
+      ctx.strokeStyle = spec.colour; ctx.beginPath();
+      trail.forEach(([x, y], k) => { const [u, w] = px(x, y); k ? ctx.lineTo(u, w) : ctx.moveTo(u, w); });
+      ctx.stroke();
+    }
+    ctx.setLineDash([]); ctx.globalAlpha = 1;
+  }
+  const names = [];  // robot names, placed once every body is drawn
   sc.robots.forEach((spec, i) => {
     const trail = state.trails[spec.name] || [];
     if (trail.length > 1) {
@@ -93,15 +113,85 @@ function draw() {
     ctx.beginPath(); ctx.arc(u, w, spec.radius * v.s, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
     const [hu, hw] = px(x + spec.radius * c, y + spec.radius * s);
     ctx.strokeStyle = "#fff"; ctx.lineWidth = 3 * v.ratio; ctx.beginPath(); ctx.moveTo(u, w); ctx.lineTo(hu, hw); ctx.stroke();
-    label(spec.name, u + spec.radius * v.s + 4 * v.ratio, w - spec.radius * v.s, spec.colour);
+    names.push({ text: spec.name, u, w, r: spec.radius * v.s, colour: spec.colour });
   });
+  placeNames(names, dummyBoxes);
 }
+
+function labelFont() { return `600 ${Math.round(16 * state.view.ratio)}px system-ui, sans-serif`; }
 
 function label(text, u, w, colour) {
   const v = state.view;
-  ctx.font = `600 ${Math.round(16 * v.ratio)}px system-ui, sans-serif`;
+  ctx.font = labelFont();
   ctx.lineWidth = 4 * v.ratio; ctx.strokeStyle = "rgba(255,255,255,0.85)"; ctx.strokeText(text, u, w);
   ctx.fillStyle = colour; ctx.fillText(text, u, w);
+  const m = ctx.measureText(text);  // the box the letters cover, halo included
+  const halo = 2 * v.ratio;
+  return [u - halo, w - m.actualBoundingBoxAscent - halo, u + m.width + halo, w + m.actualBoundingBoxDescent + halo];
+}
+
+// -- robot names: beside their robot, covering no obstacle, robot or other name -------------------
+// Eight spots around the body, tried in this order after the one the name had last (so a
+// name stays put while its spot is clear); where none is clear, the one covering least.
+const SPOTS = ["upper right", "upper left", "lower right", "lower left", "above", "below", "right", "left"];
+
+function placeNames(names, taken) {
+  const v = state.view, halo = 2 * v.ratio, gap = 4 * v.ratio;
+  const shapes = taken.map(box => ({ box }));
+  for (const ob of state.scene.obstacles) {
+    if (ob.circle) { const [u, w] = px(ob.circle[0], ob.circle[1]); shapes.push({ u, w, r: ob.circle[2] * v.s }); }
+    else shapes.push({ poly: ob.polygon.map(([x, y]) => px(x, y)) });
+  }
+  for (const n of names) shapes.push({ u: n.u, w: n.w, r: n.r + halo, own: n.text });  // every spot clears its own
+  ctx.font = labelFont();
+  for (const n of names) {
+    const m = ctx.measureText(n.text), tw = m.width;
+    const asc = m.actualBoundingBoxAscent, desc = m.actualBoundingBoxDescent;
+    const right = n.u + n.r + gap, left = n.u - n.r - gap - tw, mid = n.u - tw / 2;
+    const at = {  // each spot's text origin (left end of the baseline)
+      "upper right": [right, n.w - n.r], "upper left": [left, n.w - n.r],
+      "lower right": [right, n.w + n.r + asc], "lower left": [left, n.w + n.r + asc],
+      above: [mid, n.w - n.r - gap - desc], below: [mid, n.w + n.r + gap + asc],
+      right: [right, n.w + (asc - desc) / 2], left: [left, n.w + (asc - desc) / 2],
+    };
+    let best = null;
+    for (const spot of [state.spots[n.text], ...SPOTS]) {
+      if (!spot) continue;
+      const [x, y] = at[spot], box = [x - halo, y - asc - halo, x + tw + halo, y + desc + halo];
+      const off = box[0] < 0 || box[1] < 0 || box[2] > canvas.width || box[3] > canvas.height;
+      const cost = shapes.filter(sh => sh.own !== n.text && covers(box, sh)).length + (off ? 1 : 0);
+      if (!best || cost < best.cost) best = { spot, x, y, box, cost };
+      if (!cost) break;
+    }
+    state.spots[n.text] = best.spot;
+    shapes.push({ box: best.box });
+    label(n.text, best.x, best.y, n.colour);
+  }
+}
+
+// Does the box [left, top, right, bottom] cover any of a shape: a box, a disc or a polygon?
+function covers([x0, y0, x1, y1], sh) {
+  const hit = ([u, w]) => u >= x0 && u <= x1 && w >= y0 && w <= y1;
+  if (sh.box) return x0 < sh.box[2] && sh.box[0] < x1 && y0 < sh.box[3] && sh.box[1] < y1;
+  if (sh.poly) {  // a corner of the box inside it, or a point of its outline inside the box
+    if ([[x0, y0], [x1, y0], [x0, y1], [x1, y1]].some(c => insidePolygon(c, sh.poly))) return true;
+    return sh.poly.some((a, k) => {
+      const b = sh.poly[(k + 1) % sh.poly.length], steps = Math.ceil(Math.hypot(b[0] - a[0], b[1] - a[1]) / 2) + 1;
+      for (let j = 0; j <= steps; j++) if (hit([a[0] + (b[0] - a[0]) * j / steps, a[1] + (b[1] - a[1]) * j / steps])) return true;
+      return false;
+    });
+  }
+  const u = Math.max(x0, Math.min(sh.u, x1)), w = Math.max(y0, Math.min(sh.w, y1));
+  return Math.hypot(u - sh.u, w - sh.w) < sh.r;
+}
+
+function insidePolygon([u, w], poly) {
+  let inside = false;
+  for (let k = 0, j = poly.length - 1; k < poly.length; j = k++) {
+    const [ua, wa] = poly[k], [ub, wb] = poly[j];
+    if ((wa > w) !== (wb > w) && u < ua + (w - wa) * (ub - ua) / (wb - wa)) inside = !inside;
+  }
+  return inside;
 }
 
 // -- the side panel -------------------------------------------------------------------------------
@@ -122,7 +212,12 @@ function showScene(sc) {
 }
 
 function liveFrame(f) {
-  if (state.frame && f.t < state.frame.t) state.trails = {};  // the simulation was restarted
+  // a frame of another run than the trails': the served world's scene was restored, and
+  // the robots start new trails where they now are
+  if (state.run !== null && f.run !== state.run) state.trails = {};
+  state.run = f.run;
+  if (!f.previous) state.previous = null;
+  else if (!state.previous || state.previous.run !== f.previous.run) loadPrevious(f.previous.run);
   for (const r of f.robots) {
     const trail = state.trails[r.name] || (state.trails[r.name] = []);
     const last = trail[trail.length - 1];
@@ -131,11 +226,21 @@ function liveFrame(f) {
   showFrame(f);
 }
 
+// A served world whose scene was restored shows the run that ended as the previous run.
+async function loadPrevious(run) {
+  if (state.loadingPrevious === run) return;
+  state.loadingPrevious = run;
+  const d = await fetchJson("/trails.json");
+  state.loadingPrevious = null;
+  if (d && d.previous && d.previous.run === run && state.frame && state.frame.previous) { state.previous = d.previous; draw(); }
+}
+
 function showFrame(f) {
   state.frame = f;
+  const previous = f.previous || null;  // the events and verdict are the previous run's
   $("time").textContent = `t = ${f.t.toFixed(1)} s`;
   $("rtf").textContent = f.rtf === null ? "" : `${f.rtf.toFixed(1)}× real time`;
-  $("status").textContent = f.status;
+  $("status").textContent = previous ? `${f.status} · scene restored` : f.status;
   const rows = $("robots").tBodies[0].rows;
   f.robots.forEach((r, i) => {
     const row = rows[i]; if (!row) return;
@@ -147,22 +252,35 @@ function showFrame(f) {
     row.querySelector(".driver").textContent = r.driver;
   });
   const list = $("events");
+  $("events-title").textContent = previous ? `Events of the previous run (ended at ${previous.t.toFixed(1)} s)` : "Events";
+  const shown = JSON.stringify([previous, f.events]);
   if (state.player) state.player.markEvents(f.t);
-  else if (list.children.length !== f.events.length) {
+  else if (list.dataset.shown !== shown) {
+    list.dataset.shown = shown;
     list.replaceChildren(...f.events.map(eventItem));
   }
   const verdict = $("verdict");
   if (f.verdict) {
     verdict.hidden = false;
-    verdict.className = f.verdict.success ? "success" : "failure";
-    verdict.textContent = f.verdict.success ? "SUCCESS" : `FAILED: ${f.verdict.text}${f.verdict.robot ? " (" + f.verdict.robot + ")" : ""}`;
+    verdict.className = (f.verdict.success ? "success" : "failure") + (previous ? " previous" : "");
+    const said = f.verdict.success ? "SUCCESS" : `FAILED: ${f.verdict.text}${f.verdict.robot ? " (" + f.verdict.robot + ")" : ""}`;
+    verdict.textContent = previous ? `previous run: ${said}` : said;
   } else verdict.hidden = true;
   draw();
 }
 
+// "5.0 s  left: left the line": the robot's name in its colour and set off by a colon, so
+// robots called left and right never read as part of the event's words
 function eventItem(e) {
-  return el("li", { class: FAILURES.has(e.kind) ? "failure" : "", "data-t": e.t },
-    `${e.t.toFixed(1)} s  ${e.robot || ""} ${e.text}`);
+  const item = el("li", { class: FAILURES.has(e.kind) ? "failure" : "", "data-t": e.t }, `${e.t.toFixed(1)} s  `);
+  if (e.robot) {
+    const spec = state.scene && state.scene.robots.find(r => r.name === e.robot);
+    const who = el("span", { class: "who" }, e.robot);
+    if (spec) who.style.color = spec.colour;
+    item.append(who, ": ");
+  }
+  item.append(e.text);
+  return item;
 }
 
 function select(name) {
@@ -296,7 +414,8 @@ async function start() {
   if (replay) { startReplay(replay); return; }
   const sc = await fetchJson("/scene.json");
   if (sc) showScene(sc);
-  state.trails = (await fetchJson("/trails.json")) || {};
+  const trails = await fetchJson("/trails.json");
+  if (trails) { state.trails = trails.trails; state.run = trails.run; state.previous = trails.previous; }
   const source = new EventSource("/stream");
   source.addEventListener("scene", e => showScene(JSON.parse(e.data)));
   source.addEventListener("frame", e => liveFrame(JSON.parse(e.data)));
