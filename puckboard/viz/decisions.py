@@ -214,7 +214,7 @@ class DecisionRecorder:
         """Row ``i``: every robot's node statuses and the values its layers read."""
         for r, ctrl in enumerate(self.controllers):
             tr = self.traces[r]
-            if tr is None:
+            if tr is None or ctrl is None:
                 continue
             if tr.ticks != self._seen[r]:
                 self._status[i, r, : len(tr.status)] = tr.status
