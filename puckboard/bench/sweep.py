@@ -27,9 +27,11 @@ import statistics
 import time
 from typing import Any
 
-from ..sweep.executors import DaskExecutor, InlineExecutor, LocalExecutor, SweepExecutor
+from ..sweep.cluster import DaskExecutor
+from ..sweep.executors import InlineExecutor, LocalExecutor, SweepExecutor
 from ..sweep.plan import SweepPlan
-from ..sweep.run import run_sweep
+from ..sweep.run import SweepResult, run_sweep
+from ..sweep.signals import Terminated, stop_on_terminate
 
 __all__ = ["run_suite"]
 
@@ -47,8 +49,17 @@ def _plan(scenario: str, duration: float, episodes: int) -> SweepPlan:
     )
 
 
+def _sweep(executor: SweepExecutor, scene: Any, plan: SweepPlan, **options: Any) -> SweepResult:
+    """:func:`run_sweep`, except that Ctrl-C (or SIGTERM) ends the benchmark after the
+    sweep has stopped its workers, rather than leaving it to time a partial sweep."""
+    result = run_sweep(plan, scene, executor=executor, **options)
+    if result.interrupted:
+        raise Terminated if result.terminated else KeyboardInterrupt
+    return result
+
+
 def _rate(executor: SweepExecutor, scene: Any, plan: SweepPlan) -> float:
-    result = run_sweep(plan, scene, executor=executor)
+    result = _sweep(executor, scene, plan)
     if result.errors:
         raise RuntimeError(f"benchmark episodes failed: {result.errors[0]}")
     return result.ran / result.wall_s
@@ -56,6 +67,11 @@ def _rate(executor: SweepExecutor, scene: Any, plan: SweepPlan) -> float:
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
     """Episodes per second per executor; see the module docstring."""
+    with stop_on_terminate():
+        return _run_suite(steps)
+
+
+def _run_suite(steps: int | None) -> dict[str, Any]:
     from ..scenario.scenefile import load_scene
 
     scene = load_scene("two-robot-pass")
@@ -89,7 +105,7 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
                 out[name] = f"skipped: {exc}"
                 continue
             # spawn the workers and import everything before timing anything
-            run_sweep(warmup, scene, executor=executors[name], batch_size=1)
+            _sweep(executors[name], scene, warmup, batch_size=1)
             startup[name] = time.perf_counter() - t0
         # Interleave the executors repeat by repeat, so a change in the machine's load
         # hits all of them alike instead of spoiling one.

@@ -153,6 +153,15 @@ def _scene(ref: str):  # type: ignore[no-untyped-def]
 
 
 def main(args: argparse.Namespace) -> int:
+    from ..sweep.signals import stop_on_terminate
+
+    # SIGTERM stops the sweep as Ctrl-C does (finished rows kept, workers ended) instead
+    # of killing this process on the spot.
+    with stop_on_terminate():
+        return _sweep(args)
+
+
+def _sweep(args: argparse.Namespace) -> int:
     from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
 
     _check_numbers(args)
@@ -281,7 +290,7 @@ def _report(
 
 
 def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
-    """0, or 130 when interrupted, or 1 when every episode raised (a broken setup)."""
+    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup)."""
     errors = result.errors
     if errors:
         print(
@@ -292,11 +301,12 @@ def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
         )
     if result.interrupted:
         print(
-            f"puckboard sweep: interrupted; {result.ran} episodes of this run kept"
+            f"puckboard sweep: {'terminated' if result.terminated else 'interrupted'}; "
+            f"{result.ran} episodes of this run kept"
             + (f" in {args.out}; run the same command again to resume" if stored else ""),
             file=sys.stderr,
         )
-        return 130
+        return 143 if result.terminated else 130
     if result.ran and len(errors) == result.ran:
         return 1  # nothing ran properly: a broken setup, not a bad controller
     return 0

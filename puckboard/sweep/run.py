@@ -16,7 +16,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,6 +24,7 @@ from .executors import LocalExecutor, SweepExecutor
 from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan
 from .progress import NullProgress, Progress
 from .rows import Outcome
+from .signals import Terminated
 from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
@@ -36,6 +37,8 @@ log = logging.getLogger(__name__)
 MAX_BATCH = 8
 #: Automatic batches aim at this many tasks per worker, for load balancing.
 TASKS_PER_WORKER = 4
+#: Seconds a stopped sweep waits for running batches to finish their current episode.
+STOP_GRACE = 2.0
 
 
 def make_batches(
@@ -49,6 +52,10 @@ def make_batches(
     return [list(specs[i : i + batch_size]) for i in range(0, len(specs), batch_size)]
 
 
+def balance_order(specs: Sequence[EpisodeSpec], scene: Any) -> list[EpisodeSpec]:
+    return list(specs)
+
+
 @dataclass
 class SweepResult:
     """What a sweep produced: every outcome of the plan (old and new) and how it went."""
@@ -59,6 +66,8 @@ class SweepResult:
     ran: int = 0
     skipped: int = 0
     interrupted: bool = False
+    #: Stopped by SIGTERM rather than Ctrl-C (``interrupted`` is true as well).
+    terminated: bool = False
     wall_s: float = 0.0
 
     @property
@@ -189,11 +198,21 @@ def run_sweep(
     executor = executor or LocalExecutor()
     t0 = time.perf_counter()
     progress.start(len(planned), len(done))
+
+    def collect(rows: list[dict[str, Any]]) -> None:
+        if store is not None:
+            store.append(rows)
+        result.rows.extend(rows)
+        result.outcomes.extend(Outcome.from_row(r) for r in rows)
+        result.ran += len(rows)
+        progress.advance(len(rows))
+
+    stream: Iterator[list[dict[str, Any]]] | None = None
     try:
         if todo:
             aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
             aliases = {c: a for c, a in aliases.items() if a != c}
-            batches = make_batches(todo, executor.workers, batch_size)
+            batches = make_batches(balance_order(todo, scene), executor.workers, batch_size)
             # per-episode warnings only when asked for more output (puckboard -v)
             level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
             stop = executor.stop_flag()
@@ -201,18 +220,16 @@ def run_sweep(
                 (scene, plan.scenario, batch, aliases, level, episode_timeout, stop)
                 for batch in batches
             ]
-            for rows in executor.run(run_batch, tasks):
-                if store is not None:
-                    store.append(rows)
-                result.rows.extend(rows)
-                result.outcomes.extend(Outcome.from_row(r) for r in rows)
-                result.ran += len(rows)
-                progress.advance(len(rows))
-    except KeyboardInterrupt:
+            stream = executor.run(run_batch, tasks)
+            for rows in stream:
+                collect(rows)
+    except KeyboardInterrupt as exc:
         result.interrupted = True
-        executor.cancel()
+        result.terminated = isinstance(exc, Terminated)
+        _keep_what_finishes(executor, collect)
         log.info("sweep interrupted: %d episodes finished in this run", result.ran)
     finally:
+        _close(stream)
         progress.close()
         if store is not None:
             store.flush()
@@ -220,3 +237,27 @@ def run_sweep(
             executor.close()
         result.wall_s = time.perf_counter() - t0
     return result
+
+
+def _keep_what_finishes(
+    executor: SweepExecutor, collect: Callable[[list[dict[str, Any]]], None]
+) -> None:
+    """After Ctrl-C: keep the rows of batches that end within :data:`STOP_GRACE` s (each
+    ends after its current episode), then stop the rest; a second Ctrl-C stops at once."""
+    stopping = executor.stop(STOP_GRACE)
+    try:
+        for rows in stopping:
+            collect(rows)
+    except KeyboardInterrupt:
+        log.info("interrupted again: not waiting for running episodes")
+    finally:
+        _close(stopping)
+        executor.cancel()
+
+
+def _close(iterator: Iterator[Any] | None) -> None:
+    """Close a generator now rather than whenever it is collected: an executor's
+    generator cancels its tasks when closed early."""
+    close = getattr(iterator, "close", None)
+    if close is not None:
+        close()

@@ -153,6 +153,38 @@ def test_cancelling_a_local_pool_stops_running_workers():
         executor.close()
 
 
+@pytest.mark.slow
+def test_stopping_a_local_pool_keeps_what_its_running_batches_finished(short_scene):
+    """After Ctrl-C the running batches end after their current episode and hand back
+    the rows they have: nothing that finished is lost, then the workers are ended."""
+    import logging
+
+    from puckboard.sweep.worker import run_batch
+
+    plan = SweepPlan.from_specs(
+        short_scene.name, controllers=["stock"], seeds="0:401", fixed={"duration": DURATION}
+    )
+    specs = list(plan.episodes())
+    batches = [specs[:1], specs[1:201], specs[201:]]  # long batches: still running below
+    with LocalExecutor(workers=2) as executor:
+        stop = executor.stop_flag()
+        tasks = [(short_scene, plan.scenario, b, None, logging.ERROR, None, stop) for b in batches]
+        results = executor.run(run_batch, tasks)
+        first = next(results)
+        assert [r["key"] for r in first] == [specs[0].key(plan.scenario)]
+        processes = list(executor._pool._processes.values())
+        late = list(executor.stop(grace=60.0))
+        results.close()
+        assert executor._pool is None
+        sentinels = [p.sentinel for p in processes]
+        assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
+    assert len(late) == 2
+    for rows, batch in zip(sorted(late, key=lambda rows: rows[0]["seed"]), batches[1:]):
+        # each stopped batch returns the episodes it finished, in order, and no more
+        assert 1 <= len(rows) < len(batch)
+        assert [r["key"] for r in rows] == [s.key(plan.scenario) for s in batch[: len(rows)]]
+
+
 def test_grading_a_folder_ranks_and_scores_broken_submissions(tmp_path, short_scene):
     from puckboard.sweep import controllers_in_dir
 
@@ -309,7 +341,7 @@ def test_a_stopped_dask_sweep_frees_its_workers_after_one_episode(short_scene):
             small_plan(short_scene), short_scene, executor=executor, batch_size=1,
             progress=InterruptingProgress(),
         )  # fmt: skip
-        assert result.interrupted and result.ran == 1
+        assert result.interrupted and 1 <= result.ran < len(small_plan(short_scene))
         assert Event(given.name, client=executor.client).is_set()
         assert executor.stop_flag().name != given.name
         assert not executor.stop_flag()()
