@@ -207,15 +207,18 @@ def _check_numbers(args: argparse.Namespace) -> None:
 
 
 def _plan(args: argparse.Namespace, scene: Any) -> Any:
-    """The grid of episodes, with warnings for specs that will fail (they count as 'error')."""
+    """The grid of episodes, checked before any runs: a bad controller spec or value is an
+    error, as in 'run'; a graded submission that will fail is a warning ('error' episodes)."""
     from ..sweep import PlanError, SweepPlan, check_plan, controllers_in_dir
 
     controllers = list(args.controller)
+    graded: list[str] = []  # submissions: a broken one must not stop the others
     if args.controllers_dir is not None:
         try:
-            controllers += controllers_in_dir(args.controllers_dir)
+            graded = controllers_in_dir(args.controllers_dir)
         except ValueError as exc:
             raise CliError(str(exc)) from exc
+        controllers += graded
     fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
     if args.profile is not None:
         if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
@@ -225,7 +228,7 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
         plan = SweepPlan.from_specs(
             scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
         )
-        warnings = check_plan(plan, scene)
+        warnings = check_plan(plan, scene, tolerate=graded)
     except PlanError as exc:
         raise CliError(str(exc)) from exc
     for warning in warnings:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .executors import LocalExecutor, SweepExecutor
-from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan
+from .plan import EpisodeSpec, PlanError, SweepPlan
 from .progress import NullProgress, Progress
 from .rows import Outcome
 from .signals import Terminated
@@ -29,7 +29,7 @@ from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
-__all__ = ["MAX_BATCH", "SweepResult", "check_plan", "make_batches", "run_sweep"]
+__all__ = ["MAX_BATCH", "SweepResult", "make_batches", "run_sweep"]
 
 log = logging.getLogger(__name__)
 
@@ -111,47 +111,6 @@ class SweepResult:
             "groups": [g.to_dict() for g in self.groups()],
             "ranking": [g.to_dict() for g in self.ranking()],
         }
-
-
-def check_plan(plan: SweepPlan, scene: Any) -> list[str]:
-    """Check what can be checked before any episode runs.
-
-    Raises :class:`PlanError` when a ``layer.<Name>.<attr>`` parameter matches no layer
-    of any controller in the plan (every episode would fail). Returns warnings for
-    controllers that cannot be built: their episodes are recorded as ``error`` failures
-    rather than stopping the sweep, so one broken submission does not block a class.
-    """
-    from ..behaviours import load_controller
-
-    warnings: list[str] = []
-    built: list[Any] = []
-    for spec in plan.controllers:
-        specs = [r.controller for r in scene.robots] if spec == SCENE_CONTROLLERS else [spec]
-        for one in specs:
-            try:
-                built.append(load_controller(one))
-            except Exception as exc:
-                warnings.append(f"controller {one!r} cannot be built: {exc}")
-    names = {*plan.grid, *plan.fixed}
-    for name in sorted(n for n in names if n.startswith("layer.")):
-        _, layer_name, attr = name.split(".", 2)
-        holders = []
-        for controller in built:
-            try:
-                holders.append(controller.find(layer_name))
-            except KeyError:
-                continue
-        if built and not holders:
-            raise PlanError(
-                f"parameter {name}: no controller in this sweep has a layer named {layer_name!r}"
-            )
-        tunable = {a for layer in holders for a in layer.parameters()}
-        if holders and attr not in tunable:
-            raise PlanError(
-                f"parameter {name}: layer {layer_name} has no parameter {attr!r}; its "
-                f"parameters: {', '.join(sorted(tunable))}"
-            )
-    return warnings
 
 
 def run_sweep(

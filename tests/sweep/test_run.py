@@ -241,6 +241,13 @@ def test_cli_json_summary(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["ran"] == 0
 
 
+CRUISE_ONLY = (
+    "from puckboard.behaviours import Controller, Cruise\n"
+    "def make_controller(**params):\n"
+    "    return Controller([Cruise()], name='cruise')\n"
+)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -250,13 +257,48 @@ def test_cli_json_summary(tmp_path, capsys):
         (["--out", "runs.txt"], ".csv or .parquet"),
         (["--plot", "x.png"], "--plot needs a parameter swept"),
         (["--workers", "0"], "at least 1"),
+        # what 'run' refuses at once, refused before the first episode
+        (["--controller", "improvd"], "controller 'improvd' cannot be built: unknown controller"),
+        (["--controller", "stock", "--controller", "no_such_module:make"], "'no_such_module'"),
+        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number, got 'abc'"),
+        (["--set", "dt=0.05,1e-9"], "more than one episode may take"),
+        (["--controller", "improved", "--controller", "CRUISE", "--set",
+          "layer.LineFollow.inner_factor=0.3"], "no controller has a layer 'LineFollow'"),
     ],
-)
-def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys):
+)  # fmt: skip
+def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys, tmp_path):
     from puckboard.cli import main
 
-    assert main(["sweep", "line-follow", *args]) == 2
-    assert message in capsys.readouterr().err
+    cruise = tmp_path / "cruise.py"
+    cruise.write_text(CRUISE_ONLY)
+    args = [a.replace("CRUISE", f"{cruise.as_posix()}:make_controller") for a in args]
+    out = tmp_path / "runs.csv"
+    extra = [] if "--out" in args else ["--out", str(out)]
+    assert main(["sweep", "line-follow", "--workers", "1", "--quiet", *extra, *args]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err
+    assert len(captured.err.splitlines()) == 1, captured.err
+    assert captured.out == "" and not out.exists()  # nothing ran
+
+
+def test_cli_grades_a_folder_with_a_broken_submission_as_error_episodes(tmp_path, capsys):
+    """Submissions are the exception: one that does not build must not stop the class."""
+    from puckboard.cli import main
+
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "alice.py").write_text(CRUISE_ONLY)
+    (folder / "bob.py").write_text("def make_controller(**params):\n    raise RuntimeError('oops')\n")
+    argv = [
+        "sweep", "line-follow", "--controllers-dir", str(folder), "--seeds", "0:1",
+        "--duration", "1", "--workers", "1", "--quiet", "--json",
+    ]  # fmt: skip
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert "bob.py:make_controller' cannot be built: oops" in captured.err
+    groups = {Path(g["controller"]).name: g for g in json.loads(captured.out)["groups"]}
+    assert groups["bob.py:make_controller"]["failures"] == {"error": 1}
+    assert "error" not in groups["alice.py:make_controller"]["failures"]
 
 
 @pytest.mark.slow
