@@ -162,9 +162,26 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+    from ..sweep import LocalExecutor
 
     _check_numbers(args)
+    if args.scheduler:  # connect only to run a plan that is known to be good
+        return _run(args, None)
+    # Local workers start up (an interpreter and the imports each) while this process
+    # loads the scene, checks the plan and reads --out; on bad input they are ended.
+    local = LocalExecutor(args.workers).start()
+    try:
+        return _run(args, local)
+    except BaseException:
+        local.cancel()
+        raise
+    finally:
+        local.close()
+
+
+def _run(args: argparse.Namespace, executor: Any) -> int:
+    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+
     scene = _scene(args.scenario)
     plan = _plan(args, scene)
     plot_param = _plot_param(args, plan)
@@ -172,7 +189,7 @@ def _sweep(args: argparse.Namespace) -> int:
         store = open_store(args.out) if args.out is not None else None
     except (ValueError, ImportError, OSError) as exc:
         raise CliError(str(exc)) from exc
-    executor = _executor(args)
+    executor = executor or _executor(args)
     progress = make_progress(enabled=not args.quiet)
     try:
         result = run_sweep(
@@ -249,12 +266,10 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
 
 
 def _executor(args: argparse.Namespace) -> Any:
-    from ..sweep import DaskExecutor, LocalExecutor
+    from ..sweep import DaskExecutor
 
     try:
-        if args.scheduler:
-            return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
-        return LocalExecutor(args.workers)
+        return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
     except (ImportError, ConnectionError, ValueError) as exc:
         raise CliError(str(exc)) from exc
 

@@ -136,15 +136,24 @@ class DaskExecutor(SweepExecutor):
         return self._uploaded[spec]
 
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
-        from dask.distributed import as_completed
-        from distributed.scheduler import KilledWorker
-
         futures: dict[str, Any] = {}
         self._futures = futures
         try:
             for task in tasks:
                 future = self.client.submit(fn, *task, pure=False)
                 futures[future.key] = future
+        except KeyboardInterrupt:
+            raise  # the caller stops or cancels
+        except BaseException:
+            self.cancel()
+            raise
+        return self._results(futures)
+
+    def _results(self, futures: dict[str, Any]) -> Iterator[Any]:
+        from dask.distributed import as_completed
+        from distributed.scheduler import KilledWorker
+
+        try:
             for future in as_completed(list(futures.values())):
                 futures.pop(future.key, None)
                 try:

@@ -76,7 +76,7 @@ class SweepExecutor(ABC):
 
     @abstractmethod
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
-        """Submit every task; yield results in completion order.
+        """Submit every task now; return an iterator of their results in completion order.
 
         A :class:`KeyboardInterrupt` (Ctrl-C, or SIGTERM turned into one) leaves the
         tasks to the caller, who either collects what they still finish with
@@ -185,6 +185,20 @@ class LocalExecutor(SweepExecutor):
             )
         return self._pool
 
+    def start(self) -> LocalExecutor:
+        """Create every worker process now, without waiting for them.
+
+        They start up (a Python interpreter, then the imports an episode needs) while
+        the caller prepares the sweep — loads the scene, checks the plan, reads the
+        output file — instead of after. Returns the executor.
+        """
+        pool = self._ensure_pool()
+        # one no-op per worker: a pool creates a process for each task it cannot give to
+        # an idle one, and none is idle before its interpreter has started
+        for _ in range(self.workers):
+            pool.submit(int)
+        return self
+
     def stop_flag(self) -> LocalStopFlag:
         return LocalStopFlag()
 
@@ -197,6 +211,15 @@ class LocalExecutor(SweepExecutor):
                 future = pool.submit(fn, *task)
                 futures.append(future)
                 self._pending.add(future)
+        except KeyboardInterrupt:
+            raise  # the caller stops or cancels
+        except BaseException:
+            self.cancel()
+            raise
+        return self._results(futures)
+
+    def _results(self, futures: list[cf.Future[Any]]) -> Iterator[Any]:
+        try:
             for future in cf.as_completed(futures):
                 self._pending.discard(future)
                 try:

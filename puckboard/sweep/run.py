@@ -4,24 +4,25 @@
 
     plan --(minus rows already in --out)--> batches --executor--> rows --> store, summary
 
-Batches amortise the per-task cost (pickling the scene, a round trip to the scheduler)
-over several episodes, yet stay small enough that every worker gets several batches
-(load balancing at the end of a sweep) and that Ctrl-C loses little: rows are written
-as each batch finishes, and on Ctrl-C pending batches are cancelled and running ones
-stopped; what finished stays in the file, and the next run resumes from there.
+Episodes go longest first, in batches that shrink to single episodes at the end
+(:mod:`puckboard.sweep.batches`), so that workers finish together. Rows are written as
+each batch finishes. On Ctrl-C (or SIGTERM, see :mod:`puckboard.sweep.signals`) batches
+not started are dropped, running ones end after their current episode and hand back
+what they finished, and what is still running after :data:`STOP_GRACE` seconds is
+stopped; every finished row stays in the file, and the next run resumes from there.
 """
 
 from __future__ import annotations
 
 import logging
-import math
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
+from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
-from .plan import EpisodeSpec, PlanError, SweepPlan
+from .plan import PlanError, SweepPlan
 from .progress import NullProgress, Progress
 from .rows import Outcome
 from .signals import Terminated
@@ -29,31 +30,12 @@ from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
-__all__ = ["MAX_BATCH", "SweepResult", "make_batches", "run_sweep"]
+__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep"]
 
 log = logging.getLogger(__name__)
 
-#: Largest automatic batch: bounds the work lost to Ctrl-C and keeps progress moving.
-MAX_BATCH = 8
-#: Automatic batches aim at this many tasks per worker, for load balancing.
-TASKS_PER_WORKER = 4
 #: Seconds a stopped sweep waits for running batches to finish their current episode.
 STOP_GRACE = 2.0
-
-
-def make_batches(
-    specs: Sequence[EpisodeSpec], workers: int, batch_size: int | None = None
-) -> list[list[EpisodeSpec]]:
-    """Split ``specs`` into consecutive batches (automatic size unless ``batch_size``)."""
-    if batch_size is None:
-        batch_size = min(MAX_BATCH, max(1, math.ceil(len(specs) / (workers * TASKS_PER_WORKER))))
-    if batch_size < 1:
-        raise ValueError(f"batch size must be at least 1, got {batch_size}")
-    return [list(specs[i : i + batch_size]) for i in range(0, len(specs), batch_size)]
-
-
-def balance_order(specs: Sequence[EpisodeSpec], scene: Any) -> list[EpisodeSpec]:
-    return list(specs)
 
 
 @dataclass

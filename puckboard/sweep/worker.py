@@ -13,6 +13,7 @@ import logging
 import os
 import signal
 import threading
+import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -20,7 +21,7 @@ from .plan import SCENE_CONTROLLERS, EpisodeSpec
 from .rows import error_row, result_row
 from .watchdog import call_with_wall_limit
 
-__all__ = ["LocalStopFlag", "init_local_worker", "run_batch", "run_spec"]
+__all__ = ["LocalStopFlag", "init_local_worker", "run_batch", "run_spec", "worker_ready"]
 
 log = logging.getLogger(__name__)
 
@@ -100,6 +101,8 @@ def run_batch(
 
 #: The stop event of this worker's pool, set by :func:`init_local_worker`.
 _stop_event: Any = None
+#: ``time.monotonic()`` when :func:`init_local_worker` had finished (start-up measurements).
+_ready_at: float | None = None
 
 
 class LocalStopFlag:
@@ -126,7 +129,7 @@ def init_local_worker(parent_alive: Any, stop_event: Any) -> None:
     * Keep ``stop_event`` for :class:`LocalStopFlag`.
     * Import what an episode needs now, while the pool starts, not in the first task.
     """
-    global _stop_event
+    global _stop_event, _ready_at
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _stop_event = stop_event
 
@@ -139,3 +142,11 @@ def init_local_worker(parent_alive: Any, stop_event: Any) -> None:
 
     threading.Thread(target=exit_with_parent, name="puckboard-parent-watch", daemon=True).start()
     from ..control import episode  # noqa: F401
+
+    _ready_at = time.monotonic()
+
+
+def worker_ready() -> tuple[int, float | None]:
+    """This worker's process id and when it was ready (``time.monotonic()``, a clock
+    shared by the processes of one machine): a task for measuring start-up."""
+    return os.getpid(), _ready_at

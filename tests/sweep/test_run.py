@@ -55,6 +55,15 @@ def test_plan_runs_every_episode_once_with_real_outcomes(inline_rows, short_scen
     assert len(set(noisy)) > 1
 
 
+def test_rows_do_not_depend_on_the_order_episodes_run_in(inline_rows, short_scene):
+    """run_sweep runs the longest first, group by group; plan order, or any, is the same."""
+    from puckboard.sweep.worker import run_batch
+
+    plan = small_plan(short_scene)
+    backwards = run_batch(short_scene, plan.scenario, list(plan.episodes())[::-1])
+    assert outcome_table(backwards) == outcome_table(inline_rows)
+
+
 @pytest.mark.slow
 def test_local_processes_give_the_same_rows(inline_rows, short_scene):
     with LocalExecutor(workers=2) as executor:
@@ -162,24 +171,24 @@ def test_stopping_a_local_pool_keeps_what_its_running_batches_finished(short_sce
     from puckboard.sweep.worker import run_batch
 
     plan = SweepPlan.from_specs(
-        short_scene.name, controllers=["stock"], seeds="0:401", fixed={"duration": DURATION}
+        short_scene.name, controllers=["stock"], seeds="0:400", fixed={"duration": DURATION}
     )
     specs = list(plan.episodes())
-    batches = [specs[:1], specs[1:201], specs[201:]]  # long batches: still running below
+    batches = [specs[:200], specs[200:]]  # long: still running when stopped below
     with LocalExecutor(workers=2) as executor:
         stop = executor.stop_flag()
-        tasks = [(short_scene, plan.scenario, b, None, logging.ERROR, None, stop) for b in batches]
-        results = executor.run(run_batch, tasks)
-        first = next(results)
-        assert [r["key"] for r in first] == [specs[0].key(plan.scenario)]
+        task = (short_scene, plan.scenario, specs[:1], None, logging.ERROR, None, stop)
+        assert len(list(executor.run(run_batch, [task, task]))) == 2  # workers started
         processes = list(executor._pool._processes.values())
+        results = executor.run(run_batch, [(*task[:2], b, *task[3:]) for b in batches])
+        time.sleep(2.0)  # for idle workers to take both tasks, not for them to end
         late = list(executor.stop(grace=60.0))
         results.close()
         assert executor._pool is None
         sentinels = [p.sentinel for p in processes]
         assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
     assert len(late) == 2
-    for rows, batch in zip(sorted(late, key=lambda rows: rows[0]["seed"]), batches[1:]):
+    for rows, batch in zip(sorted(late, key=lambda rows: rows[0]["seed"]), batches):
         # each stopped batch returns the episodes it finished, in order, and no more
         assert 1 <= len(rows) < len(batch)
         assert [r["key"] for r in rows] == [s.key(plan.scenario) for s in batch[: len(rows)]]
