@@ -73,6 +73,7 @@ def model_sweep(
     scene: Any = None,
     workers: Sequence[int] = (1, 2, 4, 8, 16),
     startup_s: float | Mapping[int, float] = 0.0,
+    startup_after_s: float | Mapping[int, float] | None = None,
     per_episode_s: float = 0.0,
     per_task_s: float = 0.0,
 ) -> dict[str, Any]:
@@ -80,15 +81,18 @@ def model_sweep(
 
     ``episodes`` are (spec, seconds) in plan order; ``scene`` gives the step limits of
     the ordering (any object with ``duration`` and ``dt``; equal limits without one).
-    ``startup_s`` is the start-up of the workers, one figure or one per worker count.
+    ``startup_s`` is the time the sweep waits for its workers to start, one figure or
+    one per worker count; ``startup_after_s`` the same for today's command line, which
+    starts them while it prepares the sweep (default: the same as before).
     """
     scene = scene if scene is not None else SimpleNamespace(duration=1.0, dt=1.0)
     cost = {spec: seconds + per_episode_s for spec, seconds in episodes}
     specs = [spec for spec, _ in episodes]
     total = sum(cost.values())
 
-    def start(w: int) -> float:
-        return startup_s[w] if isinstance(startup_s, Mapping) else startup_s
+    def start(w: int, after: bool = False) -> float:
+        figure = startup_s if startup_after_s is None or not after else startup_after_s
+        return figure[w] if isinstance(figure, Mapping) else figure
 
     def task_seconds(batches: list[list[EpisodeSpec]]) -> list[float]:
         return [sum(cost[s] for s in batch) + per_task_s for batch in batches]
@@ -104,11 +108,13 @@ def model_sweep(
         before = task_seconds(old_batches(specs, w))
         after = task_seconds(make_batches(balance_order(specs, scene), w))
         times["before"][w] = start(w) + makespan(before, w)
-        times["after"][w] = start(w) + makespan(after, w)
+        times["after"][w] = start(w, after=True) + makespan(after, w)
         out["workers"][w] = {
             "ideal_s": times["before"][1] / w,  # one worker's time, shared without loss
             "tasks_before": len(before),
             "tasks_after": len(after),
+            "startup_before_s": start(w),
+            "startup_after_s": start(w, after=True),
             "time_before_s": times["before"][w],
             "time_after_s": times["after"][w],
             "efficiency_before": times["before"][1] / (w * times["before"][w]),
