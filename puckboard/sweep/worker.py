@@ -81,8 +81,10 @@ def run_batch(
     printed by every episode of the sweep.
 
     ``stop`` is asked before each episode; once it answers true the batch ends with the
-    rows it has. It is how a sweep stops work it cannot kill: a task already running on
-    a Dask worker cannot be interrupted, but it can decline to start its next episode.
+    rows it has. It is how a stopped sweep keeps what running batches finished (the
+    local pool's :class:`LocalStopFlag`) and frees workers it cannot kill (a task
+    already running on a Dask worker cannot be interrupted, but it can decline to start
+    its next episode).
     """
     logger = logging.getLogger("puckboard")
     previous = logger.level
