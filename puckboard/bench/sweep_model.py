@@ -62,7 +62,9 @@ def episodes_from_rows(
     for row in rows:
         params = json.loads(str(row.get("params") or "{}"))
         spec = EpisodeSpec(str(row["controller"]), int(row["seed"]), tuple(sorted(params.items())))
-        group = groups.setdefault((spec.controller, json.dumps(params, sort_keys=True)), len(groups))
+        group = groups.setdefault(
+            (spec.controller, json.dumps(params, sort_keys=True)), len(groups)
+        )
         found.append((group, spec.seed, spec, float(row.get("wall_s") or 0.0)))
     return [(spec, seconds) for _, _, spec, seconds in sorted(found, key=lambda f: f[:2])]
 

@@ -169,8 +169,9 @@ def _sweep(args: argparse.Namespace) -> int:
         return _run(args, None)
     # Local workers start up (an interpreter and the imports each) while this process
     # loads the scene, checks the plan and reads --out; on bad input they are ended.
-    local = LocalExecutor(args.workers).start()
+    local = LocalExecutor(args.workers)
     try:
+        local.start()
         return _run(args, local)
     except BaseException:
         local.cancel()
@@ -181,14 +182,20 @@ def _sweep(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
     from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+    from ..sweep.signals import interrupts_deferred
 
-    scene = _scene(args.scenario)
-    plan = _plan(args, scene)
-    plot_param = _plot_param(args, plan)
-    try:
-        store = open_store(args.out) if args.out is not None else None
-    except (ValueError, ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
+    # Ctrl-C here waits the moment the preparation takes and is raised after it: raised
+    # inside one of the many modules it imports, Python 3.11 would end the process by
+    # SIGINT after our one-line message (a KeyboardInterrupt within exec() of source
+    # text, as dataclasses do, counts as unhandled even when caught).
+    with interrupts_deferred():
+        scene = _scene(args.scenario)
+        plan = _plan(args, scene)
+        plot_param = _plot_param(args, plan)
+        try:
+            store = open_store(args.out) if args.out is not None else None
+        except (ValueError, ImportError, OSError) as exc:
+            raise CliError(str(exc)) from exc
     executor = executor or _executor(args)
     progress = make_progress(enabled=not args.quiet)
     try:

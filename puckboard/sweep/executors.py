@@ -31,7 +31,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from .signals import interrupts_ignored
+from .signals import creating_processes, interrupts_ignored
 from .worker import LocalStopFlag, init_local_worker
 
 __all__ = [
@@ -192,25 +192,31 @@ class LocalExecutor(SweepExecutor):
         the caller prepares the sweep — loads the scene, checks the plan, reads the
         output file — instead of after. Returns the executor.
         """
-        pool = self._ensure_pool()
-        # one no-op per worker: a pool creates a process for each task it cannot give to
-        # an idle one, and none is idle before its interpreter has started
-        for _ in range(self.workers):
-            pool.submit(int)
+        try:
+            with creating_processes():  # the pool's threads too: see .signals
+                pool = self._ensure_pool()
+                # one no-op per worker: a pool creates a process for each task it cannot
+                # give to an idle one, and none is idle before its interpreter has started
+                for _ in range(self.workers):
+                    pool.submit(int)
+        except BaseException:  # Ctrl-C among the processes: none may outlive this
+            self.cancel()
+            raise
         return self
 
     def stop_flag(self) -> LocalStopFlag:
         return LocalStopFlag()
 
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
-        pool = self._ensure_pool()
         futures: list[cf.Future[Any]] = []
         self._pending = set()
         try:
-            for task in tasks:  # the first submits create the worker processes
-                future = pool.submit(fn, *task)
-                futures.append(future)
-                self._pending.add(future)
+            with creating_processes():  # the pool's threads too: see .signals
+                pool = self._ensure_pool()
+                for task in tasks:  # the first submits may create the worker processes
+                    future = pool.submit(fn, *task)
+                    futures.append(future)
+                    self._pending.add(future)
         except KeyboardInterrupt:
             raise  # the caller stops or cancels
         except BaseException:

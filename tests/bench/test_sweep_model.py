@@ -83,8 +83,23 @@ def test_the_suite_measures_the_overheads_and_models_an_out_file(tmp_path, capsy
     from puckboard.cli import main
 
     out = tmp_path / "runs.csv"
-    sweep = ["sweep", "line-follow", "--controller", "stock", "--seeds", "0:6", "--duration",
-             "2", "--set", "noise.ground=0,0.1", "--workers", "1", "--quiet", "--out", str(out)]
+    sweep = [
+        "sweep",
+        "line-follow",
+        "--controller",
+        "stock",
+        "--seeds",
+        "0:6",
+        "--duration",
+        "2",
+        "--set",
+        "noise.ground=0,0.1",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        str(out),
+    ]
     assert main(sweep) == 0
     capsys.readouterr()
     assert main(["bench", "--suite", "sweep", "--steps", "5", "--durations", str(out),
@@ -109,4 +124,3 @@ def test_the_suite_refuses_a_file_that_is_not_a_sweep_output(tmp_path, capsys):
     assert main(["bench", "--suite", "sweep", "--durations", str(bad)]) == 2
     err = capsys.readouterr().err
     assert "is not a sweep's --out file" in err and len(err.strip().splitlines()) == 2
-

@@ -154,16 +154,39 @@ def test_a_stopped_sweep_keeps_its_finished_rows(tmp_path, signum, status, word)
     assert rows_in(out) < 2000  # it did stop
 
 
+SLOW_CONTROLLER = """
+import time
+from pathlib import Path
+from puckboard.behaviours import Controller, Cruise
+
+class Slow(Cruise):
+    def command(self, frame):
+        Path({marker!r}).touch()  # an episode is running
+        time.sleep(0.05)  # 400 steps: 20 s, far longer than the stop's 2 s of grace
+        return super().command(frame)
+
+def make_controller(**params):
+    return Controller([Slow()], name="slow")
+"""
+
+
 def test_a_second_ctrl_c_stops_without_waiting(tmp_path):
-    out = tmp_path / "runs.csv"
-    command = Command(*SWEEP, "--out", str(out))
-    command.wait_for("a finished row", lambda: rows_in(out) > 0)
+    """The first Ctrl-C waits (up to 2 s) for running episodes; the second does not."""
+    marker = tmp_path / "running"
+    slow = tmp_path / "slow.py"
+    slow.write_text(SLOW_CONTROLLER.format(marker=str(marker)))
+    command = Command(
+        "-v", "sweep", "line-follow", "--controller", f"{slow.as_posix()}:make_controller",
+        "--seeds", "0:4", "--duration", "20", "--workers", "2", "--quiet",
+    )  # fmt: skip
+    command.wait_for("a running episode", marker.exists)
     command.signal(signal.SIGINT)
-    time.sleep(0.2)
+    time.sleep(0.3)
     os.killpg(command.proc.pid, signal.SIGINT)
     code, err = command.finish()
     assert code == 130
-    assert err and all(line.startswith("puckboard sweep: interrupted") for line in err), err
+    assert any("interrupted again: not waiting for running episodes" in line for line in err)
+    assert err[-1] == "puckboard sweep: interrupted; 0 episodes of this run kept", err
 
 
 @pytest.fixture(scope="module")

@@ -170,4 +170,3 @@ def test_balanced_order_puts_longer_episodes_first_and_mixes_the_groups():
     # a dt parameter changes the step limit as duration does
     dts = SweepPlan.from_specs("arena", seeds="0:2", sets=["dt=0.1,0.01"]).episodes()
     assert [s.param_dict["dt"] for s in balance_order(list(dts), scene)] == [0.01] * 2 + [0.1] * 2
-

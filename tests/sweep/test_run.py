@@ -297,7 +297,9 @@ def test_cli_grades_a_folder_with_a_broken_submission_as_error_episodes(tmp_path
     folder = tmp_path / "class"
     folder.mkdir()
     (folder / "alice.py").write_text(CRUISE_ONLY)
-    (folder / "bob.py").write_text("def make_controller(**params):\n    raise RuntimeError('oops')\n")
+    (folder / "bob.py").write_text(
+        "def make_controller(**params):\n    raise RuntimeError('oops')\n"
+    )
     argv = [
         "sweep", "line-follow", "--controllers-dir", str(folder), "--seeds", "0:1",
         "--duration", "1", "--workers", "1", "--quiet", "--json",
