@@ -78,9 +78,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(exc.details.rstrip("\n"), file=sys.stderr)
         print(f"puckboard {args.command}: error: {exc}", file=sys.stderr)
         return exc.status
-    except KeyboardInterrupt:
-        print(f"puckboard {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        # Ctrl-C, or SIGTERM where a command stops on it in the same orderly way (it then
+        # raises a KeyboardInterrupt that says so: puckboard.sweep.signals.Terminated)
+        print(f"puckboard {args.command}: {getattr(exc, 'reason', 'interrupted')}", file=sys.stderr)
+        return int(getattr(exc, "exit_status", 130))
     except BrokenPipeError:
         # the reader went away ('puckboard profiles | head'): stop quietly, as Unix tools
         # do, and keep Python from complaining again when it flushes stdout at exit

@@ -55,6 +55,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--plot-contact", type=Path, help="estimation: draw the stock two-robot pass here"
     )
     suite.add_argument(
+        "--durations",
+        type=Path,
+        metavar="FILE",
+        help="sweep: model the scheduling of the episodes in this sweep --out file",
+    )
+    suite.add_argument(
         "--server",
         choices=("thread", "process"),
         help="coppeliasim: serve from a thread of this process or a separate process",
@@ -64,7 +70,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 #: Suite options on the command line (argparse dest == the suite's keyword argument).
 SUITE_OPTIONS = (
-    "seeds", "gyro_noise", "gyro_bias", "settle", "cases", "plot", "plot_contact", "server"
+    "seeds", "gyro_noise", "gyro_bias", "settle", "cases", "plot", "plot_contact", "server",
+    "durations",
 )  # fmt: skip
 
 

@@ -157,17 +157,50 @@ def _scene(ref: str):  # type: ignore[no-untyped-def]
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+    from ..sweep.signals import stop_on_terminate
+
+    # SIGTERM stops the sweep as Ctrl-C does (finished rows kept, workers ended) instead
+    # of killing this process on the spot.
+    with stop_on_terminate():
+        return _sweep(args)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from ..sweep import LocalExecutor
 
     _check_numbers(args)
-    scene = _scene(args.scenario)
-    plan = _plan(args, scene)
-    plot_param = _plot_param(args, plan)
+    if args.scheduler:  # connect only to run a plan that is known to be good
+        return _run(args, None)
+    # Local workers start up (an interpreter and the imports each) while this process
+    # loads the scene, checks the plan and reads --out; on bad input they are ended.
+    local = LocalExecutor(args.workers)
     try:
-        store = open_store(args.out) if args.out is not None else None
-    except (ValueError, ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
-    executor = _executor(args)
+        local.start()
+        return _run(args, local)
+    except BaseException:
+        local.cancel()
+        raise
+    finally:
+        local.close()
+
+
+def _run(args: argparse.Namespace, executor: Any) -> int:
+    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+    from ..sweep.signals import interrupts_deferred
+
+    # Ctrl-C here waits the moment the preparation takes and is raised after it: raised
+    # inside one of the many modules it imports, Python 3.11 would end the process by
+    # SIGINT after our one-line message (a KeyboardInterrupt within exec() of source
+    # text, as dataclasses do, counts as unhandled even when caught).
+    with interrupts_deferred():
+        scene = _scene(args.scenario)
+        plan = _plan(args, scene)
+        plot_param = _plot_param(args, plan)
+        try:
+            store = open_store(args.out) if args.out is not None else None
+        except (ValueError, ImportError, OSError) as exc:
+            raise CliError(str(exc)) from exc
+    executor = executor or _executor(args)
     progress = make_progress(enabled=not args.quiet)
     try:
         result = run_sweep(
@@ -202,15 +235,18 @@ def _check_numbers(args: argparse.Namespace) -> None:
 
 
 def _plan(args: argparse.Namespace, scene: Any) -> Any:
-    """The grid of episodes, with warnings for specs that will fail (they count as 'error')."""
+    """The grid of episodes, checked before any runs: a bad controller spec or value is an
+    error, as in 'run'; a graded submission that will fail is a warning ('error' episodes)."""
     from ..sweep import PlanError, SweepPlan, check_plan, controllers_in_dir
 
     controllers = list(args.controller)
+    graded: list[str] = []  # submissions: a broken one must not stop the others
     if args.controllers_dir is not None:
         try:
-            controllers += controllers_in_dir(args.controllers_dir)
+            graded = controllers_in_dir(args.controllers_dir)
         except ValueError as exc:
             raise CliError(str(exc)) from exc
+        controllers += graded
     fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
     if args.profile is not None:
         if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
@@ -222,7 +258,7 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
         plan = SweepPlan.from_specs(
             scene.name, controllers=controllers, seeds=args.seeds, sets=args.sets, fixed=fixed
         )
-        warnings = check_plan(plan, scene)
+        warnings = check_plan(plan, scene, tolerate=graded)
     except PlanError as exc:
         raise CliError(str(exc)) from exc
     for warning in warnings:
@@ -261,12 +297,10 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
 
 
 def _executor(args: argparse.Namespace) -> Any:
-    from ..sweep import DaskExecutor, LocalExecutor
+    from ..sweep import DaskExecutor
 
     try:
-        if args.scheduler:
-            return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
-        return LocalExecutor(args.workers)
+        return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
     except (ImportError, ConnectionError, ValueError) as exc:
         raise CliError(str(exc)) from exc
 
@@ -305,7 +339,7 @@ def _report(
 
 
 def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
-    """0, or 130 when interrupted, or 1 when every episode raised (a broken setup)."""
+    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup)."""
     errors = result.errors
     if errors:
         print(
@@ -316,11 +350,12 @@ def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
         )
     if result.interrupted:
         print(
-            f"puckboard sweep: interrupted; {result.ran} episodes of this run kept"
+            f"puckboard sweep: {'terminated' if result.terminated else 'interrupted'}; "
+            f"{result.ran} episodes of this run kept"
             + (f" in {args.out}; run the same command again to resume" if stored else ""),
             file=sys.stderr,
         )
-        return 130
+        return 143 if result.terminated else 130
     if result.ran and len(errors) == result.ran:
         return 1  # nothing ran properly: a broken setup, not a bad controller
     return 0

@@ -12,17 +12,13 @@ Nothing heavy is imported here: Dask, pyarrow, rich and matplotlib load only whe
 
 from __future__ import annotations
 
+from .check import check_plan
+from .cluster import DaskExecutor
 from .discover import FACTORY_NAME, controllers_in_dir
-from .executors import (
-    DaskExecutor,
-    InlineExecutor,
-    LocalExecutor,
-    SweepExecutor,
-    WorkerLostError,
-)
+from .executors import InlineExecutor, LocalExecutor, SweepExecutor, WorkerLostError
 from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
 from .progress import make_progress
-from .run import SweepResult, check_plan, run_sweep
+from .run import SweepResult, run_sweep
 from .stats import wilson_interval
 from .store import open_store
 from .summary import GroupSummary, rank_controllers, summarise

@@ -4,49 +4,38 @@
 
     plan --(minus rows already in --out)--> batches --executor--> rows --> store, summary
 
-Batches amortise the per-task cost (pickling the scene, a round trip to the scheduler)
-over several episodes, yet stay small enough that every worker gets several batches
-(load balancing at the end of a sweep) and that Ctrl-C loses little: rows are written
-as each batch finishes, and on Ctrl-C pending batches are cancelled and running ones
-stopped; what finished stays in the file, and the next run resumes from there.
+Episodes go longest first, in batches that shrink to single episodes at the end
+(:mod:`puckboard.sweep.batches`), so that workers finish together. Rows are written as
+each batch finishes. On Ctrl-C (or SIGTERM, see :mod:`puckboard.sweep.signals`) batches
+not started are dropped, running ones end after their current episode and hand back
+what they finished, and what is still running after :data:`STOP_GRACE` seconds is
+stopped; every finished row stays in the file, and the next run resumes from there.
 """
 
 from __future__ import annotations
 
 import logging
-import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
+from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
-from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan
+from .plan import PlanError, SweepPlan
 from .progress import NullProgress, Progress
 from .rows import Outcome
+from .signals import Terminated
 from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
-__all__ = ["MAX_BATCH", "SweepResult", "check_plan", "make_batches", "run_sweep"]
+__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep"]
 
 log = logging.getLogger(__name__)
 
-#: Largest automatic batch: bounds the work lost to Ctrl-C and keeps progress moving.
-MAX_BATCH = 8
-#: Automatic batches aim at this many tasks per worker, for load balancing.
-TASKS_PER_WORKER = 4
-
-
-def make_batches(
-    specs: Sequence[EpisodeSpec], workers: int, batch_size: int | None = None
-) -> list[list[EpisodeSpec]]:
-    """Split ``specs`` into consecutive batches (automatic size unless ``batch_size``)."""
-    if batch_size is None:
-        batch_size = min(MAX_BATCH, max(1, math.ceil(len(specs) / (workers * TASKS_PER_WORKER))))
-    if batch_size < 1:
-        raise ValueError(f"batch size must be at least 1, got {batch_size}")
-    return [list(specs[i : i + batch_size]) for i in range(0, len(specs), batch_size)]
+#: Seconds a stopped sweep waits for running batches to finish their current episode.
+STOP_GRACE = 2.0
 
 
 @dataclass
@@ -59,6 +48,8 @@ class SweepResult:
     ran: int = 0
     skipped: int = 0
     interrupted: bool = False
+    #: Stopped by SIGTERM rather than Ctrl-C (``interrupted`` is true as well).
+    terminated: bool = False
     wall_s: float = 0.0
 
     @property
@@ -102,47 +93,6 @@ class SweepResult:
             "groups": [g.to_dict() for g in self.groups()],
             "ranking": [g.to_dict() for g in self.ranking()],
         }
-
-
-def check_plan(plan: SweepPlan, scene: Any) -> list[str]:
-    """Check what can be checked before any episode runs.
-
-    Raises :class:`PlanError` when a ``layer.<Name>.<attr>`` parameter matches no layer
-    of any controller in the plan (every episode would fail). Returns warnings for
-    controllers that cannot be built: their episodes are recorded as ``error`` failures
-    rather than stopping the sweep, so one broken submission does not block a class.
-    """
-    from ..behaviours import load_controller
-
-    warnings: list[str] = []
-    built: list[Any] = []
-    for spec in plan.controllers:
-        specs = [r.controller for r in scene.robots] if spec == SCENE_CONTROLLERS else [spec]
-        for one in specs:
-            try:
-                built.append(load_controller(one))
-            except Exception as exc:
-                warnings.append(f"controller {one!r} cannot be built: {exc}")
-    names = {*plan.grid, *plan.fixed}
-    for name in sorted(n for n in names if n.startswith("layer.")):
-        _, layer_name, attr = name.split(".", 2)
-        holders = []
-        for controller in built:
-            try:
-                holders.append(controller.find(layer_name))
-            except KeyError:
-                continue
-        if built and not holders:
-            raise PlanError(
-                f"parameter {name}: no controller in this sweep has a layer named {layer_name!r}"
-            )
-        tunable = {a for layer in holders for a in layer.parameters()}
-        if holders and attr not in tunable:
-            raise PlanError(
-                f"parameter {name}: layer {layer_name} has no parameter {attr!r}; its "
-                f"parameters: {', '.join(sorted(tunable))}"
-            )
-    return warnings
 
 
 def run_sweep(
@@ -189,11 +139,21 @@ def run_sweep(
     executor = executor or LocalExecutor()
     t0 = time.perf_counter()
     progress.start(len(planned), len(done))
+
+    def collect(rows: list[dict[str, Any]]) -> None:
+        if store is not None:
+            store.append(rows)
+        result.rows.extend(rows)
+        result.outcomes.extend(Outcome.from_row(r) for r in rows)
+        result.ran += len(rows)
+        progress.advance(len(rows))
+
+    stream: Iterator[list[dict[str, Any]]] | None = None
     try:
         if todo:
             aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
             aliases = {c: a for c, a in aliases.items() if a != c}
-            batches = make_batches(todo, executor.workers, batch_size)
+            batches = make_batches(balance_order(todo, scene), executor.workers, batch_size)
             # per-episode warnings only when asked for more output (puckboard -v)
             level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
             stop = executor.stop_flag()
@@ -201,18 +161,16 @@ def run_sweep(
                 (scene, plan.scenario, batch, aliases, level, episode_timeout, stop)
                 for batch in batches
             ]
-            for rows in executor.run(run_batch, tasks):
-                if store is not None:
-                    store.append(rows)
-                result.rows.extend(rows)
-                result.outcomes.extend(Outcome.from_row(r) for r in rows)
-                result.ran += len(rows)
-                progress.advance(len(rows))
-    except KeyboardInterrupt:
+            stream = executor.run(run_batch, tasks)
+            for rows in stream:
+                collect(rows)
+    except KeyboardInterrupt as exc:
         result.interrupted = True
-        executor.cancel()
+        result.terminated = isinstance(exc, Terminated)
+        _keep_what_finishes(executor, collect)
         log.info("sweep interrupted: %d episodes finished in this run", result.ran)
     finally:
+        _close(stream)
         progress.close()
         if store is not None:
             store.flush()
@@ -220,3 +178,27 @@ def run_sweep(
             executor.close()
         result.wall_s = time.perf_counter() - t0
     return result
+
+
+def _keep_what_finishes(
+    executor: SweepExecutor, collect: Callable[[list[dict[str, Any]]], None]
+) -> None:
+    """After Ctrl-C: keep the rows of batches that end within :data:`STOP_GRACE` s (each
+    ends after its current episode), then stop the rest; a second Ctrl-C stops at once."""
+    stopping = executor.stop(STOP_GRACE)
+    try:
+        for rows in stopping:
+            collect(rows)
+    except KeyboardInterrupt:
+        log.info("interrupted again: not waiting for running episodes")
+    finally:
+        _close(stopping)
+        executor.cancel()
+
+
+def _close(iterator: Iterator[Any] | None) -> None:
+    """Close a generator now rather than whenever it is collected: an executor's
+    generator cancels its tasks when closed early."""
+    close = getattr(iterator, "close", None)
+    if close is not None:
+        close()

@@ -10,7 +10,10 @@ which order, or what ran before in the same process.
 from __future__ import annotations
 
 import logging
+import os
 import signal
+import threading
+import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -18,7 +21,7 @@ from .plan import SCENE_CONTROLLERS, EpisodeSpec
 from .rows import error_row, result_row
 from .watchdog import call_with_wall_limit
 
-__all__ = ["ignore_interrupts", "run_batch", "run_spec"]
+__all__ = ["LocalStopFlag", "init_local_worker", "run_batch", "run_spec", "worker_ready"]
 
 log = logging.getLogger(__name__)
 
@@ -78,8 +81,10 @@ def run_batch(
     printed by every episode of the sweep.
 
     ``stop`` is asked before each episode; once it answers true the batch ends with the
-    rows it has. It is how a sweep stops work it cannot kill: a task already running on
-    a Dask worker cannot be interrupted, but it can decline to start its next episode.
+    rows it has. It is how a stopped sweep keeps what running batches finished (the
+    local pool's :class:`LocalStopFlag`) and frees workers it cannot kill (a task
+    already running on a Dask worker cannot be interrupted, but it can decline to start
+    its next episode).
     """
     logger = logging.getLogger("puckboard")
     previous = logger.level
@@ -96,10 +101,54 @@ def run_batch(
         logger.setLevel(previous)
 
 
-def ignore_interrupts() -> None:
-    """Worker-process initializer: leave Ctrl-C to the parent.
+#: The stop event of this worker's pool, set by :func:`init_local_worker`.
+_stop_event: Any = None
+#: ``time.monotonic()`` when :func:`init_local_worker` had finished (start-up measurements).
+_ready_at: float | None = None
 
-    A terminal's Ctrl-C reaches every process in the group; the parent decides what to
-    keep and stops the workers itself, so they must not die half-way through a result.
+
+class LocalStopFlag:
+    """The stop flag of a local pool's batches: has the parent set the pool's event?
+
+    Picklable and stateless: the event itself reached the worker once, when the process
+    was created (a multiprocessing event can travel no other way).
     """
+
+    def __call__(self) -> bool:
+        return _stop_event is not None and bool(_stop_event.is_set())
+
+
+def init_local_worker(parent_alive: Any, stop_event: Any) -> None:
+    """Initializer of a local worker process.
+
+    * Ignore Ctrl-C: it reaches every process of the terminal's group, but the parent
+      decides what to keep and stops the workers itself (on POSIX the process was
+      created with SIGINT ignored already, see :mod:`puckboard.sweep.signals`).
+    * Exit when the parent is gone: ``parent_alive`` is the reading end of a pipe the
+      parent holds open and never writes to, so it reports end-of-file once the parent
+      has exited, however it ended (SIGKILL included). A worker left waiting for tasks
+      from a dead parent would otherwise live on.
+    * Keep ``stop_event`` for :class:`LocalStopFlag`.
+    * Import what an episode needs now, while the pool starts, not in the first task.
+    """
+    global _stop_event, _ready_at
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _stop_event = stop_event
+
+    def exit_with_parent() -> None:
+        try:
+            while True:
+                parent_alive.recv()  # nothing is ever sent: returns only at end-of-file
+        except (EOFError, OSError):
+            os._exit(1)
+
+    threading.Thread(target=exit_with_parent, name="puckboard-parent-watch", daemon=True).start()
+    from ..control import episode  # noqa: F401
+
+    _ready_at = time.monotonic()
+
+
+def worker_ready() -> tuple[int, float | None]:
+    """This worker's process id and when it was ready (``time.monotonic()``, a clock
+    shared by the processes of one machine): a task for measuring start-up."""
+    return os.getpid(), _ready_at

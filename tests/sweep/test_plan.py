@@ -124,3 +124,49 @@ def test_batches_cover_the_plan_in_order_and_stay_small():
     assert [len(b) for b in make_batches(specs[:5], 2, batch_size=2)] == [2, 2, 1]
     with pytest.raises(ValueError, match="at least 1"):
         make_batches(specs, 2, batch_size=0)
+
+
+def test_automatic_batches_shrink_to_single_episodes_at_the_end():
+    """The end of a sweep is single episodes: no worker finishes on a long batch."""
+    from puckboard.sweep.batches import TASKS_PER_WORKER, make_batches
+
+    specs = list(SweepPlan.from_specs("arena", seeds="0:192").episodes())
+    for workers in (1, 2, 16):
+        sizes = [len(b) for b in make_batches(specs, workers)]
+        assert sizes == sorted(sizes, reverse=True)
+        assert sizes[-TASKS_PER_WORKER * workers :] == [1] * min(len(sizes), 4 * workers)
+        remaining = len(specs)
+        for size in sizes:  # never more than 1/(4 W) of what is left (or one episode)
+            assert size <= max(1, -(-remaining // (TASKS_PER_WORKER * workers)))
+            remaining -= size
+    assert len(make_batches(specs, 16)) > len(specs) // 3  # earlier: 64 batches of 3
+
+
+def test_balanced_order_puts_longer_episodes_first_and_mixes_the_groups():
+    from types import SimpleNamespace
+
+    from puckboard.sweep.batches import balance_order
+
+    scene = SimpleNamespace(duration=20.0, dt=0.05)
+    plan = SweepPlan.from_specs(
+        "arena",
+        controllers=["stock", "improved"],
+        seeds="0:3",
+        sets=["duration=5,40", "noise.ground=0,0.1"],
+    )
+    specs = list(plan.episodes())
+    ordered = balance_order(specs, scene)
+    assert sorted(ordered, key=specs.index) == specs  # the same episodes, each once
+    durations = [s.param_dict["duration"] for s in ordered]
+    assert durations == sorted(durations, reverse=True)
+    # within one step limit: one episode of each of the 4 groups in turn, seed by seed
+    long = [s for s in ordered if s.param_dict["duration"] == 40]
+    groups = {(s.controller, s.params) for s in long}
+    assert len(groups) == 4
+    for k in range(3):
+        round_k = long[4 * k : 4 * k + 4]
+        assert {(s.controller, s.params) for s in round_k} == groups
+        assert {s.seed for s in round_k} == {k}
+    # a dt parameter changes the step limit as duration does
+    dts = SweepPlan.from_specs("arena", seeds="0:2", sets=["dt=0.1,0.01"]).episodes()
+    assert [s.param_dict["dt"] for s in balance_order(list(dts), scene)] == [0.01] * 2 + [0.1] * 2

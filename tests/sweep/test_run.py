@@ -55,6 +55,15 @@ def test_plan_runs_every_episode_once_with_real_outcomes(inline_rows, short_scen
     assert len(set(noisy)) > 1
 
 
+def test_rows_do_not_depend_on_the_order_episodes_run_in(inline_rows, short_scene):
+    """run_sweep runs the longest first, group by group; plan order, or any, is the same."""
+    from puckboard.sweep.worker import run_batch
+
+    plan = small_plan(short_scene)
+    backwards = run_batch(short_scene, plan.scenario, list(plan.episodes())[::-1])
+    assert outcome_table(backwards) == outcome_table(inline_rows)
+
+
 @pytest.mark.slow
 def test_local_processes_give_the_same_rows(inline_rows, short_scene):
     with LocalExecutor(workers=2) as executor:
@@ -153,6 +162,38 @@ def test_cancelling_a_local_pool_stops_running_workers():
         executor.close()
 
 
+@pytest.mark.slow
+def test_stopping_a_local_pool_keeps_what_its_running_batches_finished(short_scene):
+    """After Ctrl-C the running batches end after their current episode and hand back
+    the rows they have: nothing that finished is lost, then the workers are ended."""
+    import logging
+
+    from puckboard.sweep.worker import run_batch
+
+    plan = SweepPlan.from_specs(
+        short_scene.name, controllers=["stock"], seeds="0:400", fixed={"duration": DURATION}
+    )
+    specs = list(plan.episodes())
+    batches = [specs[:200], specs[200:]]  # long: still running when stopped below
+    with LocalExecutor(workers=2) as executor:
+        stop = executor.stop_flag()
+        task = (short_scene, plan.scenario, specs[:1], None, logging.ERROR, None, stop)
+        assert len(list(executor.run(run_batch, [task, task]))) == 2  # workers started
+        processes = list(executor._pool._processes.values())
+        results = executor.run(run_batch, [(*task[:2], b, *task[3:]) for b in batches])
+        time.sleep(2.0)  # for idle workers to take both tasks, not for them to end
+        late = list(executor.stop(grace=60.0))
+        results.close()
+        assert executor._pool is None
+        sentinels = [p.sentinel for p in processes]
+        assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
+    assert len(late) == 2
+    for rows, batch in zip(sorted(late, key=lambda rows: rows[0]["seed"]), batches):
+        # each stopped batch returns the episodes it finished, in order, and no more
+        assert 1 <= len(rows) < len(batch)
+        assert [r["key"] for r in rows] == [s.key(plan.scenario) for s in batch[: len(rows)]]
+
+
 def test_grading_a_folder_ranks_and_scores_broken_submissions(tmp_path, short_scene):
     from puckboard.sweep import controllers_in_dir
 
@@ -209,6 +250,13 @@ def test_cli_json_summary(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["ran"] == 0
 
 
+CRUISE_ONLY = (
+    "from puckboard.behaviours import Controller, Cruise\n"
+    "def make_controller(**params):\n"
+    "    return Controller([Cruise()], name='cruise')\n"
+)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -218,13 +266,50 @@ def test_cli_json_summary(tmp_path, capsys):
         (["--out", "runs.txt"], ".csv or .parquet"),
         (["--plot", "x.png"], "--plot needs a parameter swept"),
         (["--workers", "0"], "at least 1"),
+        # what 'run' refuses at once, refused before the first episode
+        (["--controller", "improvd"], "controller 'improvd' cannot be built: unknown controller"),
+        (["--controller", "stock", "--controller", "no_such_module:make"], "'no_such_module'"),
+        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number, got 'abc'"),
+        (["--set", "dt=0.05,1e-9"], "more than one episode may take"),
+        (["--controller", "improved", "--controller", "CRUISE", "--set",
+          "layer.LineFollow.inner_factor=0.3"], "no controller has a layer 'LineFollow'"),
     ],
-)
-def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys):
+)  # fmt: skip
+def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys, tmp_path):
     from puckboard.cli import main
 
-    assert main(["sweep", "line-follow", *args]) == 2
-    assert message in capsys.readouterr().err
+    cruise = tmp_path / "cruise.py"
+    cruise.write_text(CRUISE_ONLY)
+    args = [a.replace("CRUISE", f"{cruise.as_posix()}:make_controller") for a in args]
+    out = tmp_path / "runs.csv"
+    extra = [] if "--out" in args else ["--out", str(out)]
+    assert main(["sweep", "line-follow", "--workers", "1", "--quiet", *extra, *args]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err
+    assert len(captured.err.splitlines()) == 1, captured.err
+    assert captured.out == "" and not out.exists()  # nothing ran
+
+
+def test_cli_grades_a_folder_with_a_broken_submission_as_error_episodes(tmp_path, capsys):
+    """Submissions are the exception: one that does not build must not stop the class."""
+    from puckboard.cli import main
+
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "alice.py").write_text(CRUISE_ONLY)
+    (folder / "bob.py").write_text(
+        "def make_controller(**params):\n    raise RuntimeError('oops')\n"
+    )
+    argv = [
+        "sweep", "line-follow", "--controllers-dir", str(folder), "--seeds", "0:1",
+        "--duration", "1", "--workers", "1", "--quiet", "--json",
+    ]  # fmt: skip
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert "bob.py:make_controller' cannot be built: oops" in captured.err
+    groups = {Path(g["controller"]).name: g for g in json.loads(captured.out)["groups"]}
+    assert groups["bob.py:make_controller"]["failures"] == {"error": 1}
+    assert "error" not in groups["alice.py:make_controller"]["failures"]
 
 
 @pytest.mark.slow
@@ -309,7 +394,7 @@ def test_a_stopped_dask_sweep_frees_its_workers_after_one_episode(short_scene):
             small_plan(short_scene), short_scene, executor=executor, batch_size=1,
             progress=InterruptingProgress(),
         )  # fmt: skip
-        assert result.interrupted and result.ran == 1
+        assert result.interrupted and 1 <= result.ran < len(small_plan(short_scene))
         assert Event(given.name, client=executor.client).is_set()
         assert executor.stop_flag().name != given.name
         assert not executor.stop_flag()()
