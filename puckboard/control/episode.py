@@ -50,7 +50,7 @@ from ..scenario.judge import Judge
 from ..scenario.result import EpisodeResult
 from ..scenario.robot_profiles import apply_profile_overrides, is_profile_override, scene_profile
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.variation import vary_scene
+from ..scenario.variation import check_variation, vary_scene
 from .loop import ControlLoop
 
 __all__ = [
@@ -114,7 +114,8 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
 
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
-    ``noise.*``, ``dt``, ``duration``); ``layer.*`` names are left for the controllers.
+    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
+    controllers and ``variation`` (checked here) for the episode, which knows the seed.
     Unknown names raise ``ValueError``."""
     noise_changes: dict[str, float] = {}
     scene_changes: dict[str, Any] = {}
@@ -137,6 +138,8 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
             if number <= 0:
                 raise ValueError(f"override {name} must be positive seconds, got {value!r}")
             scene_changes[name] = number
+        elif name == "variation":
+            check_variation(str(value))  # drawn by the episode, which knows the seed
         elif not is_profile_override(name):
             raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
     if noise_changes:

@@ -269,7 +269,7 @@ CRUISE_ONLY = (
         # what 'run' refuses at once, refused before the first episode
         (["--controller", "improvd"], "controller 'improvd' cannot be built: unknown controller"),
         (["--controller", "stock", "--controller", "no_such_module:make"], "'no_such_module'"),
-        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number, got 'abc'"),
+        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number (the parameter is float), got 'abc'"),
         (["--set", "dt=0.05,1e-9"], "more than one episode may take"),
         (["--controller", "improved", "--controller", "CRUISE", "--set",
           "layer.LineFollow.inner_factor=0.3"], "no controller has a layer 'LineFollow'"),
