@@ -122,11 +122,11 @@ def test_the_aperture_sees_an_obstacle_slightly_off_the_sensor_axis():
     # a thin post 6° off ps7's axis: one central ray would miss it, the aperture does not
     pose = EPUCK2.prox_poses[PS7]
     ang = pose.heading + math.radians(6.0)
-    post = CircleObstacle(pose.x + 0.02 * math.cos(ang), pose.y + 0.02 * math.sin(ang), 0.002)
+    post = CircleObstacle(pose.x + 0.03 * math.cos(ang), pose.y + 0.03 * math.sin(ang), 0.002)
     w = World(empty_scene(robot("a"), obstacles=(post,)))
     assert w.prox_distance[0, PS7] < EPUCK2.prox_range
     # seen by the outer rays only, it answers weaker than a wall would at that distance
-    assert 0.0 < w.prox_raw[0, PS7] < 0.5 * float(calibrated_from_distance(0.02))
+    assert 0.0 < w.prox_raw[0, PS7] < 0.5 * float(calibrated_from_distance(0.03))
     single = World(empty_scene(robot("a"), obstacles=(post,)), ir_rays=1)
     assert single.prox_distance[0, PS7] == EPUCK2.prox_range
     assert single.prox_raw[0, PS7] == 0.0
