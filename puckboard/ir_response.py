@@ -131,13 +131,20 @@ def distance_from_calibrated(
 
 
 def distances_from_calibrated(
-    values: npt.ArrayLike, cutoff: npt.ArrayLike, nothing: npt.ArrayLike
+    values: npt.ArrayLike,
+    cutoff: npt.ArrayLike,
+    nothing: npt.ArrayLike,
+    out: npt.NDArray[np.float64] | None = None,
 ) -> npt.NDArray[np.float64]:
     """:func:`distance_from_calibrated` with its two numbers given: values at or below
     ``cutoff`` (see :func:`cutoff_value`) read ``nothing`` (m), and no distance exceeds it.
     Both may be arrays that broadcast against ``values`` (a simulator converts many
-    robots' sensors at once, one column per robot)."""
+    robots' sensors at once, one column per robot); ``out``, when given, receives the
+    distances (and is returned)."""
     v = np.asarray(values, dtype=np.float64)
     far = np.asarray(nothing, dtype=np.float64)
-    d = np.minimum(np.interp(v, _C_UP, _D_UP), far)
-    return np.where(v <= np.asarray(cutoff, dtype=np.float64), far, d)
+    if out is None:
+        out = np.empty(np.broadcast_shapes(v.shape, far.shape))
+    np.minimum(np.interp(v, _C_UP, _D_UP), far, out=out)
+    np.copyto(out, far, where=v <= np.asarray(cutoff, dtype=np.float64))
+    return out

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -43,6 +44,9 @@ DEFAULT_FOOTPRINT = 0.002
 RASTER_CELL = 0.002
 #: Cell size (m) of the grid that finds the track segments near a robot.
 GRID_CELL = 0.02
+
+# how brightness_values reads a set of footprints (see Floor._plan_ramps)
+_RampPlan = Literal[False] | tuple[float, float] | list[tuple[float, float] | None]
 
 
 def _check_footprint(footprint: float) -> None:
@@ -118,7 +122,7 @@ class Floor:
         self._grid_reach = -1.0
         self._grid: dict[tuple[int, int], list[int]] = {}
         self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
-        self._ramps_of: dict[tuple[float, ...], list[tuple[float, float] | None]] = {}
+        self._ramps_of: dict[tuple[float, ...], _RampPlan] = {}
 
     def ramp(self, footprint: float) -> tuple[float, float] | None:
         """(slope, offset) of the reading ``offset + slope·d`` between the line's and the
@@ -220,22 +224,29 @@ class Floor:
         """
         if footprints is None:
             footprints = (self.footprint,) * points.shape[0]
-        ramps = self._ramps_of.get(tuple(footprints))
-        if ramps is None:
-            ramps = [self.ramp(f) for f in footprints]
-            if not all(self._affine(f) for f in footprints):
-                ramps = []  # the general coverage, point by point (a line narrower than a spot)
-            self._ramps_of[tuple(footprints)] = ramps
-        if not ramps:
+        plan = self._ramps_of.get(tuple(footprints))
+        if plan is None:
+            plan = self._plan_ramps(footprints)
+        if plan is False:  # a line narrower than a spot: the general coverage, one by one
             return [
                 float(self.brightness(points[k : k + 1], near, f)[0])
                 for k, f in enumerate(footprints)
             ]
         if near is not None and near.count == 0:
             return [self.floor_brightness] * points.shape[0]
-        low, high, h = self.line_brightness, self.floor_brightness, self.half_width
+        low, high = self.line_brightness, self.floor_brightness
+        distances = self.line_distance(points, near).tolist()
+        if isinstance(plan, tuple):  # one footprint for every point (the usual case)
+            slope, offset = plan
+            values = []
+            for d in distances:
+                v = d * slope + offset
+                v = low if v < low else v
+                values.append(high if v > high else v)
+            return values
+        h = self.half_width
         values = []
-        for d, ramp in zip(self.line_distance(points, near).tolist(), ramps):
+        for d, ramp in zip(distances, plan):
             if ramp is None:  # a point sample
                 values.append(low if d <= h else high)
                 continue
@@ -243,6 +254,22 @@ class Floor:
             v = low if v < low else v
             values.append(high if v > high else v)
         return values
+
+    def _plan_ramps(self, footprints: Sequence[float]) -> _RampPlan:
+        """How :meth:`brightness_values` reads points of these footprints: False (the
+        general coverage), one (slope, offset) for all, or one ramp (None: a point
+        sample) per point."""
+        plan: _RampPlan
+        if not all(self._affine(f) for f in footprints):
+            plan = False
+        elif len(set(footprints)) == 1 and footprints[0] > 0.0:
+            ramp = self.ramp(footprints[0])
+            assert ramp is not None  # a footprint above 0 has a ramp
+            plan = ramp
+        else:
+            plan = [self.ramp(f) for f in footprints]
+        self._ramps_of[tuple(footprints)] = plan
+        return plan
 
     def segments_near(
         self, centres: list[tuple[float, float]], reach: float, footprint: float | None = None

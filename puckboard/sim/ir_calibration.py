@@ -50,23 +50,50 @@ class IrCalibration:
         self._baseline = baseline
         #: N×8 raw units each sensor's calibration leaves over (:meth:`recalibrate` sets it)
         self.offset = np.array([p.ir_offset for p in profiles], dtype=float).reshape(-1, 8)
-        self._shift = self.offset - baseline
         self._cutoff = np.array([cutoff_value(p.prox_max_distance) for p in profiles])[:, None]
+        self._lowest_cutoff = float(self._cutoff.min()) if len(profiles) else 0.0
         self._nothing = np.array([p.prox_range for p in profiles], dtype=float)[:, None]
+        self._offsets_changed()
 
-    def apply(self, raw: FloatArray, distance: FloatArray, *, anything_cast: bool) -> None:
+    def _offsets_changed(self) -> None:
+        self._shift = self.offset - self._baseline
+        self._any_offset = bool(self.offset.any())
+        # with nothing near anyone and no noise every robot reads its offsets, clamped
+        self._quiet_raw = np.clip(self.offset, 0.0, RAW_MAX)
+        self._quiet_distance = distances_from_calibrated(
+            self._quiet_raw, self._cutoff, self._nothing
+        )
+
+    def apply(self, raw: FloatArray, distance: FloatArray) -> None:
         """Turn the responses in ``raw`` (N×8, in place) into calibrated values and write
-        the distances they convert to into ``distance``.
-
-        With ``anything_cast`` False every response is a baseline with its noise: the
-        conversion runs only if some value reaches a cut-off (a large offset can).
-        """
+        the distances they convert to into ``distance``."""
         raw += self._shift
         # two ufuncs: np.clip's Python wrapper costs more than the clamping itself
         np.maximum(raw, 0.0, out=raw)
         np.minimum(raw, RAW_MAX, out=raw)
-        if anything_cast or (raw > self._cutoff).any():
-            distance[:] = distances_from_calibrated(raw, self._cutoff, self._nothing)
+        distances_from_calibrated(raw, self._cutoff, self._nothing, out=distance)
+
+    def apply_to_nothing(
+        self, raw: FloatArray, distance: FloatArray, noise: FloatArray | None
+    ) -> None:
+        """:meth:`apply` for a step in which no sensor sees anything, each response being
+        its baseline times ``1 + noise`` (``noise``: N×8 relative, or None).
+
+        Most steps of a line-following run; the response minus the baseline is then
+        ``baseline·noise``, computed as that, and the conversion is needed only where a
+        value reaches a cut-off (a large offset can make one).
+        """
+        if noise is None:
+            raw[:] = self._quiet_raw
+            distance[:] = self._quiet_distance
+            return
+        np.multiply(self._baseline, noise, out=raw)
+        if self._any_offset:
+            raw += self.offset
+        np.maximum(raw, 0.0, out=raw)
+        if raw.max() > self._lowest_cutoff:  # rarely: the clamp at full scale, the conversion
+            np.minimum(raw, RAW_MAX, out=raw)
+            distances_from_calibrated(raw, self._cutoff, self._nothing, out=distance)
         else:
             distance[:] = self._nothing
 
@@ -80,6 +107,6 @@ class IrCalibration:
         ``distance`` (N×8) get robot ``i``'s readings at this pose after calibrating:
         0, and nothing seen."""
         self.offset[i] = self._baseline[i] - response
-        self._shift[i] = -response
+        self._offsets_changed()
         raw[i] = 0.0
         distance[i] = self._nothing[i]

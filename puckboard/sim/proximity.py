@@ -490,42 +490,40 @@ class ProximitySensors:
         noise: float = 0.0,
         z: FloatArray | None = None,
     ) -> bool:
-        """Fill ``raw`` (N×8) with each sensor's response for robots at ``poses`` (x, y, θ).
+        """Fill ``raw`` (N×8) with each sensor's response for robots at ``poses`` (x, y, θ);
+        False, and ``raw`` left as it is, when nobody is near anything.
 
         The robots' bodies are circles at ``poses``. A response is ``gain · Σ w·T(d)`` over
         the sensor's rays, on the table's scale (the ambient baseline ≈67 included: what
         the photodiode reads before the firmware subtracts its calibration). With
         ``noise`` > 0, ``z`` (N×8 standard normals) multiplies it by ``1 + σ·z``, σ =
-        √(noise² + σ_table²) at the nearest hit (the range if nothing is seen). Returns
-        whether any ray was cast (False: nobody is near anything, every response is the
-        baseline, with its noise).
+        √(noise² + σ_table²) at the nearest hit (the range if nothing is seen). When
+        nobody casts (most steps of a line-following run) every response is
+        :attr:`baseline_raw` times ``1 +`` :meth:`far_noise`, and the table look-ups
+        would decide nothing: the caller takes it from there.
         """
         cast, frames = self._broad_phase(poses)
-        if not self.any_rays:
-            # every robot senses with cones (V-REP's model), which write every row:
-            # only the broad phase above was needed, for them
+        if cast is None or not self.any_rays:
+            # (with cones only, V-REP's model, only the broad phase was needed, for them)
             return False
-        if noise <= 0:
-            z = None
-        if cast is None:
-            # Nothing near anyone (most steps of a line-following run): every sensor
-            # reads the far baseline, whose noise σ is fixed, so the table look-ups
-            # decide nothing and are skipped.
-            if z is not None:
-                np.multiply(self._far_sigma(noise), z, out=raw)
-                raw += 1.0
-                raw *= self.baseline_raw
-            else:
-                raw[:] = self.baseline_raw
-            return False
-        nearest = self._respond(cast, frames, raw, z is not None)
-        if z is not None:
+        nearest = self._respond(cast, frames, raw, noise > 0 and z is not None)
+        if noise > 0 and z is not None:
             # the table's own σ at the nearest hit (the range if nothing is seen)
             sigma = np.hypot(noise, np.interp(nearest, _D, _SIGMA))  # relative_sigma
             sigma *= z
             sigma += 1.0
             raw *= sigma
         return True
+
+    def far_noise(self, noise: float, z: FloatArray | None) -> FloatArray | None:
+        """σ·z of sensors that see nothing (they read the range: σ is fixed), or None
+        without noise."""
+        if noise <= 0 or z is None:
+            return None
+        if noise != self._far_sigma_noise:
+            self._far_sigma_value = np.hypot(noise, relative_sigma(self._far_nearest))
+            self._far_sigma_noise = noise
+        return self._far_sigma_value * z
 
     def response(self, poses: Sequence[Sequence[float]]) -> FloatArray:
         """Every sensor's noise-free response at ``poses`` (N×8, as :meth:`sense` fills
@@ -618,10 +616,3 @@ class ProximitySensors:
         near = self._far_nearest.copy()
         near[cast.robots] = np.minimum(dist.min(axis=2), cast.range_col)
         return near
-
-    def _far_sigma(self, noise: float) -> FloatArray:
-        """N×8 relative noise σ of sensors that see nothing (they read the range)."""
-        if noise != self._far_sigma_noise:
-            self._far_sigma_value = np.hypot(noise, relative_sigma(self._far_nearest))
-            self._far_sigma_noise = noise
-        return self._far_sigma_value

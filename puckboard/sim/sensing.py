@@ -118,9 +118,13 @@ class Sensing:
         set by hand).
         """
         # -- IR: the rays of every robot near something, in one cast ----------------------
-        cast = self.proximity.sense(poses, self.prox_raw, noise=self._proximity_noise, z=ir_normals)
-        if self.proximity.any_rays:
-            self.calibration.apply(self.prox_raw, self.prox_distance, anything_cast=cast)
+        noise = self._proximity_noise
+        if self.proximity.sense(poses, self.prox_raw, noise=noise, z=ir_normals):
+            self.calibration.apply(self.prox_raw, self.prox_distance)
+        elif self.proximity.any_rays:
+            # nobody near anything: every response is its baseline, with its noise
+            far = self.proximity.far_noise(noise, ir_normals)
+            self.calibration.apply_to_nothing(self.prox_raw, self.prox_distance, far)
         self.cones.sense(
             poses,
             self.prox_distance,
