@@ -74,5 +74,5 @@ if __name__ == "__main__":
     for name in ("stock", "composed"):
         result = out[name]
         verdict = "passed" if result.success else f"failed: {result.failure}"
-        met = all(robot.passed_other for robot in result.robots)
-        print(f"{name:9s} robots got past each other: {met!s:5}  outcome: {verdict}")
+        met = all(robot.passed_other and robot.collisions == 0 for robot in result.robots)
+        print(f"{name:9s} robots got past each other untouched: {met!s:5}  outcome: {verdict}")

@@ -115,9 +115,10 @@ def test_tutorial_code_runs_in_order_with_the_promised_outcomes(tmp_path: Path) 
     step2 = next(b for b in fenced(page, "text") if "the robots got past each other" in b)
     assert len(step2.strip().splitlines()) == 2, step2
     assert re.search(
-        r"stock +the robots got past each other: False +outcome: failed \(collision\)", out
+        r"stock +the robots got past each other untouched: False +outcome: failed \(collision\)",
+        out,
     )
-    assert re.search(r"improved +the robots got past each other: True ", out), out[-3000:]
+    assert re.search(r"improved +the robots got past each other untouched: True ", out), out[-3000:]
 
     # step 3: who drives when, read from the blackboard, in the order the page describes
     layers = re.findall(r"^t=.*->\s+(\w+)$", out, flags=re.MULTILINE)

@@ -159,8 +159,11 @@ def test_compose_controller_orders_layers_by_priority() -> None:
 
 def test_compose_controller_gets_the_robots_past_each_other_where_stock_collides() -> None:
     out = load("compose_controller").main(duration=40.0)
-    assert out["stock"].failure == "collision"
-    assert not any(r.passed_other for r in out["stock"].robots)
+    stock = out["stock"]
+    assert stock.failure == "collision"
+    # the touch comes at the meeting: any robot that gets past the other does so after it
+    touched = min(e.time_s for e in stock.events if e.kind == "collision")
+    assert all(e.time_s > touched for e in stock.events if e.kind == "passed_other")
     composed = out["composed"]
     assert all(r.passed_other for r in composed.robots)
     assert composed.failure not in ("collision", "parallel_driving", "stuck")

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..blackboard import Blackboard, Namespace
+from ..ir_response import calibrated_from_distance
 from ..profile import EPUCK2, RobotProfile
 from ..records import (
     GRAVITY,
@@ -80,7 +81,12 @@ class FakeClock(Stepper):
 
 
 class FakeAdapter(RobotAdapter):
-    """A robot with settable sensors and ideal kinematics; see the module docstring."""
+    """A robot with settable sensors and ideal kinematics; see the module docstring.
+
+    ``profile`` is what the robot believes it is (its adapter's profile); ``actual``, when
+    given, is what it is as built (a drawn plausible robot): its pose integrates with
+    ``actual``'s wheels and axle, while its encoders follow the command.
+    """
 
     backend_name = "fake"
 
@@ -94,7 +100,9 @@ class FakeAdapter(RobotAdapter):
         pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
         replay: Iterable[Mapping[Sensor, Any]] | None = None,
         command_timeout: float | None = None,
+        actual: RobotProfile | None = None,
     ) -> None:
+        self.actual = actual if actual is not None else profile
         self.clock = clock if clock is not None else FakeClock()
         self.clock.robots.append(self)
         super().__init__(
@@ -124,7 +132,8 @@ class FakeAdapter(RobotAdapter):
                     f"unknown proximity sensor {name!r}; names: {', '.join(PROX_NAMES)}"
                 )
             d[PROX_NAMES.index(name)] = min(max(float(value), 0.0), rng)
-        raw = np.where(d < rng, 4095.0 * (1.0 - d / rng) ** 2, 0.0)
+        # what a calibrated e-puck sends for those distances (0 for nothing)
+        raw = calibrated_from_distance(np.where(d < rng, d, np.inf))
         self._prox = Proximity(d, raw, rng)
 
     def set_ground(self, **values: float) -> None:
@@ -142,9 +151,16 @@ class FakeAdapter(RobotAdapter):
         self._image = CameraImage(pixels)
 
     # -- kinematics ------------------------------------------------------------------------
+    def _velocity(self) -> tuple[float, float]:
+        """The body's (forward m/s, turn rate rad/s) as its wheels, as built, drive it."""
+        left, right = self.wheels
+        radius_left, radius_right = self.actual.wheel_radii
+        v_left, v_right = left * radius_left, right * radius_right
+        return (v_left + v_right) / 2.0, (v_right - v_left) / self.actual.axle_length
+
     def _integrate(self, dt: float) -> None:
         left, right = self.wheels
-        v, w = self.profile.body_velocity(left, right)
+        v, w = self._velocity()
         mid = self.theta + w * dt / 2.0
         self.x += v * dt * math.cos(mid)
         self.y += v * dt * math.sin(mid)
@@ -170,7 +186,7 @@ class FakeAdapter(RobotAdapter):
                 out[s] = Acceleration(0.0, 0.0, GRAVITY)
             elif s is Sensor.GYRO:
                 # ideal kinematics: the body turns exactly as the wheels say, at once
-                out[s] = AngularVelocity(0.0, 0.0, self.profile.body_velocity(*self.wheels)[1])
+                out[s] = AngularVelocity(0.0, 0.0, self._velocity()[1])
             elif s is Sensor.ENCODERS:
                 out[s] = WheelEncoders(*self.encoders)
             elif s is Sensor.WHEEL_SPEEDS:
@@ -217,6 +233,7 @@ def open_fake(
             clock=clock,
             pose=(spec.x, spec.y, spec.theta),
             command_timeout=command_timeout,
+            actual=spec.actual,
         )
         for spec in scene.robots
     }

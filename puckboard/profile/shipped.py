@@ -52,9 +52,11 @@ _PHYSICAL_SOURCES = {
     "±10°/±40°/±160°, ring 30-40.3 mm; Enki ±18°/±45°/±142°, ring 33-35.1 mm",
     "prox_aperture": "15°: GCtronic's per-sensor aperture (Webots proto 0.1 rad)",
     "prox_model": "rays through the Webots E-puckDistanceSensor table, calibrated on a real "
-    "e-puck (puckboard.ir_response), with its relative noise",
-    "prox_max_distance": "50 mm reported (the table: 120 at 5 cm, 67 ambient baseline at 7 cm); "
-    "= the controllers' no-detection distance",
+    "e-puck (puckboard.ir_response), with its relative noise; reported as the firmware's "
+    "calibrated value and the distance it converts to, as on the robot",
+    "prox_max_distance": "50 mm reported: a calibrated value at or below the curve's 53 at "
+    "5 cm reads nothing (the table: 120 at 5 cm, 67 ambient baseline at 7 cm); = the "
+    "controllers' no-detection distance",
     "ground_poses": "Webots E-puckGroundSensors: x = 30 mm, 10 mm apart",
     "ground_footprint": "2 mm: the simulator's floor model; ARGoS samples one point, Enki "
     "blurs its floor with σ = 4 mm",
@@ -106,6 +108,7 @@ EPUCK_VREP = RobotProfile(
     ground_poses=_VREP_GROUND_POSES,
     camera_height=0.0277,
     camera_forward=0.0345,
+    ground_footprint=0.0,
     sources={
         "wheel_radius": "21.18 mm: e-puck.ttm wheel cylinder Ø 42.35 mm (decoded)",
         "axle_length": "54 mm: e-puck.ttm wheel joints at ±27 mm (decoded)",
@@ -118,8 +121,10 @@ EPUCK_VREP = RobotProfile(
         "prox_min_distance": "1.5 mm: the volume's inner radius (decoded)",
         "prox_max_distance": "41.5 mm: inner radius + range 40 mm (decoded)",
         "ground_poses": "ePuck_lightSensor 29.8 mm ahead, pixels -10.3, -0.7, +10.3 mm (decoded)",
-        "ground_footprint": "2 mm: the simulator's floor model (one pixel of the decoded "
-        "vision sensor is 22 mm / 16 = 1.4 mm wide)",
+        "ground_footprint": "0, a point sample: each value is one pixel of the decoded 16×2 "
+        "vision sensor, which V-REP renders with OpenGL into a buffer of exactly that "
+        "resolution, without multisampling (coppeliaSimLib frameBufferObject.cpp), so a "
+        "pixel takes the colour of the surface at its centre",
         "camera": "ePuck_camera 34.5 mm ahead, 27.7 mm high (decoded); field of view "
         "not decoded, Webots' 0.84 rad",
         "max_wheel_speed": "not in the decoded model: the e-puck1's 1000 steps/s, the robot it "

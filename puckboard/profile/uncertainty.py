@@ -222,8 +222,8 @@ _VREP_CERTAIN = {
     "files rescales the model",
     "ir_gain": "a cone sensor reports exact distances: no response to scale",
     "ir_offset": "a cone sensor reports exact distances: no calibration to leave over",
-    "ground_footprint": "the simulator's floor model (one pixel of the decoded vision sensor "
-    "is 1.4 mm wide)",
+    "ground_footprint": "decoded: each ground value is one pixel of a 16×2 image that V-REP "
+    "renders without multisampling, the colour at the pixel's centre",
 }
 _CERTAIN = {"epuck": _PHYSICAL_CERTAIN, "e-puck1": _PHYSICAL_CERTAIN, "epuck-vrep": _VREP_CERTAIN}
 

@@ -17,6 +17,9 @@ robots of the embedded world live in a plane, so the cone becomes a sector:
 A sensor then reads the smallest of those distances if it lies between the profile's
 ``prox_min_distance`` and ``prox_max_distance``, and "nothing" (the profile's
 ``prox_range``) otherwise: an object nearer than 1.5 mm blinds the sensor, as in V-REP.
+Its raw value is what a real e-puck would send for that distance, the calibrated curve
+(:func:`puckboard.ir_response.calibrated_from_distance`), 0 for nothing: V-REP reports
+no such value, and a threshold on ``raw`` then means the same with every profile.
 Everything is computed for all sensors of all cone robots and all objects at once, as
 M×K arrays (M sensors, K objects), a handful of numpy calls per step.
 """
@@ -30,7 +33,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..ir_response import raw_from_distance
+from ..ir_response import calibrated_from_distance
 from ..profile import RobotProfile
 
 __all__ = ["ConeSensors"]
@@ -107,7 +110,7 @@ class ConeSensors:
         self.min_distance = np.repeat([p.prox_min_distance for p in cone], 8)
         self.max_distance = np.repeat([p.prox_max_distance for p in cone], 8)
         self.nothing = np.array([p.prox_range for p in cone])[:, None]  # C×1
-        self.nothing_raw = float(raw_from_distance(np.inf))
+        self.nothing_raw = 0.0  # what a calibrated e-puck sends with nothing in front
         self.static = np.array(static_circles, dtype=float).reshape(-1, 3)
         self.body_radii = np.array([p.body_radius for p in profiles])
         self.seg_a = np.asarray(seg_start, dtype=float).reshape(-1, 2)
@@ -189,7 +192,7 @@ class ConeSensors:
         reading = reading.reshape(-1, 8)
         seen = np.isfinite(reading)
         distance[plan.chosen] = np.where(seen, reading, plan.nothing)
-        raw[plan.chosen] = np.where(seen, raw_from_distance(reading), self.nothing_raw)
+        raw[plan.chosen] = np.where(seen, calibrated_from_distance(reading), self.nothing_raw)
 
     def _plan(
         self,

@@ -8,7 +8,10 @@ line's edge instead of jumping. Modelling the spot as a uniform strip of half-wi
 ``footprint`` across the line gives the covered fraction in closed form (no sampling
 grid, no image resolution to choose) and makes the reading a continuous function of the
 pose, which keeps line followers from chattering on a pixel boundary. Enki blurs its
-floor image with a Gaussian (σ = 4 mm) for the same reason; ARGoS samples one point.
+floor image with a Gaussian (σ = 4 mm) for the same reason; ARGoS samples one point, and
+so does a pixel of V-REP's light sensor: a footprint of 0 reads the line's brightness
+wherever the point lies on the line and the floor's elsewhere. Each robot's profile says
+its ``ground_footprint``; :data:`DEFAULT_FOOTPRINT` is for callers that name none.
 
 Brightness is the colour's luminance (Rec. 601 weights) on a 0..1 scale, so the default
 light floor reads ≈ 0.92 (raw ≈ 940 of 1023, close to the 900 that Webots' line example
@@ -22,6 +25,8 @@ projected on the floor at the e-puck's resolutions.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -32,12 +37,23 @@ __all__ = ["Floor", "luminance"]
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Half-width (m) of a ground sensor's footprint across the line.
+#: Half-width (m) of a ground sensor's footprint across the line, where none is given
+#: (the physical profiles' own value, puckboard.profile).
 DEFAULT_FOOTPRINT = 0.002
 #: Cell size (m) of the camera's line raster.
 RASTER_CELL = 0.002
 #: Cell size (m) of the grid that finds the track segments near a robot.
 GRID_CELL = 0.02
+
+# how brightness_values reads a set of footprints (see Floor._plan_ramps)
+_RampPlan = Literal[False] | tuple[float, float] | list[tuple[float, float] | None]
+
+
+def _check_footprint(footprint: float) -> None:
+    if not 0.0 <= footprint < 0.05:
+        raise ValueError(
+            f"ground sensor footprint must lie in [0, 0.05) m (0: a point sample), got {footprint}"
+        )
 
 
 def luminance(colour: Colour) -> float:
@@ -82,8 +98,7 @@ class Floor:
     """Floor brightness and line raster of one scene; all static data precomputed."""
 
     def __init__(self, scene: Scene, *, footprint: float = DEFAULT_FOOTPRINT) -> None:
-        if footprint <= 0:
-            raise ValueError(f"ground sensor footprint must be positive metres, got {footprint}")
+        _check_footprint(footprint)
         self.footprint = footprint
         self.floor_colour = scene.floor_colour
         self.floor_brightness = luminance(scene.floor_colour)
@@ -107,12 +122,24 @@ class Floor:
         self._grid_reach = -1.0
         self._grid: dict[tuple[int, int], list[int]] = {}
         self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
-        # brightness = offset + slope·d between the line's and the floor's brightness
+        self._ramps_of: dict[tuple[float, ...], _RampPlan] = {}
+
+    def ramp(self, footprint: float) -> tuple[float, float] | None:
+        """(slope, offset) of the reading ``offset + slope·d`` between the line's and the
+        floor's brightness for a sensor of ``footprint`` at distance d from the line's
+        centre (clamped to those two), or None for a point sample (footprint 0)."""
+        if footprint == 0.0:
+            return None
         contrast = self.floor_brightness - self.line_brightness
-        self._slope = contrast / (2.0 * footprint)
-        self._offset = self.floor_brightness - contrast * (self.half_width + footprint) / (
+        slope = contrast / (2.0 * footprint)
+        return slope, self.floor_brightness - contrast * (self.half_width + footprint) / (
             2.0 * footprint
         )
+
+    def _affine(self, footprint: float) -> bool:
+        """Whether a footprint's reading is the clamped ramp (the usual case): the line at
+        least as wide as the footprint and darker than the floor."""
+        return self.half_width >= footprint and self.line_brightness < self.floor_brightness
 
     # -- ground sensors --------------------------------------------------------------------
     def line_distance(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
@@ -137,26 +164,37 @@ class Floor:
         d = np.abs(w)
         return d[0] if near.count == 1 else d.min(axis=0)  # type: ignore[no-any-return]
 
-    def coverage(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
-        """Fraction (0..1) of each sensor footprint centred at ``points`` on the line."""
+    def coverage(
+        self, points: FloatArray, near: _Near | None = None, footprint: float | None = None
+    ) -> FloatArray:
+        """Fraction (0..1) of each sensor footprint centred at ``points`` on the line
+        (``footprint`` default :attr:`footprint`; 0: 1 on the line, else 0)."""
+        rho = self.footprint if footprint is None else footprint
         d = self.line_distance(points, near)
+        if rho == 0.0:
+            return (d <= self.half_width).astype(float)
         # covered length of the footprint strip [d - rho, d + rho] inside [-h, h]
-        overlap = np.minimum(d + self.footprint, self.half_width)
-        overlap -= np.maximum(d - self.footprint, -self.half_width)
-        overlap *= 1.0 / (2.0 * self.footprint)
+        overlap = np.minimum(d + rho, self.half_width)
+        overlap -= np.maximum(d - rho, -self.half_width)
+        overlap *= 1.0 / (2.0 * rho)
         np.maximum(overlap, 0.0, out=overlap)
         return np.minimum(overlap, 1.0, out=overlap)
 
-    def brightness(self, points: FloatArray, near: _Near | None = None) -> FloatArray:
-        """Noise-free ground reading 0..1 at ``points``; ``near`` as in :meth:`line_distance`.
+    def brightness(
+        self, points: FloatArray, near: _Near | None = None, footprint: float | None = None
+    ) -> FloatArray:
+        """Noise-free ground reading 0..1 at ``points``; ``near`` as in :meth:`line_distance`,
+        ``footprint`` as in :meth:`coverage`.
 
         When the line is at least as wide as the footprint (the usual case), the covered
         fraction is ``clip((h + ρ − d) / 2ρ, 0, 1)``, so the reading is an affine function
         of the distance d clamped between the line's and the floor's brightness: four
         numpy calls instead of a dozen.
         """
-        if self.half_width < self.footprint or self.line_brightness >= self.floor_brightness:
-            c = self.coverage(points, near)
+        rho = self.footprint if footprint is None else footprint
+        ramp = self.ramp(rho)
+        if ramp is None or not self._affine(rho):
+            c = self.coverage(points, near, rho)
             c *= self.line_brightness - self.floor_brightness
             c += self.floor_brightness
             return c
@@ -165,32 +203,77 @@ class Floor:
             # exactly the floor's, which the clamped line below would also give
             return np.full(points.shape[0], self.floor_brightness)
         d = self.line_distance(points, near)
-        d *= self._slope
-        d += self._offset
+        d *= ramp[0]
+        d += ramp[1]
         np.maximum(d, self.line_brightness, out=d)
         return np.minimum(d, self.floor_brightness, out=d)
 
-    def brightness_values(self, points: FloatArray, near: _Near | None = None) -> list[float]:
-        """:meth:`brightness` as plain floats, for the handful of points a world senses.
+    def brightness_values(
+        self,
+        points: FloatArray,
+        near: _Near | None = None,
+        footprints: Sequence[float] | None = None,
+    ) -> list[float]:
+        """:meth:`brightness` as plain floats, for the handful of points a world senses,
+        each point with its own footprint (``footprints``, one per point; default
+        :attr:`footprint` for all).
 
         The affine reading and its two clamps are three float operations per point: on
         six ground sensors, four numpy calls cost more than doing them in Python. The
         operations and their order are those of :meth:`brightness`, so are the results.
         """
-        if self.half_width < self.footprint or self.line_brightness >= self.floor_brightness:
-            return self.brightness(points, near).tolist()  # type: ignore[no-any-return]
+        if footprints is None:
+            footprints = (self.footprint,) * points.shape[0]
+        plan = self._ramps_of.get(tuple(footprints))
+        if plan is None:
+            plan = self._plan_ramps(footprints)
+        if plan is False:  # a line narrower than a spot: the general coverage, one by one
+            return [
+                float(self.brightness(points[k : k + 1], near, f)[0])
+                for k, f in enumerate(footprints)
+            ]
         if near is not None and near.count == 0:
             return [self.floor_brightness] * points.shape[0]
-        slope, offset = self._slope, self._offset
         low, high = self.line_brightness, self.floor_brightness
+        distances = self.line_distance(points, near).tolist()
+        if isinstance(plan, tuple):  # one footprint for every point (the usual case)
+            slope, offset = plan
+            values = []
+            for d in distances:
+                v = d * slope + offset
+                v = low if v < low else v
+                values.append(high if v > high else v)
+            return values
+        h = self.half_width
         values = []
-        for d in self.line_distance(points, near).tolist():
-            v = d * slope + offset
+        for d, ramp in zip(distances, plan):
+            if ramp is None:  # a point sample
+                values.append(low if d <= h else high)
+                continue
+            v = d * ramp[0] + ramp[1]
             v = low if v < low else v
             values.append(high if v > high else v)
         return values
 
-    def segments_near(self, centres: list[tuple[float, float]], reach: float) -> _Near:
+    def _plan_ramps(self, footprints: Sequence[float]) -> _RampPlan:
+        """How :meth:`brightness_values` reads points of these footprints: False (the
+        general coverage), one (slope, offset) for all, or one ramp (None: a point
+        sample) per point."""
+        plan: _RampPlan
+        if not all(self._affine(f) for f in footprints):
+            plan = False
+        elif len(set(footprints)) == 1 and footprints[0] > 0.0:
+            ramp = self.ramp(footprints[0])
+            assert ramp is not None  # a footprint above 0 has a ramp
+            plan = ramp
+        else:
+            plan = [self.ramp(f) for f in footprints]
+        self._ramps_of[tuple(footprints)] = plan
+        return plan
+
+    def segments_near(
+        self, centres: list[tuple[float, float]], reach: float, footprint: float | None = None
+    ) -> _Near:
         """Track segments that include every segment within ``reach`` (m) of ``centres``.
 
         A track can have hundreds of segments, and measuring the distance to all of them
@@ -201,10 +284,12 @@ class Floor:
         lists are a superset of what can matter, so readings are exactly those of a
         search over all segments. ``reach`` is the largest distance of a ground sensor
         from the point passed in ``centres`` (the world passes the centroid of each
-        robot's ground sensors).
+        robot's ground sensors), ``footprint`` the largest footprint read there
+        (default :attr:`footprint`).
         """
-        if reach != self._grid_reach:
-            self._build_grid(reach)
+        grow = reach + (self.footprint if footprint is None else footprint)
+        if grow != self._grid_reach:
+            self._build_grid(grow)
         inv = 1.0 / GRID_CELL
         key = tuple([(math.floor(x * inv), math.floor(y * inv)) for x, y in centres])
         joined = self._joined.get(key)
@@ -224,7 +309,7 @@ class Floor:
         return joined
 
     def _build_grid(self, reach: float) -> None:
-        grow = reach + self.half_width + self.footprint
+        grow = reach + self.half_width
         grid: dict[tuple[int, int], list[int]] = {}
         inv = 1.0 / GRID_CELL
         ends = self.seg_start + self.seg_vector

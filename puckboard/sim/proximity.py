@@ -16,15 +16,15 @@ cached per outcome), and in numpy for more: robot pairs from :mod:`.broadphase` 
 array test per kind of static object. It also tells the cone sensors (:mod:`.cone`)
 which of their robots have something within their own, shorter reach, and what.
 
-Per sensor the model reports the nearest hit over its rays (V-REP's semantics: exactly
-the range when nothing is seen) and a raw e-puck value, the Gaussian-weighted mean of the
-rays' responses through the Webots table (:mod:`.ir`), with relative noise.
+Per sensor the model computes what its photodiode reads: the Gaussian-weighted mean of
+the rays' responses through the Webots table (:mod:`puckboard.ir_response`), times the
+sensor's gain, with relative noise. What the robot makes of it (the firmware's
+calibration, the distance) is :mod:`.ir_calibration`'s.
 
 Every hit is computed with the same arithmetic for each (ray, object) pair whatever else
 is cast with it, and a ray's nearest hit is a minimum, which does not depend on the order
 or the number of candidates: so the readings do not depend on how the broad phase groups
-the work (tests/sim/test_sim_broadphase.py compares the two broad phases, and the pinned
-references in tests/sim/test_stack_reference.py did not move).
+the work (tests/sim/test_sim_broadphase.py compares the two broad phases).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..ir_response import _D, _RAW, _SIGMA, RAW_MAX, TABLE_RANGE, raw_from_distance, relative_sigma
+from ..ir_response import _D, _RAW, _SIGMA, TABLE_RANGE, raw_from_distance, relative_sigma
 from ..profile import RobotProfile
 from .broadphase import close_pairs
 from .geometry import circle_hits, segment_hits
@@ -148,6 +148,7 @@ class ProximitySensors:
         self.cone_candidates: dict[int, tuple[tuple[int, ...], tuple[int, ...]]] = {}
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
+        self._far_nearest = np.repeat(self.range, 8, axis=1)  # what nothing seen reads
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))
 
         origin_x = np.zeros((n, 8 * rays))
@@ -160,7 +161,8 @@ class ProximitySensors:
             half = p.prox_aperture / 2
             offsets = np.linspace(-half, half, rays) if rays > 1 else np.zeros(1)
             # Webots combines a sensor's rays with Gaussian weights; σ = aperture/4 puts
-            # the outermost rays at two standard deviations.
+            # the outermost rays at two standard deviations. Each sensor's gain scales
+            # its weights: the response costs no multiplication more per step.
             sigma = max(p.prox_aperture / 4.0, 1e-9)
             w = np.exp(-0.5 * (offsets / sigma) ** 2)
             for s, pose in enumerate(p.prox_poses):
@@ -168,11 +170,12 @@ class ProximitySensors:
                 origin_x[i, cols] = pose.x
                 origin_y[i, cols] = pose.y
                 angle[i, cols] = pose.heading + offsets
-                weights[i, s] = w / w.sum()
+                weights[i, s] = w / w.sum() * p.ir_gain[s]
         self._local_origin = origin_x + 1j * origin_y
         self._local_direction = np.exp(1j * angle)
         self._weights = weights
-        #: what a sensor reads when its rays hit nothing: the table's far baseline
+        #: what a sensor reads when its rays hit nothing: its gain times the table's far
+        #: baseline (summed as a response is, so a free sensor reads exactly this)
         self.baseline_raw = (raw_from_distance(np.inf) * weights).sum(axis=2)
         # how far from a robot's centre its rays can reach
         offset = max(math.hypot(q.x, q.y) for p in profiles for q in p.prox_poses)
@@ -209,7 +212,7 @@ class ProximitySensors:
         ]
         self._cache: dict[tuple[tuple[int, tuple[int, ...], tuple[int, ...]], ...], _Cast] = {}
         self._far_sigma_noise = math.nan
-        self._far_sigma_value = np.zeros((n, 8))
+        self._far_sigma_value = self._far_nearest
         self._build_vector_tables()
 
     def _build_vector_tables(self) -> None:
@@ -482,18 +485,61 @@ class ProximitySensors:
     def sense(
         self,
         poses: Sequence[Sequence[float]],
-        distance: FloatArray,
         raw: FloatArray,
         *,
         noise: float = 0.0,
         z: FloatArray | None = None,
-    ) -> None:
-        """Fill ``distance`` (N×8 m) and ``raw`` (N×8) for robots at ``poses`` (x, y, θ).
+    ) -> bool:
+        """Fill ``raw`` (N×8) with each sensor's response for robots at ``poses`` (x, y, θ);
+        False, and ``raw`` left as it is, when nobody is near anything.
 
-        The robots' bodies are circles at ``poses``. With ``noise`` > 0, ``z`` (N×8 standard normals) perturbs the readings: raw by the
-        relative σ √(noise² + σ_table²), a seen distance by −½·noise·z (raw falls roughly
-        as 1/d², so a high reading means "closer"); an empty reading stays at the range.
+        The robots' bodies are circles at ``poses``. A response is ``gain · Σ w·T(d)`` over
+        the sensor's rays, on the table's scale (the ambient baseline ≈67 included: what
+        the photodiode reads before the firmware subtracts its calibration). With
+        ``noise`` > 0, ``z`` (N×8 standard normals) multiplies it by ``1 + σ·z``, σ =
+        √(noise² + σ_table²) at the nearest hit (the range if nothing is seen). When
+        nobody casts (most steps of a line-following run) every response is
+        :attr:`baseline_raw` times ``1 +`` :meth:`far_noise`, and the table look-ups
+        would decide nothing: the caller takes it from there.
         """
+        cast, frames = self._broad_phase(poses)
+        if cast is None or not self.any_rays:
+            # (with cones only, V-REP's model, only the broad phase was needed, for them)
+            return False
+        nearest = self._respond(cast, frames, raw, noise > 0 and z is not None)
+        if noise > 0 and z is not None:
+            # the table's own σ at the nearest hit (the range if nothing is seen)
+            sigma = np.hypot(noise, np.interp(nearest, _D, _SIGMA))  # relative_sigma
+            sigma *= z
+            sigma += 1.0
+            raw *= sigma
+        return True
+
+    def far_noise(self, noise: float, z: FloatArray | None) -> FloatArray | None:
+        """σ·z of sensors that see nothing (they read the range: σ is fixed), or None
+        without noise."""
+        if noise <= 0 or z is None:
+            return None
+        if noise != self._far_sigma_noise:
+            self._far_sigma_value = np.hypot(noise, relative_sigma(self._far_nearest))
+            self._far_sigma_noise = noise
+        return self._far_sigma_value * z
+
+    def response(self, poses: Sequence[Sequence[float]]) -> FloatArray:
+        """Every sensor's noise-free response at ``poses`` (N×8, as :meth:`sense` fills
+        ``raw``), in a new array: what a calibration averages its many samples to."""
+        raw = np.empty((self.n, 8))
+        cast, frames = self._broad_phase(poses)
+        if cast is None or not self.any_rays:
+            raw[:] = self.baseline_raw
+        else:
+            self._respond(cast, frames, raw, False)
+        return raw
+
+    def _broad_phase(
+        self, poses: Sequence[Sequence[float]]
+    ) -> tuple[_Cast | None, npt.NDArray[np.complex128] | None]:
+        """This step's cast and each casting robot's (position, rotation) as complex numbers."""
         n_static = self.n_static
         frames = None
         if self.n <= PYTHON_BROAD_PHASE_MAX:
@@ -502,7 +548,6 @@ class ProximitySensors:
                 if cast.circle_rows is not None:
                     for i in range(self.n):
                         self._centres[n_static + i] = poses[i][:2]
-                # each casting robot's position and rotation as complex numbers
                 frames = np.array(
                     [
                         (complex(poses[i][0], poses[i][1]), cmath.exp(1j * poses[i][2]))
@@ -521,103 +566,53 @@ class ProximitySensors:
                 frames[:, 0].real = cast_poses[:, 0]
                 frames[:, 0].imag = cast_poses[:, 1]
                 frames[:, 1] = np.exp(1j * cast_poses[:, 2])
-        if not self.any_rays:
-            # every robot senses with cones (V-REP's model), which write every row:
-            # only the broad phase above was needed, for them
-            return
-        if noise <= 0:
-            z = None
-        if cast is None:
-            # Nothing near anyone (most steps of a line-following run): every sensor
-            # reads the range and the far baseline, whose noise σ is fixed, so the
-            # table look-ups and the "seen" test decide nothing and are skipped.
-            distance[:] = self.range
-            if z is not None:
-                np.multiply(self._far_sigma(noise), z, out=raw)
-                raw += 1.0
-                raw *= self.baseline_raw
-            else:
-                raw[:] = self.baseline_raw
-        else:
-            # rays as complex numbers: origin = position + rotation·local, direction =
-            # rotation·local direction (fewer numpy calls than separate x and y)
-            assert frames is not None
-            position = frames[:, 0:1]
-            rotation = frames[:, 1:2]
-            origin = position + rotation * cast.local_origin  # k robots × 8·rays
-            direction = rotation * cast.local_direction
-            # one row per (robot, candidate object): that robot's rays against it
-            hits = []
-            if cast.circle_rows is not None:
-                rows = cast.circle_rows
-                o, d = origin[rows], direction[rows]
-                centres = self._centres[cast.circle_index]
-                hits.append(
-                    circle_hits(
-                        o.real,
-                        o.imag,
-                        d.real,
-                        d.imag,
-                        centres[:, 0:1],
-                        centres[:, 1:2],
-                        cast.circle_radii_sq,
-                    )
-                )
-            if cast.seg_rows is not None:
-                rows = cast.seg_rows
-                o, d = origin[rows], direction[rows]
-                hits.append(
-                    segment_hits(
-                        o.real,
-                        o.imag,
-                        d.real,
-                        d.imag,
-                        cast.seg_ax,
-                        cast.seg_ay,
-                        cast.seg_ex,
-                        cast.seg_ey,
-                    )
-                )
-            if not cast.every_robot:
-                # the robots that cast no ray see nothing this step; the cast below
-                # overwrites only the rows of those that do
-                distance[:] = self.range
-                raw[:] = self.baseline_raw
-            # the nearest hit of each ray over its robot's rows
-            allt = hits[0] if len(hits) == 1 else np.concatenate(hits, axis=0)
-            if cast.order is not None:
-                allt = allt[cast.order]
-            nearest = (
-                allt if cast.starts is None else np.minimum.reduceat(allt, cast.starts, axis=0)
-            )
-            dist = nearest.reshape(len(cast.robot_list), 8, self.rays)
-            # Hits beyond the cast length need no masking: the table keeps its last
-            # value beyond TABLE_RANGE (as for ``inf``), and the distance is capped
-            # at the range, which the cast length is at least.
-            if cast.every_robot:
-                np.minimum(dist.min(axis=2), self.range, out=distance)
-                np.multiply(np.interp(dist, _D, _RAW), cast.weights).sum(axis=2, out=raw)
-            else:
-                distance[cast.robots] = np.minimum(dist.min(axis=2), cast.range_col)
-                raw[cast.robots] = (np.interp(dist, _D, _RAW) * cast.weights).sum(axis=2)
-            if z is not None:
-                seen = distance < self.range
-                # the table's own σ at the reported distance (the range if nothing is seen)
-                sigma = np.hypot(noise, np.interp(distance, _D, _SIGMA))  # relative_sigma
-                raw *= 1.0 + sigma * z
-                # no test for "anything seen" first: on the two-robot pass something is
-                # seen in 95 % of the steps that cast, and the masked copy handles neither
-                noisy_distance = np.minimum(distance * (1.0 - 0.5 * noise * z), self.range)
-                np.copyto(distance, noisy_distance, where=seen)
-                np.maximum(distance, 0.0, out=distance)
-        # two ufuncs: np.clip's Python wrapper costs more than the clamping itself
-        np.maximum(raw, 0.0, out=raw)
-        np.minimum(raw, RAW_MAX, out=raw)
+        return cast, frames
 
-    def _far_sigma(self, noise: float) -> FloatArray:
-        """N×8 relative noise σ of sensors that see nothing (they read the range)."""
-        if noise != self._far_sigma_noise:
-            at_range = np.broadcast_to(self.range, (self.n, 8))
-            self._far_sigma_value = np.hypot(noise, relative_sigma(at_range))
-            self._far_sigma_noise = noise
-        return self._far_sigma_value
+    def _respond(
+        self,
+        cast: _Cast,
+        frames: npt.NDArray[np.complex128] | None,
+        raw: FloatArray,
+        want_nearest: bool,
+    ) -> FloatArray:
+        """Cast the rays of ``cast`` and write every robot's response into ``raw``; with
+        ``want_nearest``, also return each sensor's nearest hit capped at the range (N×8)."""
+        # rays as complex numbers: origin = position + rotation·local, direction =
+        # rotation·local direction (fewer numpy calls than separate x and y)
+        assert frames is not None
+        position = frames[:, 0:1]
+        rotation = frames[:, 1:2]
+        origin = position + rotation * cast.local_origin  # k robots × 8·rays
+        direction = rotation * cast.local_direction
+        # one row per (robot, candidate object): that robot's rays against it
+        hits = []
+        if cast.circle_rows is not None:
+            o, d = origin[cast.circle_rows], direction[cast.circle_rows]
+            c, r2 = self._centres[cast.circle_index], cast.circle_radii_sq
+            hits.append(circle_hits(o.real, o.imag, d.real, d.imag, c[:, 0:1], c[:, 1:2], r2))
+        if cast.seg_rows is not None:
+            o, d = origin[cast.seg_rows], direction[cast.seg_rows]
+            ends = (cast.seg_ax, cast.seg_ay, cast.seg_ex, cast.seg_ey)
+            hits.append(segment_hits(o.real, o.imag, d.real, d.imag, *ends))
+        # the nearest hit of each ray over its robot's rows
+        allt = hits[0] if len(hits) == 1 else np.concatenate(hits, axis=0)
+        if cast.order is not None:
+            allt = allt[cast.order]
+        nearest = allt if cast.starts is None else np.minimum.reduceat(allt, cast.starts, axis=0)
+        dist = nearest.reshape(len(cast.robot_list), 8, self.rays)
+        # Hits beyond the table need no masking: it keeps its last value beyond
+        # TABLE_RANGE (as for ``inf``), and the nearest hit is capped at the range.
+        # The weights carry each sensor's gain.
+        if cast.every_robot:
+            np.multiply(np.interp(dist, _D, _RAW), cast.weights).sum(axis=2, out=raw)
+            if want_nearest:
+                return np.minimum(dist.min(axis=2), self.range)
+            return self._far_nearest
+        # the robots that cast no ray see nothing this step
+        raw[:] = self.baseline_raw
+        raw[cast.robots] = (np.interp(dist, _D, _RAW) * cast.weights).sum(axis=2)
+        if not want_nearest:
+            return self._far_nearest
+        near = self._far_nearest.copy()
+        near[cast.robots] = np.minimum(dist.min(axis=2), cast.range_col)
+        return near

@@ -3,12 +3,13 @@
 A world senses after every step, for every robot, whether or not anyone reads: the
 readings must describe the state at the end of the step, and the random numbers drawn
 for their noise must not depend on who is watching. So the pass is built for all robots
-together: the IR rays of every robot near something in one cast (:mod:`.proximity`), the
-exact cones of robots with V-REP's sensing model after them (:mod:`.cone`), and all
-ground sensors in one query of the nearby track segments (:mod:`.floor`).
+together: the IR rays of every robot near something in one cast (:mod:`.proximity`), then
+what each robot's firmware makes of them (:mod:`.ir_calibration`), the exact cones of
+robots with V-REP's sensing model after them (:mod:`.cone`), and all ground sensors in
+one query of the nearby track segments (:mod:`.floor`).
 
-:class:`Sensing` holds where each sensor sits (from the robots' profiles) and writes the
-readings into four N×k arrays, in place, so that a view of a row stays live.
+:class:`Sensing` holds where each sensor sits (from the robots' profiles, as built) and
+writes the readings into four N×k arrays, in place, so that a view of a row stays live.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import numpy.typing as npt
 from ..profile import RobotProfile
 from .cone import ConeSensors
 from .floor import Floor
+from .ir_calibration import IrCalibration
 from .proximity import ProximitySensors
 from .surfaces import Surfaces
 
@@ -34,7 +36,8 @@ class Sensing:
     """The IR and ground sensors of every robot of a world; see the module docstring.
 
     ``rays`` rays per IR sensor; ``proximity_noise`` and ``ground_noise`` are the
-    scene's σ, applied to the normals the world draws each step.
+    scene's σ, applied to the normals the world draws each step. ``ground_footprint``,
+    when given, replaces every profile's own (m, 0: a point sample).
     """
 
     def __init__(
@@ -46,6 +49,7 @@ class Sensing:
         rays: int,
         proximity_noise: float,
         ground_noise: float,
+        ground_footprint: float | None = None,
     ) -> None:
         for p in profiles:
             if len(p.ground_poses) != 3:
@@ -63,6 +67,7 @@ class Sensing:
             polygons=surfaces.polygons,
             walls=surfaces.walls,
         )
+        self.calibration = IrCalibration(profiles, self.proximity.baseline_raw)
         # robots whose profile senses as V-REP does: exact cones, computed after the rays
         cone_robots = [i for i, p in enumerate(profiles) if p.prox_model == "cone"]
         self.cones = ConeSensors(
@@ -83,8 +88,15 @@ class Sensing:
             for g, m in zip(self._ground_local, self._ground_mid)
             for q in g
         )
+        # each ground sensor's footprint (three per robot, robot-major like the readings)
+        self._footprints = tuple(
+            float(p.ground_footprint if ground_footprint is None else ground_footprint)
+            for p in profiles
+            for _ in range(3)
+        )
+        self._widest = max(self._footprints)
         self._no_track = floor.seg_start.shape[0] == 0
-        self._floor_values = floor.brightness_values(np.zeros((3 * n, 2)))
+        self._floor_values = floor.brightness_values(np.zeros((3 * n, 2)), None, self._footprints)
         #: N×8 IR distances (m) and raw values, N×3 ground brightness (0..1) and raw values
         self.prox_distance = np.zeros((n, 8))
         self.prox_raw = np.zeros((n, 8))
@@ -106,13 +118,13 @@ class Sensing:
         set by hand).
         """
         # -- IR: the rays of every robot near something, in one cast ----------------------
-        self.proximity.sense(
-            poses,
-            self.prox_distance,
-            self.prox_raw,
-            noise=self._proximity_noise,
-            z=ir_normals,
-        )
+        noise = self._proximity_noise
+        if self.proximity.sense(poses, self.prox_raw, noise=noise, z=ir_normals):
+            self.calibration.apply(self.prox_raw, self.prox_distance)
+        elif self.proximity.any_rays:
+            # nobody near anything: every response is its baseline, with its noise
+            far = self.proximity.far_noise(noise, ir_normals)
+            self.calibration.apply_to_nothing(self.prox_raw, self.prox_distance, far)
         self.cones.sense(
             poses,
             self.prox_distance,
@@ -138,8 +150,8 @@ class Sensing:
                     points.append(complex(x + c * lx - s * ly, y + s * lx + c * ly))
                 mx, my = self._ground_mid[i]
                 centres.append((x + c * mx - s * my, y + s * mx + c * my))
-            near = self.floor.segments_near(centres, self._ground_reach)
-            values = self.floor.brightness_values(np.array(points), near)
+            near = self.floor.segments_near(centres, self._ground_reach, self._widest)
+            values = self.floor.brightness_values(np.array(points), near, self._footprints)
         # The 3N readings stay flat (robot-major, as the N×3 arrays store them). Noise,
         # clamping and the raw scale are a few float operations per reading: plain
         # floats, in the order the arrays would apply them, cost less than numpy calls.
@@ -149,3 +161,11 @@ class Sensing:
         values = [0.0 if v < 0.0 else 1.0 if v > 1.0 else v for v in values]
         self._ground_flat[:] = values
         self._ground_raw_flat[:] = [v * 1023.0 for v in values]
+
+    def recalibrate_ir(self, i: int, poses: list[list[float]]) -> None:
+        """Robot ``i`` re-measures its IR baselines at ``poses``, as the e-puck2 firmware
+        does on request (:meth:`.ir_calibration.IrCalibration.recalibrate`); a robot with
+        V-REP's cone sensors has no baselines and is left as it is."""
+        if self.proximity.casts[i]:
+            response = self.proximity.response(poses)[i]
+            self.calibration.recalibrate(i, response, self.prox_raw, self.prox_distance)

@@ -6,12 +6,18 @@ synchronously (it satisfies the stepping protocol every embedded robot shares,
 
 1. lets the ground act on each robot's wheel command: times ``1 + σ·N(0, 1)``
    wheel-speed noise, clamped to the profile's limit;
-2. moves every robot along its exact arc (:mod:`.kinematics`), in sub-steps short enough
-   that nothing can tunnel, resolving contacts after each (:mod:`.contacts`);
+2. moves every robot along its exact arc (:mod:`.kinematics`), each wheel rolling its
+   own true radius, in sub-steps short enough that nothing can tunnel, resolving
+   contacts after each (:mod:`.contacts`);
 3. updates the encoders (the commanded rotation), the accelerometers (the velocity
    change), the gyros (the heading change) and the collision counts;
 4. senses: every IR and ground sensor of every robot in a few vectorised calls
    (:mod:`.sensing`).
+
+Each robot is simulated as it is built (:attr:`World.actual`: the scene's
+``RobotSpec.actual`` when a plausible robot was drawn, else its profile), while
+:attr:`World.profiles` keeps what the robot believes it is (the scene's profile, with
+its overrides): the adapters, and with them odometry and unit conversions, use that.
 
 The results live in N×k arrays (``poses``, ``prox_distance``, ``ground`` ...), written in
 place, so a read-only view of a robot's rows (:meth:`World.robot_arrays`) stays live. The
@@ -84,7 +90,7 @@ class RobotArrays(NamedTuple):
     wheel_speeds: FloatArray  #: left, right (rad/s)
     encoders: FloatArray  #: left, right accumulated rotation (rad)
     prox_distance: FloatArray  #: ps0..ps7 (m; exactly the range where nothing is seen)
-    prox_raw: FloatArray  #: ps0..ps7 on the e-puck's scale
+    prox_raw: FloatArray  #: ps0..ps7 calibrated, as an e-puck sends them (0 nothing .. 4095)
     ground: FloatArray  #: left, centre, right brightness (0..1)
     ground_raw: FloatArray  #: left, centre, right on the e-puck's scale (0..1023)
     acceleration: FloatArray  #: robot frame (m/s², gravity on z)
@@ -95,8 +101,9 @@ class World:
     """A simulated scene; see the module docstring.
 
     ``ir_rays`` rays per IR sensor (odd, so one looks straight ahead) and
-    ``ground_footprint`` (m, half-width of a ground sensor's spot) tune the sensor
-    models; the defaults are documented in docs/simulator.md.
+    ``ground_footprint`` (m, half-width of a ground sensor's spot, 0 for a point
+    sample; replaces every profile's own when given) tune the sensor models; the
+    defaults are documented in docs/simulator.md.
     """
 
     def __init__(
@@ -125,15 +132,22 @@ class World:
         self.robot_names: tuple[str, ...] = tuple(r.name for r in scene.robots)
         if len(set(self.robot_names)) != len(self.robot_names):
             raise ValueError(f"robot names must be unique, got {list(self.robot_names)}")
+        #: what each robot believes it is: the scene's profile (with its overrides)
         self.profiles: tuple[RobotProfile, ...] = tuple(
             get_profile(r.profile) for r in scene.robots
         )
+        #: what each robot is, as built: what the world simulates
+        self.actual: tuple[RobotProfile, ...] = tuple(
+            r.actual if r.actual is not None else p for r, p in zip(scene.robots, self.profiles)
+        )
         self.n = len(scene.robots)
-        # the profiles' numbers the step's loops read, as plain floats
-        self._wheel_radius = tuple(float(p.wheel_radius) for p in self.profiles)
-        self._axle = tuple(float(p.axle_length) for p in self.profiles)
-        self._max_wheel = tuple(float(p.max_wheel_speed) for p in self.profiles)
-        self._body_radius = tuple(float(p.body_radius) for p in self.profiles)
+        # the numbers the step's loops read, as plain floats
+        self._wheel_radii = tuple(
+            (float(p.wheel_radii[0]), float(p.wheel_radii[1])) for p in self.actual
+        )
+        self._axle = tuple(float(p.axle_length) for p in self.actual)
+        self._max_wheel = tuple(float(p.max_wheel_speed) for p in self.actual)
+        self._body_radius = tuple(float(p.body_radius) for p in self.actual)
         noise = scene.noise
         self._noise_wheel = float(noise.wheel_speed)
         self._noisy = self._noise_wheel > 0 or noise.proximity > 0 or noise.ground > 0
@@ -149,14 +163,20 @@ class World:
         self.statics = Statics(scene.obstacles, scene.arena)
         surfaces = stack_surfaces(scene, np.array(self._body_radius))
         self.sensing = Sensing(
-            self.profiles,
+            self.actual,
             self.floor,
             surfaces,
             rays=ir_rays,
             proximity_noise=float(noise.proximity),
             ground_noise=float(noise.ground),
+            ground_footprint=ground_footprint,
         )
-        self._cameras = RobotCameras(self.floor, surfaces, self.profiles, scene.camera_size)
+        #: each robot's ground-sensor footprint (m), as the world reads its floor
+        self.ground_footprints: tuple[float, ...] = tuple(
+            float(p.ground_footprint if ground_footprint is None else ground_footprint)
+            for p in self.actual
+        )
+        self._cameras = RobotCameras(self.floor, surfaces, self.actual, scene.camera_size)
         # the first contact check and sensor pass describe the start pose (time 0)
         self._resolve_start_contacts()
         self.sensing.sense(self._pose_list, None, None)
@@ -292,12 +312,13 @@ class World:
 
     @property
     def prox_distance(self) -> FloatArray:
-        """N×8 IR distances (m, ps0..ps7); exactly the range where nothing is seen."""
+        """N×8 IR distances (m, ps0..ps7), converted from the calibrated values as a robot's
+        software does (V-REP's cones: exact); exactly the range where nothing is seen."""
         return self._views["prox_distance"]
 
     @property
     def prox_raw(self) -> FloatArray:
-        """N×8 raw IR values on the e-puck scale (≈67 nothing .. 4095 touching)."""
+        """N×8 calibrated IR values, as an e-puck sends them (≈0 nothing .. 4095 touching)."""
         return self._views["prox_raw"]
 
     @property
@@ -368,14 +389,22 @@ class World:
             self._gyro_z[i] = 0.0
             self.sensing.sense(self._pose_list, None, None)
 
+    def recalibrate_ir(self, i: int) -> None:
+        """Robot ``i`` re-measures its IR baselines where it stands, as the e-puck2 firmware
+        does on request: in free space that zeroes its sensors' offsets; an object in front
+        of a sensor blinds it later. Its readings now are those just after calibrating."""
+        with self._lock:
+            self.sensing.recalibrate_ir(i, self._pose_list)
+
     # -- the step ------------------------------------------------------------------------------
     def _step_once(self) -> None:
         n = self.n
         z = self.rng.standard_normal(n * NORMALS_PER_ROBOT) if self._noisy else None
         # The e-puck's steppers turn the wheels exactly as commanded; the noise is the
-        # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned. So the
-        # step counters (encoders) and reported wheel speeds follow the command, and
-        # odometry drifts as it does on the real robot.
+        # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned, and
+        # each wheel rolls its own true radius. So the step counters (encoders) and
+        # reported wheel speeds follow the command, and odometry drifts as it does on the
+        # real robot.
         commanded = list(self._command)
         old = [(p[0], p[1], p[2]) for p in self._pose_list]
         touched = self._move(self._slipped(commanded, z))
@@ -421,8 +450,9 @@ class World:
         forward = [0.0] * n
         turn = [0.0] * n
         for i, (left_wheel, right_wheel) in enumerate(wheels):
-            left = left_wheel * self._wheel_radius[i]
-            right = right_wheel * self._wheel_radius[i]
+            radius_left, radius_right = self._wheel_radii[i]
+            left = left_wheel * radius_left
+            right = right_wheel * radius_right
             forward[i] = 0.5 * (left + right)
             turn[i] = (right - left) / self._axle[i]
         fastest = max(abs(v) for v in forward) * dt

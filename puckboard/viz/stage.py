@@ -413,11 +413,13 @@ class Stage:
 
 
 def _profile_of(scene: Any, name: str) -> Any:
+    """Robot ``name`` as built (its drawn truth if it has one): what the stage draws."""
     if scene is not None:
         for spec in getattr(scene, "robots", ()):
             if spec.name == name:
                 try:
-                    return get_profile(spec.profile)
+                    actual = getattr(spec, "actual", None)
+                    return actual if actual is not None else get_profile(spec.profile)
                 except (KeyError, ValueError):
                     break
     return EPUCK2

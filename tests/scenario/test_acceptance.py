@@ -70,7 +70,7 @@ OUTSIDE_ROBOT = "right"
 @pytest.mark.slow
 @pytest.mark.parametrize("improved_runs", ["epuck-vrep"], indirect=True)
 def test_improved_passes_two_robot_pass_on_most_seeds_with_vrep_s_model(improved_runs):
-    """Measured with epuck-vrep: 140 of seeds 0..199 (70 %, 95 % interval 63-76 %), 16 of
+    """Measured with epuck-vrep: 133 of seeds 0..199 (66.5 %, 95 % interval 60-73 %), 15 of
     seeds 0..19. The floor, 10 of 20, is far enough below that only a real regression
     trips it."""
     _, runs = improved_runs
@@ -82,9 +82,9 @@ def test_improved_passes_two_robot_pass_on_most_seeds_with_vrep_s_model(improved
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "measured with the physical e-puck's geometry (epuck): improved finds the line again "
-        "on 8 of seeds 0..199 (4 %, 95 % interval 2-8 %), 0 of 0..19; the robots pass each "
-        "other cleanly every time and then lose the line (lost_line). See docs/controllers.md."
+        "measured with the physical e-puck (epuck): improved finds the line again on 15 of "
+        "seeds 0..199 (7.5 %, 95 % interval 5-12 %), 1 of 0..19; the robots pass each other "
+        "cleanly every time and then lose the line (lost_line). See docs/controllers.md."
     ),
 )
 def test_improved_passes_two_robot_pass_on_most_seeds_with_the_physical_e_puck():
@@ -125,7 +125,8 @@ def test_improved_passes_without_noise_with_vrep_s_model_as_in_the_thesis_run(sc
 
 @pytest.mark.slow
 def test_without_noise_the_physical_e_puck_still_loses_the_line():
-    """Measured: with the physical geometry the noise-free run fails too (lost_line)."""
+    """Measured: with the physical e-puck the noise-free run on the straight fails too
+    (lost_line); the one in the bend passes."""
     result = run("two-robot-pass", "improved", profile="epuck", **QUIET)
     assert result.failures == ["lost_line"], result.failures
     assert all(m.passed_other for m in result.robots)
@@ -142,9 +143,12 @@ def tutorial_controller_file(tmp_path: Path) -> Path:
 
 
 @pytest.mark.slow
-def test_one_line_search_layer_recovers_the_seeds_improved_loses(improved_runs, tmp_path):
+def test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses(improved_runs, tmp_path):
     """The failure is the controller's, not the scene's: the tutorial's controller (the
-    improved layers plus ``FindLineOnTheRight``) passes where improved failed."""
+    improved layers plus ``FindLineOnTheRight``) finds the line again where improved lost
+    it, with either profile, and with V-REP's model passes. With the physical e-puck a
+    robot then grazes the cylinder it has just rounded on some seeds (measured: 119 of
+    200, every failure a collision with an obstacle), the only failure it has."""
     profile, runs = improved_runs
     lost = [s for s, r in runs.items() if not r.success]
     if not lost:
@@ -153,15 +157,39 @@ def test_one_line_search_layer_recovers_the_seeds_improved_loses(improved_runs, 
     load_controller(spec)  # a bad spec fails here, with its own message
     for seed in lost:
         result = run("two-robot-pass", spec, seed, profile)
-        assert result.success, (profile, seed, result.failures, result.events)
+        assert "lost_line" not in result.failures, (profile, seed, result.failures)
+        if profile == "epuck-vrep":
+            assert result.success, (profile, seed, result.failures, result.events)
+        else:
+            assert result.success or result.failures == ["collision"], (profile, seed)
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
     reason=(
-        "measured with V-REP's model (epuck-vrep): improved succeeds on 16 of seeds 0..19 "
-        "(140 of 0..199, 70 %, 95 % interval 63-76 %); on the others the robot on the outside "
+        "measured with the physical e-puck (epuck): the tutorial's controller passes 81 of "
+        "seeds 0..199 (40.5 %, 95 % interval 34-47 %), 10 of 0..19; it finds the line again "
+        "every time, and on the others a robot grazes the cylinder it has just rounded "
+        "(collision). See docs/controllers.md."
+    ),
+)
+def test_the_tutorial_controller_passes_every_seed_with_the_physical_e_puck(tmp_path):
+    spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
+    failures = {}
+    for seed in IMPROVED_SEEDS:
+        result = run("two-robot-pass", spec, seed, "epuck")
+        if not result.success:
+            failures[seed] = result.failures
+    assert not failures
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "measured with V-REP's model (epuck-vrep): improved succeeds on 15 of seeds 0..19 "
+        "(133 of 0..199, 66.5 %, 95 % interval 60-73 %); on the others the robot on the outside "
         "of the loop leaves the mutual rotation beside the line and never finds it again "
         "(lost_line). The thesis's 'every seed' does not hold. See docs/controllers.md."
     ),

@@ -157,7 +157,7 @@ def test_cones_through_the_broad_phase_equal_cones_against_everything(n):
             ]
             for _ in range(n)
         ]
-        world.sensing.proximity.sense(poses, np.zeros((n, 8)), np.zeros((n, 8)))
+        world.sensing.proximity.sense(poses, np.zeros((n, 8)))
         near = world.sensing.proximity.cones_near
         candidates = world.sensing.proximity.cone_candidates
         distance, raw = np.zeros((n, 8)), np.zeros((n, 8))

@@ -323,9 +323,10 @@ class EPuckVRep(RobotAdapter):
         if raw_vrep is not None:
             raw = raw_vrep[_VREP_FROM_PS]
         else:
-            from ...ir_response import raw_from_distance
+            # what a real e-puck would send for that distance (0 for nothing)
+            from ...ir_response import calibrated_from_distance
 
-            raw = raw_from_distance(np.where(distance < rng, distance, np.inf))
+            raw = calibrated_from_distance(np.where(distance < rng, distance, np.inf))
         return Proximity(distance, raw, rng)
 
     def _encoders(

@@ -54,8 +54,8 @@ from .units import (
     acceleration_from_raw,
     angular_velocity_from_raw,
     clamp_int16,
+    distance_from_calibrated,
     ground_value_from_raw,
-    prox_distance_from_value,
     rad_s_to_steps_s,
 )
 
@@ -222,10 +222,9 @@ class EPuckReal(RobotAdapter):
         self.last_block = block
         p = self.profile
         out: dict[Sensor, Any] = {}
-        raw = np.asarray(block.proximity, dtype=np.float64)
-        out[Sensor.PROXIMITY] = Proximity(
-            prox_distance_from_value(raw, p.prox_range), np.clip(raw, 0.0, None), p.prox_range
-        )
+        # a firmware that does not clamp may send negatives: below the baseline is nothing
+        raw = np.clip(np.asarray(block.proximity, dtype=np.float64), 0.0, None)
+        out[Sensor.PROXIMITY] = Proximity(distance_from_calibrated(raw, p), raw, p.prox_range)
         graw = np.asarray(block.ground, dtype=np.float64)
         out[Sensor.GROUND] = Ground(ground_value_from_raw(graw), graw)
         out[Sensor.LIGHT] = Light(np.asarray(block.ambient, dtype=np.float64))

@@ -10,19 +10,16 @@ Proximity model
 ---------------
 The e-puck reports *calibrated* IR values: ``reflected − ambient − baseline``, where the
 baseline is averaged at start-up (or on request) with nothing in front of the robot. So
-a free sensor reads ≈0 (noise can make it slightly negative) and a touching one ≈4000.
+a free sensor reads ≈0 and a touching one ≈4000; the e-puck2 firmware clamps at 0
+(``get_calibrated_prox``: a reading below its baseline is 0, never negative).
 
-To estimate a distance we invert a response curve. We take the Webots e-puck lookup
-table, whose comments describe it as the result of calibrations on a real robot
-(``E-puckDistanceSensor.proto``: distance m → value), and subtract its far-field baseline
-(67.19 at 7 cm) to turn it into a *calibrated* curve: 0 m → 4028, 5 mm → 2066, 1 cm →
-1399, 1.5 cm → 534, 2 cm → 317, 3 cm → 168, 4 cm → 91, 5 cm → 53. Between the table's
-points the curve is interpolated linearly, which is what Webots does too. Values at or
-below the 5 cm point (≈53) mean "nothing within range" and give exactly
-``range`` (0.05 m), the V-REP convention every puckboard record follows; values above
-the 0 m point give 0 m. Real sensors differ from robot to robot by tens of percent and
-depend on the obstacle's colour, so treat the distance as an estimate and the raw value
-as the measurement.
+The distance comes from the one conversion the simulator uses too,
+:func:`~puckboard.ir_response.distance_from_calibrated` (re-exported here): the inverse
+of the Webots e-puck table minus its far baseline, with values at or below the curve's
+value at the profile's ``prox_max_distance`` (≈53 at 5 cm) reading exactly ``range``
+(0.05 m), the V-REP convention every puckboard record follows. Real sensors differ from
+robot to robot by tens of percent and depend on the obstacle's colour, so treat the
+distance as an estimate and the raw value as the measurement.
 """
 
 from __future__ import annotations
@@ -32,25 +29,23 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from ...ir_response import TABLE as IR_TABLE
-from ...profile import NO_DETECTION_DISTANCE, RobotProfile
+from ...ir_response import calibrated_from_distance, distance_from_calibrated
+from ...profile import RobotProfile
 from ...records import GRAVITY
 
 __all__ = [
     "ACC_COUNTS_PER_G",
     "GRAVITY",
     "GYRO_COUNTS_PER_DPS",
-    "PROX_CURVE_DISTANCE",
-    "PROX_CURVE_VALUE",
     "StepCounterUnwrapper",
     "acceleration_from_raw",
     "acceleration_to_raw",
     "angular_velocity_from_raw",
     "angular_velocity_to_raw",
+    "calibrated_from_distance",
     "clamp_int16",
+    "distance_from_calibrated",
     "ground_value_from_raw",
-    "prox_distance_from_value",
-    "prox_value_from_distance",
     "rad_s_to_steps_s",
     "rgb565_decode",
     "rgb565_encode",
@@ -79,15 +74,6 @@ firmware converts with the same 131 (``gyro_res`` in e-puck2_main-processor
 firmware measured at start-up (``getAllAxesGyro`` in ``src/epuck1x/acc_gyro/e_lsm330.c``),
 so a robot standing still reads about 0.
 """
-
-# The Webots E-puckDistanceSensor table (puckboard.ir_response, the one copy) up to the
-# 5 cm the controllers use, minus its 7 cm far baseline, so "nothing seen" reads 0.
-_WITHIN_5CM = IR_TABLE[:, 0] <= NO_DETECTION_DISTANCE + 1e-12
-PROX_CURVE_DISTANCE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 0].copy()
-PROX_CURVE_VALUE: npt.NDArray[np.float64] = IR_TABLE[_WITHIN_5CM, 1] - IR_TABLE[-1, 1]
-PROX_CURVE_DISTANCE.setflags(write=False)
-PROX_CURVE_VALUE.setflags(write=False)
-
 
 # -- wheels ------------------------------------------------------------------------------
 def rad_s_to_steps_s(speed: float, profile: RobotProfile) -> int:
@@ -132,32 +118,6 @@ class StepCounterUnwrapper:
     def reset(self) -> None:
         self._last = None
         self._total = [0, 0]
-
-
-# -- proximity ---------------------------------------------------------------------------
-def prox_distance_from_value(
-    values: npt.ArrayLike, max_range: float = 0.05
-) -> npt.NDArray[np.float64]:
-    """Calibrated IR values → estimated distance (m), ``max_range`` where nothing is seen.
-
-    See the module docstring for the model. Vectorised: pass all 8 values at once.
-    """
-    v = np.asarray(values, dtype=np.float64)
-    # np.interp needs increasing x: the curve decreases, so interpolate on the reversed table.
-    d = np.interp(v, PROX_CURVE_VALUE[::-1], PROX_CURVE_DISTANCE[::-1])
-    d = np.where(v <= PROX_CURVE_VALUE[-1], max_range, d)
-    return np.clip(d, 0.0, max_range)
-
-
-def prox_value_from_distance(distance: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """Distance (m) → calibrated IR value through the same curve (0 beyond 5 cm).
-
-    The inverse of :func:`prox_distance_from_value` inside the range; the emulator uses it
-    to make simulated readings look like the robot's.
-    """
-    d = np.asarray(distance, dtype=np.float64)
-    v = np.interp(d, PROX_CURVE_DISTANCE, PROX_CURVE_VALUE)
-    return np.where(d >= PROX_CURVE_DISTANCE[-1], 0.0, v)
 
 
 # -- ground, accelerometer ---------------------------------------------------------------

@@ -21,9 +21,9 @@ from puckboard.backends.epuck.blocks import (
 from puckboard.backends.epuck.units import (
     StepCounterUnwrapper,
     acceleration_from_raw,
+    calibrated_from_distance,
+    distance_from_calibrated,
     ground_value_from_raw,
-    prox_distance_from_value,
-    prox_value_from_distance,
     rad_s_to_steps_s,
     rgb565_decode,
     steps_s_to_rad_s,
@@ -34,7 +34,7 @@ from puckboard.backends.epuck.wifi_codec import (
     WifiCommand,
     decode_image,
 )
-from puckboard.profile import EPUCK2
+from puckboard.profile import EPUCK2, apply_overrides
 
 # -- Wi-Fi command 0x80 --------------------------------------------------------------------
 # id 0x80; request 0x02 (sensor stream); settings 0; left +500 = 0x01F4; right -500 = 0xFE0C;
@@ -263,17 +263,22 @@ def test_step_counter_wraps_forward_and_back() -> None:
 
 
 def test_proximity_curve_points_and_clipping() -> None:
-    d = prox_distance_from_value([0.0, -20.0, 4028.0, 5000.0, 316.65, 167.74])
+    d = distance_from_calibrated([0.0, -20.0, 4028.0, 5000.0, 316.65, 167.74, 52.81], EPUCK2)
     assert d[0] == 0.05 and d[1] == 0.05  # nothing seen: exactly the range
+    assert d[6] == 0.05  # the curve's value at 5 cm is still nothing
     assert d[2] == pytest.approx(0.0, abs=1e-6) and d[3] == 0.0
     assert d[4] == pytest.approx(0.02, abs=1e-4)
     assert d[5] == pytest.approx(0.03, abs=1e-4)
     # the emulator's direction is the inverse inside the range
     distances = np.linspace(0.0, 0.049, 50)
     assert np.allclose(
-        prox_distance_from_value(prox_value_from_distance(distances)), distances, atol=1e-9
+        distance_from_calibrated(calibrated_from_distance(distances), EPUCK2), distances, atol=1e-9
     )
-    assert prox_value_from_distance([0.06])[0] == 0.0
+    assert calibrated_from_distance([0.07, np.inf]).tolist() == [0.0, 0.0]
+    # a robot whose sensors stop at 4 cm reads values of 4.5 cm as nothing
+    short = apply_overrides(EPUCK2, {"prox_max_distance": 0.04}, source="test")
+    at = calibrated_from_distance([0.035, 0.045])
+    assert distance_from_calibrated(at, short).tolist() == pytest.approx([0.035, 0.05])
 
 
 def test_ground_and_acceleration() -> None:

@@ -8,12 +8,15 @@ import time
 import numpy as np
 import pytest
 
-from puckboard.backends.epuck import open_wifi
+from puckboard.backends.embedded import EmbeddedAdapter
+from puckboard.backends.epuck import EPuckReal, open_wifi
 from puckboard.backends.epuck.blocks import ActuatorBlock, SensorBlock
 from puckboard.backends.epuck.emulator import EmulatedRobot, WifiSession
-from puckboard.backends.epuck.units import prox_distance_from_value
+from puckboard.backends.epuck.link import Reply
+from puckboard.backends.epuck.units import distance_from_calibrated
 from puckboard.backends.epuck.wifi_codec import WifiCommand
 from puckboard.control.emulation import Emulation
+from puckboard.records import Sensor
 from puckboard.scenario.scenefile import load_scene
 from puckboard.sim.world import World
 
@@ -47,10 +50,10 @@ def test_calibration_next_to_an_obstacle_blinds_the_sensors() -> None:
     arena = world.scene.arena
     assert arena is not None
     world.set_pose(0, arena.xmax - 0.05, (arena.ymin + arena.ymax) / 2, 0.0)
-    seen = prox_distance_from_value(robot.proximity())
+    seen = distance_from_calibrated(robot.proximity(), robot.profile)
     assert seen[0] < 0.05 and seen[7] < 0.05  # the front sensors see the wall
     robot.calibrate_ir()
-    blind = prox_distance_from_value(robot.proximity())
+    blind = distance_from_calibrated(robot.proximity(), robot.profile)
     assert blind[0] == 0.05 and blind[7] == 0.05  # after calibrating there, they do not
 
 
@@ -151,3 +154,58 @@ def test_calibrated_proximity_never_goes_below_zero_on_the_wire() -> None:
         unsigned = [int.from_bytes(reply[k : k + 2], "little") for k in range(0, 16, 2)]
         assert all(v <= 4095 for v in unsigned), unsigned
         assert unsigned[0] == 0 and unsigned[7] == 0  # calibrated at the wall: now below offset
+
+
+class _SessionLink:
+    """EPuckReal's link to an emulated robot in this process: every exchange goes through
+    the Wi-Fi protocol's bytes, as over a socket."""
+
+    backend_name = "epuck2-wifi"
+    description = "an in-process Wi-Fi session"
+    acc_scale = (768.0, 0.0)
+    has_gyro = True
+
+    def __init__(self, robot: EmulatedRobot) -> None:
+        self.session = WifiSession(robot)
+
+    def exchange(self, actuators: ActuatorBlock, *, sensors: bool, image: bool) -> Reply:
+        reply = self.session.feed(WifiCommand(actuators, sensors=sensors).encode())
+        return Reply(sensors=SensorBlock.decode(reply[1:]) if sensors else None)
+
+    def close(self) -> None:
+        pass
+
+
+@pytest.mark.parametrize("gap", [0.004, 0.015, 0.03, 0.046, 0.06])
+def test_embedded_and_emulated_robots_convert_the_same_values_to_the_same_distances(gap):
+    """One simulated robot read two ways: by the embedded adapter (the world's calibrated
+    values as floats) and by EPuckReal over the emulator's protocol (the same values
+    rounded to the integers the robot sends). Both convert through the one function."""
+    world = World(load_scene("arena"))
+    arena = world.scene.arena
+    assert arena is not None
+    # facing the arena's east wall, ``gap`` from the front sensors' mid-point
+    front = world.profiles[0].prox_poses[0].x
+    world.set_pose(0, arena.xmax - front - gap, (arena.ymin + arena.ymax) / 2, 0.0)
+    emulated = EmulatedRobot(world, 0)
+    real = EPuckReal(_SessionLink(emulated), profile=emulated.profile, command_timeout=None)
+    embedded = EmbeddedAdapter(world, 0)
+    via_wire = real.sense_all()[Sensor.PROXIMITY]
+    in_process = embedded.sense_all()[Sensor.PROXIMITY]
+    profile = world.profiles[0]
+    assert real.profile == embedded.profile == profile
+    # the integers on the wire are the world's values, rounded
+    assert via_wire.raw.tolist() == np.rint(in_process.raw).tolist()
+    # each side's distances are its values through the one conversion
+    assert via_wire.distance.tolist() == distance_from_calibrated(via_wire.raw, profile).tolist()
+    assert in_process.distance.tolist() == world.prox_distance[0].tolist()
+    assert (
+        in_process.distance.tolist() == distance_from_calibrated(in_process.raw, profile).tolist()
+    )
+    # so the same values give the same distances, and rounding moves them a hair at most
+    same = distance_from_calibrated(np.rint(in_process.raw), profile)
+    assert same.tolist() == via_wire.distance.tolist()
+    seen = in_process.distance < profile.prox_range
+    assert seen.tolist() == (via_wire.distance < profile.prox_range).tolist()
+    assert np.abs(via_wire.distance - in_process.distance).max() < 0.0005
+    assert seen[0] == (gap < profile.prox_max_distance)

@@ -106,7 +106,7 @@ class SimApi(
         self._world_class = World
         self.world = World(scene, seed=seed)
         self.objects = SceneObjects(
-            self.world.profiles, labels=self.world.robot_names, model=model, scene=scene
+            self.world.actual, labels=self.world.robot_names, model=model, scene=scene
         )
         n = len(self.world.robot_names)
         self.targets = np.zeros((n, 2))

@@ -51,7 +51,7 @@ def resolution(part: str, scene: Scene) -> tuple[int, int]:
 def light_sensor_image(world: World, robot: int) -> Image:
     """The light sensor's 2×16×3 image of robot ``robot``, rows in sending order."""
     w, h = LIGHT_SENSOR_RES
-    profile = world.profiles[robot]
+    profile = world.actual[robot]
     x, y, theta = (float(v) for v in world.poses[robot][:3])
     pitch = LIGHT_SENSOR_SPAN / w
     across = (np.arange(w) - (w - 1) / 2.0) * -pitch  # column 0 on the left (+y)
@@ -60,7 +60,7 @@ def light_sensor_image(world: World, robot: int) -> Image:
     fx, ay = np.meshgrid(forward, across, indexing="ij")
     c, s = np.cos(theta), np.sin(theta)
     points = np.stack([x + c * fx - s * ay, y + s * fx + c * ay], axis=-1).reshape(-1, 2)
-    grey = world.floor.brightness(points).reshape(h, w)
+    grey = world.floor.brightness(points, None, world.ground_footprints[robot]).reshape(h, w)
     for (row, col), value in zip(STOCK_PIXELS, world.ground[robot].tolist()):
         grey[row, col] = value
     grey8 = np.rint(np.clip(grey, 0.0, 1.0) * 255.0).astype(np.uint8)

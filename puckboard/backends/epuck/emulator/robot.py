@@ -5,12 +5,14 @@
 sends, with the same codecs and conversions :class:`~puckboard.backends.epuck.EPuckReal`
 uses to read them (in the opposite direction):
 
-* proximity: the world's distances through the calibrated response curve
-  (:func:`~puckboard.backends.epuck.units.prox_value_from_distance`), minus the baseline
-  of the last IR calibration (none at start: the robot was switched on in free space),
-  plus a little sensor noise, then clamped at 0 as the e-puck2 firmware's
-  ``get_calibrated_prox`` does (a reading below its calibration offset is 0, never
-  negative: a client reading the field as unsigned must not see 65535, "touching");
+* proximity: the world's calibrated IR values, rounded (the simulator already computes
+  what the firmware sends: each sensor's response minus its start-up baseline, with the
+  scene's noise, clamped at 0 as ``get_calibrated_prox`` does, so a client reading the
+  field as unsigned never sees 65535, "touching"). ``K`` (:meth:`EmulatedRobot.calibrate_ir`)
+  makes the simulated robot re-measure its baselines where it stands; and
+  :class:`~puckboard.backends.epuck.EPuckReal` turns the values into distances through
+  the same conversion the simulator uses
+  (:func:`puckboard.ir_response.distance_from_calibrated`);
 * ground: 0..1023 (0 black, 1023 white);
 * step counters: int16 that wrap every 65536 steps;
 * accelerometer: ≈768 counts per g, gravity on z;
@@ -34,20 +36,13 @@ import numpy as np
 import numpy.typing as npt
 
 from ..blocks import ActuatorBlock, SensorBlock
-from ..units import (
-    acceleration_to_raw,
-    angular_velocity_to_raw,
-    clamp_int16,
-    prox_value_from_distance,
-    wrap_int16,
-)
+from ..units import acceleration_to_raw, angular_velocity_to_raw, clamp_int16, wrap_int16
 
 __all__ = ["MOTOR_SPEED_LIMIT", "EmulatedRobot"]
 
 MOTOR_SPEED_LIMIT = 1100
 """steps/s; the e-puck2 firmware clamps every speed command to this (``motors.h``)."""
 
-_PROX_NOISE = 3.0  # calibrated counts, standard deviation of the emulated IR noise
 _AMBIENT = 3900  # IR ambient reading of a normally lit room (0 bright .. 4095 dark)
 
 
@@ -69,7 +64,6 @@ class EmulatedRobot:
         self.leds = 0
         self.rgb: tuple[int, ...] = (0,) * 12
         self._step_offset = (0, 0)  # set by "set steps" commands
-        self._prox_baseline = np.zeros(8)  # what the last IR calibration saw
         self.commands = 0
         self.last_command = 0.0  # time.monotonic() of the last command
         self.calibrations = 0
@@ -115,10 +109,11 @@ class EmulatedRobot:
 
     def calibrate_ir(self) -> None:
         """Take the current IR readings as the new baselines, as the firmware does: an
-        object in front of the robot during calibration blinds those sensors later."""
+        object in front of the robot during calibration blinds those sensors later
+        (:meth:`~puckboard.sim.world.World.recalibrate_ir`)."""
         with self.lock:
             self.calibrations += 1
-            self._prox_baseline = prox_value_from_distance(self.world.prox_distance[self.index])
+            self.world.recalibrate_ir(self.index)
 
     # -- sensors ---------------------------------------------------------------------------
     def _world_steps(self) -> tuple[int, int]:
@@ -138,11 +133,7 @@ class EmulatedRobot:
     def proximity(self) -> tuple[int, ...]:
         """8 calibrated IR values (int16), ps0..ps7."""
         with self.lock:
-            w = self.world
-            values = prox_value_from_distance(w.prox_distance[self.index]) - self._prox_baseline
-            values = values + w.rng.normal(0.0, _PROX_NOISE, size=8)
-            # the firmware's get_calibrated_prox: 0 when the reading is below the offset
-            return tuple(clamp_int16(v) for v in np.clip(values, 0, 4095))
+            return tuple(clamp_int16(v) for v in self.world.prox_raw[self.index].tolist())
 
     def ground(self) -> tuple[int, int, int]:
         with self.lock:

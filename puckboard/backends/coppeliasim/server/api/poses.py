@@ -64,9 +64,11 @@ class PoseFunctions(ServedState):
         if obj.robot is None:
             return [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
         i = obj.robot
-        profile = self.world.profiles[i]
+        profile = self.world.actual[i]  # the robot as built: each wheel its own radius
         left, right = self.world.wheel_speeds[i].tolist()
-        forward, turn = profile.body_velocity(left, right)
+        radius_left, radius_right = profile.wheel_radii
+        forward = (left * radius_left + right * radius_right) / 2.0
+        turn = (right * radius_right - left * radius_left) / profile.axle_length
         theta = float(self.world.poses[i, 2])
         base = self.world_frame(self.objects.bases[i])
         offset = self.world_frame(obj).position - base.position

@@ -42,11 +42,11 @@ class SensorFunctions(ServedState):
         assert i is not None
         ps = VREP_ORDER[obj.index]
         d = float(self.world.prox_distance[i, ps])
-        profile = self.world.profiles[i]
+        profile = self.world.actual[i]
         if not d < profile.prox_range:
             return [0, 0.0, nothing, -1, nothing]
         seen = nearest_in_sector(
-            self.scene, self.world.poses.tolist(), self.world.profiles, i, ps,
+            self.scene, self.world.poses.tolist(), self.world.actual, i, ps,
             reach=max(d, profile.prox_max_distance) * 1.5,
         )  # fmt: skip
         if seen is None:  # rays saw what the sector misses: straight ahead, object unknown

@@ -103,7 +103,7 @@ class ServedState:
         """Where ``obj`` is now, in the world."""
         if obj.model and obj.robot is not None:
             x, y, theta = self.world.poses[obj.robot].tolist()
-            return Frame.planar(x, y, theta, self.world.profiles[obj.robot].wheel_radius)
+            return Frame.planar(x, y, theta, self.world.actual[obj.robot].wheel_radius)
         if obj.kind == DUMMY:
             return self.dummy_frames[obj.handle]
         local = obj.local
