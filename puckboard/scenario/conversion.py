@@ -47,9 +47,7 @@ TOP_KEYS = frozenset(
     + ("track", "arena", "obstacles", "dummies", "robots", "noise", "goal")
 )
 ARENA_KEYS = frozenset(("size", "centre", "xmin", "ymin", "xmax", "ymax", "colour"))
-NOISE_KEYS = frozenset(
-    ("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias")
-)
+NOISE_KEYS = frozenset(("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias"))
 GOAL_KEYS = frozenset(("kind", "laps"))
 
 
@@ -74,9 +72,7 @@ def scene_from_dict(
     obstacles = tuple(
         read_obstacle(t, i, frame) for i, t in enumerate(top.items("obstacles", OBSTACLE_KEYS))
     )
-    dummies = tuple(
-        read_dummy(t, i, frame) for i, t in enumerate(top.items("dummies", DUMMY_KEYS))
-    )
+    dummies = tuple(read_dummy(t, i, frame) for i, t in enumerate(top.items("dummies", DUMMY_KEYS)))
     unique_names([d.name for d in dummies], "dummies", source)
     robots = _robots(top, frame, arena)
     noise = _noise(top)

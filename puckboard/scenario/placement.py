@@ -42,8 +42,7 @@ ROBOT_KEYS = frozenset(
     + ("name", "theta", "theta_deg", "direction", "controller", "profile", "actual", "colour")
 )
 OBSTACLE_KEYS = frozenset(
-    PLACE_KEYS
-    + ("shape", "name", "colour", "radius", "size", "angle", "angle_deg", "vertices")
+    PLACE_KEYS + ("shape", "name", "colour", "radius", "size", "angle", "angle_deg", "vertices")
 )
 DUMMY_KEYS = frozenset(PLACE_KEYS + ("name", "z"))
 

@@ -235,8 +235,7 @@ class World:
             moved = math.hypot(pos[i][0] - x, pos[i][1] - y)
             if moved > 1e-9:
                 log.warning(
-                    "scene %r: robot %r starts overlapping %s; moved it %.1f cm to "
-                    "(%.3f, %.3f) m",
+                    "scene %r: robot %r starts overlapping %s; moved it %.1f cm to (%.3f, %.3f) m",
                     self.scene.name,
                     self.robot_names[i],
                     " and ".join(overlaps[i]) or "a robot that was moved out of something",

@@ -22,7 +22,10 @@ WALL_CLOCK = (
     # "60 of 60 episodes (60 run, 0 already in runs.csv), 7.6 s" (puckboard sweep's header)
     (re.compile(r"(episodes \([^)]*\)), [\d.]+ s$", re.MULTILINE), r"\1, <s>"),
     (re.compile(r"\b\d{4}-\d{2}-\d{2}([T ]\d{2}:\d{2}(:\d{2}(\.\d+)?)?)?\b"), "<date>"),
-    (re.compile(r"(/tmp|/var/folders|[A-Z]:\\Users\\[^\\]+\\AppData\\Local\\Temp)[^\s'\"]*"), "<tmp>"),
+    (
+        re.compile(r"(/tmp|/var/folders|[A-Z]:\\Users\\[^\\]+\\AppData\\Local\\Temp)[^\s'\"]*"),
+        "<tmp>",
+    ),
 )
 
 
@@ -53,7 +56,10 @@ def assert_shown(shown: str, printed: str, where: str) -> None:
     want, got = _lines(shown), _lines(printed)
     if not _match(want, got):
         raise AssertionError(
-            f"{where}: the page shows\n" + "\n".join(want) + "\n\nthe run printed\n" + "\n".join(got)
+            f"{where}: the page shows\n"
+            + "\n".join(want)
+            + "\n\nthe run printed\n"
+            + "\n".join(got)
         )
 
 
