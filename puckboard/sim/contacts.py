@@ -120,12 +120,11 @@ class Statics:
             else (float(arena.xmin), float(arena.ymin), float(arena.xmax), float(arena.ymax))
         )
         # the obstacles' names, in the order of circles then polygons, for messages only
-        named = [o for o in obstacles if isinstance(o, CircleObstacle)]
-        named += [o for o in obstacles if isinstance(o, PolygonObstacle)]
-        self._names = tuple(
-            f"obstacle {o.name!r}" if o.name else f"obstacle {obstacles.index(o) + 1}"
-            for o in named
-        )
+        numbered = list(enumerate(obstacles, 1))
+        order: list[tuple[int, CircleObstacle | PolygonObstacle]]
+        order = [(k, o) for k, o in numbered if isinstance(o, CircleObstacle)]
+        order += [(k, o) for k, o in numbered if not isinstance(o, CircleObstacle)]
+        self._names = tuple(f"obstacle {o.name!r}" if o.name else f"obstacle {k}" for k, o in order)
         self._near_static_cache: tuple[tuple[float, ...], Any] | None = None
 
     def overlapping(self, x: float, y: float, r: float) -> list[str]:
