@@ -31,7 +31,6 @@ from puckboard.scenario.scenefile import scene_description
 from puckboard.sweep.stats import wilson_interval
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = ROOT / "docs"
 PROFILES = ("epuck-vrep", "epuck")
 #: The thesis scenes' own profile, named so that their episodes are shared with the
 #: acceptance tests, which name it too.
@@ -78,7 +77,7 @@ def failures_cell(counts: Counter[str]) -> str:
 
 
 def stated_failures(cell: str) -> str:
-    """A failures cell without its remarks in parentheses or after a comma-less clause."""
+    """A failures cell reduced to its counts ("`kind` n, ..."), remarks dropped."""
     cell = re.sub(r"\s*\([^)]*\)", "", cell).replace("**", "")
     return ", ".join(re.findall(r"`\w+` \d+", cell)) or "—"
 
@@ -745,3 +744,16 @@ def test_the_lost_line_threshold_s_reason_is_what_the_episodes_give():
                     spells.append(e.time_s - left.pop(e.robot))
     assert m.groups()[:2] == (f"{min(spells):.1f}", f"{max(spells):.1f}"), sorted(spells)
     assert max(spells) < 25.0
+
+
+@pytest.mark.slow
+def test_the_acceptance_tests_measured_figure_is_today_s():
+    m = claim(
+        CONTROLLERS,
+        r"with V-REP's model `improved` succeeds on at least (\d+) of seeds 0–(\d+) \(measured: "
+        r"(\d+) of (\d+)\)",
+    )
+    seeds = range(int(m.group(2)) + 1)
+    successes = sum(episode("two-robot-pass", "improved", s, VREP).success for s in seeds)
+    assert (m.group(3), m.group(4)) == (str(successes), str(len(seeds)))
+    assert successes >= int(m.group(1))
