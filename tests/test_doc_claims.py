@@ -382,6 +382,13 @@ def test_a_single_robot_meets_the_obstacles_as_the_page_says(row):
         "failures": failures_cell(Counter(r.failure for r in runs if not r.success)),
     }
     assert {k: row[k] for k in measured} == measured, row
+    if boxes:  # the scenes page repeats the boxes' touches
+        touched = sum(r.failure == "collision" for r in runs)
+        m = claim(
+            SCENARIOS,
+            r"a single robot: `improved` on (\d+) of 8 runs, `stock` on (\d+) of 8",
+        )
+        assert m.group(1 if plain(row["controller"]) == "improved" else 2) == str(touched)
 
 
 # -- scenarios.md and the scenes' descriptions -----------------------------------------------
