@@ -27,8 +27,8 @@ What to watch:
 * ``held_after``: cycles in which nothing was in front any more but the avoidance layer
   still drove — that is HoldFor's timer at work;
 * the layer time shares, and the outcome: holding the left turn has a price. Each held
-  turn takes the robot further from the line, and with ``HOLD = 0.3`` the pass usually
-  fails (``lost_line``) where the unheld improved controller passes. Set ``HOLD = 0``
+  turn takes the robot further from the line, and with ``HOLD = 0.3`` the pass fails
+  (``turned_back``, seed 0) where the unheld improved controller passes. Set ``HOLD = 0``
   and compare: a timer is a tool for manoeuvres that must finish, not a free extra.
 
 Run it: ``python examples/subsumption.py``

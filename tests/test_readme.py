@@ -1,17 +1,44 @@
-"""The README's promises: two set-up commands first, and a layer example that works."""
+"""The README's promises: two set-up commands first, a layer example whose effect shows,
+and every output it shows exactly what the commands print (numbers included; only
+wall-clock figures masked, and ``...`` lines elided)."""
 
 from __future__ import annotations
 
+import doctest
 import re
+import shlex
 from pathlib import Path
 
-from puckboard.control.episode import run_episode
+import doc_pages
+import pytest
+
+from puckboard.control.episode import Episode
 
 README = Path(__file__).resolve().parent.parent / "README.md"
 
 
+def readme() -> str:
+    return README.read_text(encoding="utf-8")
+
+
+def layer_example() -> str:
+    """The README's one Python block: the layer example, saved as ``mylayers.py``."""
+    blocks = [body for language, body in doc_pages.fences(readme()) if language == "python"]
+    assert len(blocks) == 1, "the README should have exactly one python block, the example"
+    return blocks[0]
+
+
+@pytest.fixture
+def in_student_folder(tmp_path, monkeypatch):
+    """A folder holding the README's ``mylayers.py``, as the reader is told to save it."""
+    (tmp_path / "mylayers.py").write_text(layer_example(), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    return tmp_path
+
+
 def test_readme_opens_with_the_two_setup_commands():
-    text = README.read_text(encoding="utf-8")
+    text = readme()
     first_block = re.search(r"```bash\n(.*?)```", text, re.S)
     assert first_block is not None
     assert text.index("```bash") < text.index("\n## ")  # before any section
@@ -21,34 +48,69 @@ def test_readme_opens_with_the_two_setup_commands():
     assert "pytest" in commands[1]
 
 
-def test_readme_layer_example_passes_the_two_robot_pass(tmp_path):
-    text = README.read_text(encoding="utf-8")
-    code = re.search(r"```python\n(.*?)```", text, re.S)
-    assert code is not None
-    module = tmp_path / "mylayers.py"
-    module.write_text(code.group(1), encoding="utf-8")
-    result = run_episode("two-robot-pass", controller=f"{module}:make", seed=0)
-    assert result.success, (result.failure, result.events)
+def console_sessions() -> list[tuple[str, str]]:
+    """Every ``$ puckboard ...`` command of the README's console blocks, with the output
+    shown under it."""
+    sessions = []
+    for language, body in doc_pages.fences(readme()):
+        if language != "console":
+            continue
+        for chunk in re.split(r"^(?=\$ )", body, flags=re.MULTILINE):
+            if chunk.startswith("$ "):
+                command, _, shown = chunk.partition("\n")
+                sessions.append((command[2:].strip(), shown))
+    return sessions
 
 
-def test_readme_sample_output_is_what_puckboard_run_prints(capsys):
-    """Every line the README shows for 'puckboard run' (numbers aside, '...' elided
-    lines skipped) is in the real output, events block included."""
+def test_the_readme_shows_its_commands_outputs():
+    commands = [command for command, _ in console_sessions()]
+    assert commands[0] == "puckboard run", commands  # the flagship, first
+    assert "puckboard run --controller mylayers.py:make --seed 8" in commands
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("command", "shown"), console_sessions(), ids=[c for c, _ in console_sessions()]
+)
+def test_every_output_the_readme_shows_is_what_the_command_prints(
+    command, shown, in_student_folder, capsys
+):
     from puckboard.cli import main
 
-    text = README.read_text(encoding="utf-8")
-    block = re.search(
-        r"```console\n\$ puckboard run\n(.*?)\$ puckboard run --controller", text, re.S
-    )
-    assert block is not None
-    shown = [line for line in block.group(1).splitlines() if line.strip() not in ("", "...")]
-    assert "events:" in shown
-    assert main(["run"]) == 0
-    out = capsys.readouterr().out
+    argv = shlex.split(command)
+    assert argv[0] == "puckboard", command
+    assert main(argv[1:]) == 0, command
+    doc_pages.assert_shown(shown, capsys.readouterr().out, f"README: $ {command}")
 
-    def words(line: str) -> str:
-        return re.sub(r"\d+(\.\d+)?", "#", " ".join(line.split()))
 
-    printed = {words(line) for line in out.splitlines()}
-    for line in shown:
-        assert words(line) in printed, (line, out)
+@pytest.mark.slow
+def test_the_readme_python_session_prints_what_it_shows(in_student_folder):
+    """The ``pycon`` block runs as a doctest, in the folder that holds ``mylayers.py``."""
+    (session,) = [body for language, body in doc_pages.fences(readme()) if language == "pycon"]
+    test = doctest.DocTestParser().get_doctest(session, {}, "README", "README.md", 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    runner.run(test)
+    assert runner.failures == 0 and runner.tries >= 3, runner.summarize()
+
+
+@pytest.mark.slow
+def test_the_readme_example_layer_takes_control(in_student_folder):
+    """The example's own layer drives at some point (an example layer that never applies
+    would print exactly what ``improved`` prints, and teach nothing): on seed 8 it brings
+    the robot that dodged to the outside, ``right``, back to the line."""
+    episode = Episode("two-robot-pass", controller="mylayers.py:make", seed=8)
+    drivers: dict[str, set[str]] = {"left": set(), "right": set()}
+
+    def note(ep):
+        for name, seen in drivers.items():
+            seen.add(ep.blackboard.value(f"{name}/command/layer"))
+
+    episode.add_observer(note)
+    result = episode.run()
+    assert result.success, result.failures
+    assert "FindLineOnTheRight" in drivers["right"], drivers
+
+
+def test_the_readme_names_no_test_count():
+    """A count of tests drifts with every test added; the README gives the command."""
+    assert not re.search(r"\b\d[\d,]* tests\b", readme()), "the README states a test count"

@@ -14,7 +14,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from .placement import TrackFrame, read_dummy, read_obstacle, read_robot
+from .placement import (
+    DUMMY_KEYS,
+    OBSTACLE_KEYS,
+    ROBOT_KEYS,
+    TrackFrame,
+    read_dummy,
+    read_obstacle,
+    read_robot,
+)
 from .reader import TableReader, unique_names
 from .robot_profiles import read_default_profile, robot_profile_data
 from .scene import (
@@ -28,9 +36,19 @@ from .scene import (
     Scene,
     Track,
 )
-from .tracks import read_track
+from .tracks import TRACK_KEYS, read_track
 
 __all__ = ["scene_from_dict", "scene_to_dict"]
+
+#: The keys each table may have; an unknown one is refused before anything is read, so a
+#: typo names itself instead of the key it left missing (placement and tracks declare theirs).
+TOP_KEYS = frozenset(
+    ("name", "description", "dt", "duration", "floor_colour", "camera_size", "profile")
+    + ("track", "arena", "obstacles", "dummies", "robots", "noise", "goal")
+)
+ARENA_KEYS = frozenset(("size", "centre", "xmin", "ymin", "xmax", "ymax", "colour"))
+NOISE_KEYS = frozenset(("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias"))
+GOAL_KEYS = frozenset(("kind", "laps"))
 
 
 # -- dict → Scene ------------------------------------------------------------------------------
@@ -42,7 +60,7 @@ def scene_from_dict(
     Tables are read in file order (the track before what is placed on it), so the first
     mistake reported is the first one a reader of the file meets.
     """
-    top = TableReader(data, "", source)
+    top = TableReader(data, "", source, TOP_KEYS)
     name = top.string("name", default_name)
     description = top.string("description", "")
     dt = top.number("dt", 0.05, unit="s", low=0.0, high=1.0, low_open=True)
@@ -51,10 +69,12 @@ def scene_from_dict(
     camera_size = _camera_size(top)
     track, frame = _track(top)
     arena = _arena(top)
-    obstacles = tuple(read_obstacle(t, i, frame) for i, t in enumerate(top.items("obstacles")))
-    dummies = tuple(read_dummy(t, i, frame) for i, t in enumerate(top.items("dummies")))
+    obstacles = tuple(
+        read_obstacle(t, i, frame) for i, t in enumerate(top.items("obstacles", OBSTACLE_KEYS))
+    )
+    dummies = tuple(read_dummy(t, i, frame) for i, t in enumerate(top.items("dummies", DUMMY_KEYS)))
     unique_names([d.name for d in dummies], "dummies", source)
-    robots = _robots(top, frame)
+    robots = _robots(top, frame, arena)
     noise = _noise(top)
     goal = _goal(top, track)
     top.finish()
@@ -92,7 +112,7 @@ def _camera_size(top: TableReader) -> tuple[int, int]:
 
 def _track(top: TableReader) -> tuple[Track | None, TrackFrame | None]:
     """The ``[track]`` and the frame that places things on it (None, None without one)."""
-    reader = top.sub("track")
+    reader = top.sub("track", TRACK_KEYS)
     if reader is None:
         return None, None
     track = read_track(reader)
@@ -101,7 +121,7 @@ def _track(top: TableReader) -> tuple[Track | None, TrackFrame | None]:
 
 def _arena(top: TableReader) -> Arena | None:
     """The walled ``[arena]``: by ``size`` (and ``centre``) or by its four bounds."""
-    reader = top.sub("arena")
+    reader = top.sub("arena", ARENA_KEYS)
     if reader is None:
         return None
     if reader.has("size"):
@@ -122,8 +142,11 @@ def _arena(top: TableReader) -> Arena | None:
     return Arena(xmin, ymin, xmax, ymax, colour=colour)
 
 
-def _robots(top: TableReader, frame: TrackFrame | None) -> tuple[RobotSpec, ...]:
-    """The ``[[robots]]``: at least one, names unique, ``profile`` the scene's default."""
+def _robots(
+    top: TableReader, frame: TrackFrame | None, arena: Arena | None
+) -> tuple[RobotSpec, ...]:
+    """The ``[[robots]]``: at least one, names unique, each starting inside the arena,
+    ``profile`` the scene's default."""
     if not top.has("robots"):
         top.fail("robots", "", message="missing; a scene needs at least one [[robots]] entry")
     if not top.table_list("robots"):
@@ -131,7 +154,8 @@ def _robots(top: TableReader, frame: TrackFrame | None) -> tuple[RobotSpec, ...]
     # the robots' profile unless a robot names its own (one scene can mix them)
     default_profile = read_default_profile(top)
     robots = tuple(
-        read_robot(t, i, frame, default_profile) for i, t in enumerate(top.items("robots"))
+        read_robot(t, i, frame, default_profile, arena)
+        for i, t in enumerate(top.items("robots", ROBOT_KEYS))
     )
     unique_names([r.name for r in robots], "robots", top.source)
     return robots
@@ -139,7 +163,7 @@ def _robots(top: TableReader, frame: TrackFrame | None) -> tuple[RobotSpec, ...]
 
 def _noise(top: TableReader) -> Noise:
     """The ``[noise]`` table; no noise at all without one."""
-    reader = top.sub("noise")
+    reader = top.sub("noise", NOISE_KEYS)
     if reader is None:
         return Noise()
     noise = Noise(
@@ -157,7 +181,7 @@ def _noise(top: TableReader) -> Noise:
 def _goal(top: TableReader, track: Track | None) -> Goal:
     """The ``[goal]`` table; a goal judged along the line needs a track."""
     goal = Goal()
-    reader = top.sub("goal")
+    reader = top.sub("goal", GOAL_KEYS)
     if reader is not None:
         goal = Goal(
             kind=reader.string("kind", "auto", choices=GOAL_KINDS),

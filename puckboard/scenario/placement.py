@@ -18,13 +18,33 @@ import numpy as np
 from ..profile import RobotProfile
 from .reader import TableReader
 from .robot_profiles import read_robot_profiles
-from .scene import CircleObstacle, Dummy, PolygonObstacle, RobotSpec, Track
+from .scene import Arena, CircleObstacle, Dummy, PolygonObstacle, RobotSpec, Track
 
-__all__ = ["TrackFrame", "place", "read_dummy", "read_obstacle", "read_robot"]
+__all__ = [
+    "DUMMY_KEYS",
+    "OBSTACLE_KEYS",
+    "ROBOT_KEYS",
+    "TrackFrame",
+    "place",
+    "read_dummy",
+    "read_obstacle",
+    "read_robot",
+]
 
 #: Robots' default colours, in order, repeating.
 ROBOT_COLOURS = ((60, 160, 60), (60, 90, 200), (220, 160, 30), (160, 60, 160))
 OBSTACLE_SHAPES = ("circle", "box", "polygon")
+#: Where something stands: by coordinates, or on the track (plus a sideways offset).
+PLACE_KEYS = ("x", "y", "track_position", "track_distance", "offset")
+#: The keys each table may have (an unknown one is refused before anything is read).
+ROBOT_KEYS = frozenset(
+    PLACE_KEYS
+    + ("name", "theta", "theta_deg", "direction", "controller", "profile", "actual", "colour")
+)
+OBSTACLE_KEYS = frozenset(
+    PLACE_KEYS + ("shape", "name", "colour", "radius", "size", "angle", "angle_deg", "vertices")
+)
+DUMMY_KEYS = frozenset(PLACE_KEYS + ("name", "z"))
 
 
 class TrackFrame:
@@ -104,12 +124,16 @@ def read_robot(
     index: int,
     frame: TrackFrame | None,
     default_profile: str | RobotProfile,
+    arena: Arena | None = None,
 ) -> RobotSpec:
-    """One ``[[robots]]`` table; ``default_profile`` is the scene's."""
+    """One ``[[robots]]`` table; ``default_profile`` is the scene's. A robot must start
+    inside the ``arena``'s walls, when there are walls."""
     name = reader.string("name", f"epuck{index + 1}")
     if not name.strip():
         reader.fail("name", "a non-empty name", name)
     x, y, track_heading = place(reader, frame, "robot")
+    if arena is not None:
+        _inside(reader, arena, name, x, y)
     theta = _robot_heading(reader, track_heading)
     theta = math.atan2(math.sin(theta), math.cos(theta))  # wrapped to (-π, π]
     controller = reader.string("controller", "improved")
@@ -122,6 +146,24 @@ def read_robot(
     reader.finish()
     return RobotSpec(
         name, x, y, theta, controller=controller, colour=colour, profile=profile, actual=actual
+    )
+
+
+def _inside(reader: TableReader, arena: Arena, name: str, x: float, y: float) -> None:
+    """Refuse a start outside the walls: the engine would push the robot back through the
+    wall by however far it is out (metres, for a typo), and the run would go on as if
+    nothing had happened. A centre inside whose body touches a wall is only moved clear,
+    with a warning, like any start that overlaps something."""
+    if arena.xmin <= x <= arena.xmax and arena.ymin <= y <= arena.ymax:
+        return
+    on_track = [k for k in ("track_position", "track_distance") if reader.has(k)]
+    key = on_track[0] if on_track else ("x" if not arena.xmin <= x <= arena.xmax else "y")
+    reader.fail(
+        key,
+        "",
+        message=f"robot {name!r} starts at ({x:.3g}, {y:.3g}) m, outside the arena "
+        f"(x from {arena.xmin:g} to {arena.xmax:g} m, y from {arena.ymin:g} to "
+        f"{arena.ymax:g} m); give a start inside the walls",
     )
 
 

@@ -10,12 +10,17 @@ to it, reads typed values with their units and bounds, and refuses keys it was n
 asked for, because a misspelt key silently ignored is the hardest mistake to find.
 The conversion from the file's form to a scene (:mod:`.conversion`) is written in these
 calls only, so every field gets the same checks and the same kind of message.
+
+A table that declares its keys (``keys``) refuses an unknown one before any value is
+read: a misspelt ``track_distanse`` then reports itself, with the key it was probably
+meant to be, instead of the ``x`` that went missing because of it.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Collection, Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -28,13 +33,19 @@ __all__ = ["TableReader", "unique_names"]
 class TableReader:
     """Reads one table of the file, remembering its path for error messages."""
 
-    def __init__(self, data: Any, path: str, source: str) -> None:
+    def __init__(
+        self, data: Any, path: str, source: str, keys: Collection[str] | None = None
+    ) -> None:
         self.source = source
         self.path = path
         if not isinstance(data, Mapping):
             self.fail("", "a table (key = value pairs)", data)
         self.data: Mapping[str, Any] = data
         self.used: set[str] = set()
+        if keys is not None:
+            unknown = [k for k in data if k not in keys]
+            if unknown:
+                self._unknown(unknown[0], keys)
 
     def where(self, key: str) -> str:
         """The dotted path of ``key`` in the file (``robots[1].theta``)."""
@@ -173,26 +184,33 @@ class TableReader:
             self.fail(key, "a list of tables ([[...]] in TOML)", value)
         return value  # type: ignore[no-any-return]
 
-    def sub(self, key: str) -> TableReader | None:
-        """A reader of the sub-table ``key``, or None when it is absent."""
+    def sub(self, key: str, keys: Collection[str] | None = None) -> TableReader | None:
+        """A reader of the sub-table ``key`` (refusing keys not in ``keys`` at once, when
+        given), or None when it is absent."""
         if key not in self.data:
             return None
-        return TableReader(self.raw(key), self.where(key), self.source)
+        return TableReader(self.raw(key), self.where(key), self.source, keys)
 
-    def items(self, key: str) -> Iterator[TableReader]:
+    def items(self, key: str, keys: Collection[str] | None = None) -> Iterator[TableReader]:
         """A reader for each table of the list ``key`` (``robots[0]``, ``robots[1]`` ...),
         made as it is reached, so the first mistake in file order is the one reported."""
         where = self.where(key)
         for i, item in enumerate(self.table_list(key)):
-            yield TableReader(item, f"{where}[{i}]", self.source)
+            yield TableReader(item, f"{where}[{i}]", self.source, keys)
 
     def finish(self, extra_allowed: tuple[str, ...] = ()) -> None:
-        """Refuse unknown keys (a typo would otherwise be silently ignored)."""
+        """Refuse keys that were not read: unknown ones, or ones that mean nothing in this
+        table's case (a ``radius`` on a box); a typo would otherwise be silently ignored."""
         unknown = [k for k in self.data if k not in self.used and k not in extra_allowed]
         if unknown:
-            known = sorted(self.used | set(extra_allowed))
-            hint = f"; known here: {', '.join(known)}" if known else ""
-            self.fail(unknown[0], "", message=f"unknown key{hint}")
+            self._unknown(unknown[0], self.used | set(extra_allowed))
+
+    def _unknown(self, key: str, known: Collection[str]) -> None:
+        """Fail on ``key``, naming the known key it is closest to, if one is close."""
+        close = difflib.get_close_matches(str(key), [str(k) for k in known], n=1)
+        guess = f"; did you mean {close[0]!r}?" if close else ""
+        listed = f" (known here: {', '.join(sorted(known))})" if known else ""
+        self.fail(str(key), "", message=f"unknown key{guess}{listed}")
 
 
 def unique_names(names: list[str], table: str, source: str) -> None:

@@ -17,9 +17,14 @@ import numpy as np
 from .reader import TableReader
 from .scene import Track
 
-__all__ = ["TRACK_SHAPES", "read_track", "rounded_rectangle"]
+__all__ = ["TRACK_KEYS", "TRACK_SHAPES", "read_track", "rounded_rectangle"]
 
 TRACK_SHAPES = ("points", "stadium", "rounded_rectangle", "circle")
+#: Every key a ``[track]`` may have, whatever its shape (an unknown one is refused first).
+TRACK_KEYS = frozenset(
+    ("shape", "width", "colour", "points", "closed", "spacing", "centre", "heading")
+    + ("heading_deg", "length", "radius", "size", "corner_radius")
+)
 
 
 def rounded_rectangle(width: float, height: float, r: float, spacing: float) -> np.ndarray:

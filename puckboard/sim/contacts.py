@@ -119,7 +119,32 @@ class Statics:
             if arena is None
             else (float(arena.xmin), float(arena.ymin), float(arena.xmax), float(arena.ymax))
         )
+        # the obstacles' names, in the order of circles then polygons, for messages only
+        numbered = list(enumerate(obstacles, 1))
+        order: list[tuple[int, CircleObstacle | PolygonObstacle]]
+        order = [(k, o) for k, o in numbered if isinstance(o, CircleObstacle)]
+        order += [(k, o) for k, o in numbered if not isinstance(o, CircleObstacle)]
+        self._names = tuple(f"obstacle {o.name!r}" if o.name else f"obstacle {k}" for k, o in order)
         self._near_static_cache: tuple[tuple[float, ...], Any] | None = None
+
+    def overlapping(self, x: float, y: float, r: float) -> list[str]:
+        """What a robot of radius ``r`` at (``x``, ``y``) overlaps, in words ("obstacle
+        'wedge'", "the arena's wall"): the start-pose warning names it, because a robot
+        that is moved out of something at the start must say what it was moved out of."""
+        found = [
+            name
+            for (cx, cy, cr), name in zip(self.circles, self._names)
+            if math.hypot(x - cx, y - cy) < r + cr
+        ]
+        for poly, name in zip(self.polygons, self._names[len(self.circles) :]):
+            corr = poly.push(x, y, r)
+            if corr is not None and (corr[0] != 0.0 or corr[1] != 0.0):
+                found.append(name)
+        if self.arena is not None:
+            xmin, ymin, xmax, ymax = self.arena
+            if x < xmin + r or x > xmax - r or y < ymin + r or y > ymax - r:
+                found.append("the arena's wall")
+        return found
 
     def resolve(self, pos: list[list[float]], radii: Sequence[float]) -> list[bool]:
         """Push robots at ``pos`` (N [x, y] lists, modified in place) out of everything.

@@ -246,18 +246,36 @@ class World:
         ]
 
     def _resolve_start_contacts(self) -> None:
+        """Move robots that start overlapping something clear of it, and say which robot
+        overlapped what and how far it was moved: a silent move would hide a scene typo."""
         pos = self._pose_list
+        overlaps = [self._start_overlaps(i) for i in range(self.n)]
         contact = self.statics.resolve(pos, self._body_radius)
-        moved = float(np.abs(np.array(pos) - self._poses).max())
-        if moved > 1e-9:
-            log.warning(
-                "scene %r: a robot starts overlapping something; moved it by %.4f m",
-                self.scene.name,
-                moved,
-            )
+        for i, (x, y, _) in enumerate(self._poses.tolist()):
+            moved = math.hypot(pos[i][0] - x, pos[i][1] - y)
+            if moved > 1e-9:
+                log.warning(
+                    "scene %r: robot %r starts overlapping %s; moved it %.1f cm to (%.3f, %.3f) m",
+                    self.scene.name,
+                    self.robot_names[i],
+                    " and ".join(overlaps[i]) or "a robot that was moved out of something",
+                    100.0 * moved,
+                    pos[i][0],
+                    pos[i][1],
+                )
         self._poses[:] = pos
         self._contacts[:] = contact
         self._touching = list(contact)
+
+    def _start_overlaps(self, i: int) -> list[str]:
+        """What robot ``i`` overlaps at its start pose: static things, then other robots."""
+        x, y, _ = self._pose_list[i]
+        r = self._body_radius[i]
+        found = self.statics.overlapping(x, y, r)
+        for j, (xj, yj, _) in enumerate(self._pose_list):
+            if j != i and math.hypot(xj - x, yj - y) < r + self._body_radius[j]:
+                found.append(f"robot {self.robot_names[j]!r}")
+        return found
 
     # -- Stepper -----------------------------------------------------------------------------
     @property

@@ -16,9 +16,10 @@ import re
 from pathlib import Path
 
 import pytest
+from episodes import episode
 
 from puckboard.behaviours import load_controller
-from puckboard.control.episode import Episode, run_episode
+from puckboard.control.episode import Episode
 from puckboard.scenario.judge import FAILURES
 
 TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
@@ -33,9 +34,8 @@ QUIET = {f"noise.{k}": 0.0 for k in ("wheel_speed", "proximity", "ground", "star
 
 
 def run(scene, controller, seed=0, profile="epuck-vrep", **overrides):
-    return run_episode(
-        scene, controller=controller, seed=seed, overrides={"robot.profile": profile, **overrides}
-    )
+    """One episode, run once per session (the pages' claims tests look at the same ones)."""
+    return episode(scene, controller, seed, profile, overrides)
 
 
 @pytest.fixture(scope="module", params=PROFILES)
@@ -227,7 +227,7 @@ def result_time(result, kind):
 @pytest.mark.slow
 @pytest.mark.parametrize("controller", ["stock", "improved"])
 def test_either_controller_alone_follows_the_line_for_several_laps(controller):
-    result = run_episode("line-follow", controller=controller, seed=0)
+    result = episode("line-follow", controller, 0)
     assert result.success, (result.failure, result.events)
     (robot,) = result.robots
     assert robot.progress_laps >= 2.5

@@ -85,3 +85,18 @@ def test_scenes_lists_and_shows(capsys):
     assert main(["scenes", "show", "two-robot-pass"]) == 0
     assert 'name = "two-robot-pass"' in capsys.readouterr().out
     assert main(["scenes", "show", "nope"]) == 2
+
+
+def test_a_start_outside_the_arena_stops_the_run_with_one_line(tmp_path, capsys):
+    """Before: the robot was moved 4.5 m back with a warning and the run said SUCCESS."""
+    path = tmp_path / "outside.toml"
+    path.write_text(
+        '[arena]\nsize = [1.0, 1.0]\n[[robots]]\nname = "solo"\nx = 5.0\ny = 0\ntheta = 0\n',
+        encoding="utf-8",
+    )
+    code = main(["run", str(path), "--duration", "1"])
+    captured = capsys.readouterr()
+    assert code == 2 and captured.out == ""
+    (line,) = captured.err.strip().splitlines()
+    assert "outside.toml: robots[0].x: robot 'solo' starts at (5, 0) m, outside the arena" in line
+    assert "(x from -0.5 to 0.5 m, y from -0.5 to 0.5 m)" in line

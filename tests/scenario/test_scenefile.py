@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -169,3 +170,92 @@ def test_unreadable_and_unknown_scenes_say_what_to_do(tmp_path):
         parse_scene_text("robots = [", source="broken.toml")
     with pytest.raises(SceneError, match=r"broken.json: not valid JSON"):
         parse_scene_text("{", source="broken.json")
+
+
+def test_a_robot_starting_outside_the_arena_is_refused_with_the_bounds():
+    """x = 5.0 in a 1 m arena is a typo, not a start: the engine would push the robot
+    4.5 m back through the wall and the run would go on. One line names the robot and
+    the walls."""
+    data = minimal(arena={"size": [1.0, 0.8]})
+    data["robots"][0].update(name="solo", x=5.0)
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data, source="bad.toml")
+    assert str(info.value) == (
+        "bad.toml: robots[0].x: robot 'solo' starts at (5, 0) m, outside the arena "
+        "(x from -0.5 to 0.5 m, y from -0.4 to 0.4 m); give a start inside the walls"
+    )
+    # placed on the track outside the walls: the placing key is named
+    data = {
+        "arena": {"size": [0.4, 0.4]},
+        "track": {"shape": "circle", "radius": 0.5},
+        "robots": [{"name": "far", "track_position": 0.0, "direction": "along"}],
+    }
+    with pytest.raises(SceneError, match=r"robots\[0\]\.track_position: robot 'far' starts at"):
+        scene_from_dict(data, source="bad.toml")
+    # inside the walls, touching one: accepted (the engine moves it clear, with a warning)
+    data = minimal(arena={"size": [1.0, 0.8]})
+    data["robots"][0].update(x=0.49)
+    assert scene_from_dict(data).robots[0].x == 0.49
+
+
+@pytest.mark.parametrize(
+    ("data", "expected"),
+    [
+        (
+            {"track": {"shape": "circle", "radius": 0.5},
+             "robots": [{"name": "r", "track_distanse": 0.1, "direction": "along"}]},
+            "robots[0].track_distanse: unknown key; did you mean 'track_distance'?",
+        ),
+        (
+            {"robots": [{"name": "r", "x": 0, "y": 0, "thetta": 0}]},
+            "robots[0].thetta: unknown key; did you mean 'theta'?",
+        ),
+        (
+            minimal(obstacles=[{"shape": "circle", "x": 0.3, "y": 0, "raduis": 0.02}]),
+            "obstacles[0].raduis: unknown key; did you mean 'radius'?",
+        ),
+        (minimal(nosie={"wheel_speed": 0.1}), "nosie: unknown key; did you mean 'noise'?"),
+        (
+            minimal(track={"shape": "stadium", "lenght": 1, "radius": 0.2}),
+            "track.lenght: unknown key; did you mean 'length'?",
+        ),
+        (minimal(goal={"knd": "avoid"}), "goal.knd: unknown key; did you mean 'kind'?"),
+        (minimal(floor_color=[1, 2, 3]), "floor_color: unknown key; did you mean 'floor_colour'?"),
+    ],
+)  # fmt: skip
+def test_an_unknown_key_is_reported_before_what_it_left_missing(data, expected):
+    """A typo in a key is the mistake to report, not the required key it left missing
+    ("x: missing" for a misspelt track_distance), and the closest known key is named."""
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data, source="bad.toml")
+    message = str(info.value)
+    assert message.startswith(f"bad.toml: {expected}"), message
+    assert "known here:" in message and "\n" not in message, message
+
+
+def test_every_key_of_the_documented_scene_schema_is_accepted():
+    """The tables' declared keys (refused first when unknown) cover every key the schema
+    on docs/scenarios.md shows, commented-out alternatives included."""
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[2] / "docs" / "scenarios.md"
+    text = page.read_text(encoding="utf-8")
+    block = text[text.index('name = "my-scene"') :]
+    block = block[: block.index("```")]
+    from puckboard.scenario.conversion import ARENA_KEYS, GOAL_KEYS, NOISE_KEYS, TOP_KEYS
+    from puckboard.scenario.placement import OBSTACLE_KEYS, ROBOT_KEYS
+    from puckboard.scenario.tracks import TRACK_KEYS
+
+    tables = {"": TOP_KEYS, "goal": GOAL_KEYS, "track": TRACK_KEYS, "arena": ARENA_KEYS,
+              "obstacles": OBSTACLE_KEYS, "robots": ROBOT_KEYS, "noise": NOISE_KEYS}  # fmt: skip
+    table = ""
+    for line in block.splitlines():
+        header = re.match(r"^\[\[?(\w+)\]\]?", line)
+        if header:
+            table = header.group(1)
+            assert table in TOP_KEYS
+            continue
+        for key in re.findall(r"^#?\s*(\w+) =", line) + re.findall(r"; (\w+) =", line):
+            if key in ("actual", "set", "base"):
+                key = "actual" if table == "robots" else key
+            assert key in tables[table], (table, key)

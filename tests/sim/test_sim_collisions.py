@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -106,3 +107,31 @@ def test_backing_off_and_hitting_again_counts_a_second_collision():
 def test_a_robot_starting_inside_an_obstacle_is_moved_out():
     w = World(empty_scene(robot("a", 0.01, 0.0), obstacles=(CircleObstacle(0.0, 0.0, 0.02),)))
     assert math.hypot(*w.poses[0, :2]) == pytest.approx(R + 0.02)
+
+
+def test_the_start_overlap_warning_names_the_robot_and_what_it_overlapped(caplog):
+    """A robot moved at the start says which robot, out of what, and how far: a bare
+    "a robot starts overlapping something" leaves the student to guess which line of
+    the scene file is wrong."""
+    wedge = PolygonObstacle(np.array([[0.3, -0.1], [0.5, -0.1], [0.4, 0.1]]), name="wedge")
+    scene = empty_scene(
+        robot("clear", -0.3, 0.0),
+        robot("inside", 0.4, 0.0),
+        robot("near_wall", 0.0, 0.49),
+        robot("pair_a", 0.0, -0.3),
+        robot("pair_b", 0.01, -0.3),
+        obstacles=(wedge,),
+        arena=Arena(-0.6, -0.5, 0.6, 0.5),
+    )
+    with caplog.at_level(logging.WARNING, logger="puckboard.sim.world"):
+        World(scene)
+    lines = {r.getMessage().split("robot ", 1)[1].split(" ", 1)[0]: r.getMessage()
+             for r in caplog.records}  # fmt: skip
+    assert set(lines) == {"'inside'", "'near_wall'", "'pair_a'", "'pair_b'"}, lines
+    assert "starts overlapping obstacle 'wedge'; moved it" in lines["'inside'"]
+    assert "starts overlapping the arena's wall; moved it" in lines["'near_wall'"]
+    assert "starts overlapping robot 'pair_b'" in lines["'pair_a'"]
+    assert "starts overlapping robot 'pair_a'" in lines["'pair_b'"]
+    # how far it was moved, in cm: the robot at y = 0.49 ends at 0.5 - body radius
+    moved_cm = float(lines["'near_wall'"].split("moved it ")[1].split(" cm")[0])
+    assert moved_cm == pytest.approx(100 * (0.49 - (0.5 - R)), abs=0.05)
