@@ -39,7 +39,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         ),
     )
     _add_what_to_run(parser)
-    _add_where_to_run(parser)
+    add_where_to_run(parser)
     _add_outputs(parser)
     parser.set_defaults(func=main)
 
@@ -98,7 +98,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
     add_variation_argument(parser)
 
 
-def _add_where_to_run(parser: argparse.ArgumentParser) -> None:
+def add_where_to_run(parser: argparse.ArgumentParser) -> None:
     """Executors and their limits: local processes or a Dask cluster, batches, timeouts."""
     where = parser.add_mutually_exclusive_group()
     where.add_argument(
@@ -147,7 +147,7 @@ def _add_outputs(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
 
 
-def _scene(ref: str):  # type: ignore[no-untyped-def]
+def scene_or_error(ref: str):  # type: ignore[no-untyped-def]
     from ..scenario.scenefile import load_scene
 
     try:
@@ -168,7 +168,7 @@ def main(args: argparse.Namespace) -> int:
 def _sweep(args: argparse.Namespace) -> int:
     from ..sweep import LocalExecutor
 
-    _check_numbers(args)
+    check_numbers(args)
     if args.scheduler:  # connect only to run a plan that is known to be good
         return _run(args, None)
     # Local workers start up (an interpreter and the imports each) while this process
@@ -193,14 +193,14 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
     # SIGINT after our one-line message (a KeyboardInterrupt within exec() of source
     # text, as dataclasses do, counts as unhandled even when caught).
     with interrupts_deferred():
-        scene = _scene(args.scenario)
+        scene = scene_or_error(args.scenario)
         plan = _plan(args, scene)
         plot_param = _plot_param(args, plan)
         try:
             store = open_store(args.out) if args.out is not None else None
         except (ValueError, ImportError, OSError) as exc:
             raise CliError(str(exc)) from exc
-    executor = executor or _executor(args)
+    executor = executor or dask_executor(args)
     progress = make_progress(enabled=not args.quiet)
     try:
         result = run_sweep(
@@ -221,10 +221,10 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
         if store is not None:
             store.close()
     _report(args, plan, result, stored=store is not None, plot_param=plot_param)
-    return _exit_status(args, result, stored=store is not None)
+    return exit_status(args, result, stored=store is not None)
 
 
-def _check_numbers(args: argparse.Namespace) -> None:
+def check_numbers(args: argparse.Namespace) -> None:
     check_seconds(args.duration)
     if args.batch_size is not None and args.batch_size < 1:
         raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
@@ -273,17 +273,13 @@ def _profile_parameters(ref: str) -> dict[str, Any]:
     base plus each value it sets, so every episode's identity holds the numbers it ran
     with and no worker needs the file."""
     from ..errors import PuckboardError
-    from ..profile import get_profile
     from ..scenario.robot_profiles import scene_profile
+    from ..sweep.plan import profile_parameters
 
     try:
-        profile = scene_profile(ref)
+        return profile_parameters(scene_profile(ref))
     except PuckboardError as exc:
         raise CliError(str(exc)) from None
-    if isinstance(profile, str):
-        return {"robot.profile": profile}
-    base = profile.base or get_profile(profile).name
-    return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
 def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
@@ -296,7 +292,7 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
     return plot_param
 
 
-def _executor(args: argparse.Namespace) -> Any:
+def dask_executor(args: argparse.Namespace) -> Any:
     from ..sweep import DaskExecutor
 
     try:
@@ -338,19 +334,22 @@ def _report(
             print(f"\nplot written to {args.plot}")
 
 
-def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
-    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup)."""
+def exit_status(
+    args: argparse.Namespace, result: Any, *, stored: bool, command: str = "sweep"
+) -> int:
+    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
+    Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""
     errors = result.errors
     if errors:
         print(
-            f"puckboard sweep: warning: {len(errors)} of {result.ran} episodes raised an "
+            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes raised an "
             f"exception (counted as failure 'error'; see the error column of --out). "
             f"First: {errors[0]}",
             file=sys.stderr,
         )
     if result.interrupted:
         print(
-            f"puckboard sweep: {'terminated' if result.terminated else 'interrupted'}; "
+            f"puckboard {command}: {'terminated' if result.terminated else 'interrupted'}; "
             f"{result.ran} episodes of this run kept"
             + (f" in {args.out}; run the same command again to resume" if stored else ""),
             file=sys.stderr,
