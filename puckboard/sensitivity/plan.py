@@ -87,10 +87,6 @@ class Point:
     field: str = ""
     value: float | None = None
 
-    @property
-    def key(self) -> str:
-        return params_key(self.params)
-
 
 @dataclass(frozen=True)
 class SensitivityPlan:
@@ -108,6 +104,11 @@ class SensitivityPlan:
     @property
     def scenario(self) -> str:
         return self.sweep.scenario
+
+    def point_key(self, point: Point) -> str:
+        """The parameters of ``point``'s episodes (the plan's fixed ones included) as
+        :func:`~puckboard.sweep.plan.params_key` spells them."""
+        return params_key({**self.sweep.fixed, **point.params})
 
     def __len__(self) -> int:
         return len(self.sweep)

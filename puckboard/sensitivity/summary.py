@@ -133,15 +133,15 @@ def analyse(plan: SensitivityPlan, outcomes: Iterable[Outcome]) -> list[Analysis
                 return groups.get((controller, point_key))
 
             points = [p for p in plan.points if p.profile == profile]
-            shipped = next((stats(p.key) for p in points if p.kind == SHIPPED), None)
-            plausible = next((stats(p.key) for p in points if p.kind == PLAUSIBLE), None)
+            shipped = next((stats(plan.point_key(p)) for p in points if p.kind == SHIPPED), None)
+            plausible = next((stats(plan.point_key(p)) for p in points if p.kind == PLAUSIBLE), None)
             results = []
             for f in (f for f in plan.fields if f.profile == profile):
                 values = [
                     ValueResult(float(p.value), False, g)
                     for p in points
                     if p.field == f.path and p.value is not None
-                    for g in [stats(p.key)]
+                    for g in [stats(plan.point_key(p))]
                     if g is not None
                 ]
                 if shipped is not None and f.shipped_inside and plan.variation == "none":
