@@ -134,7 +134,9 @@ def analyse(plan: SensitivityPlan, outcomes: Iterable[Outcome]) -> list[Analysis
 
             points = [p for p in plan.points if p.profile == profile]
             shipped = next((stats(plan.point_key(p)) for p in points if p.kind == SHIPPED), None)
-            plausible = next((stats(plan.point_key(p)) for p in points if p.kind == PLAUSIBLE), None)
+            plausible = next(
+                (stats(plan.point_key(p)) for p in points if p.kind == PLAUSIBLE), None
+            )
             results = []
             for f in (f for f in plan.fields if f.profile == profile):
                 values = [

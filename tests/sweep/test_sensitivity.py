@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 import struct
@@ -33,7 +34,7 @@ from puckboard.sweep.run import SweepResult
 def test_values_are_evenly_spaced_with_both_ends_of_the_range():
     values = field_values(0.030, 0.033, 7)
     assert values[0] == 0.030 and values[-1] == 0.033 and len(values) == 7
-    steps = [b - a for a, b in zip(values, values[1:])]
+    steps = [b - a for a, b in itertools.pairwise(values)]
     assert max(steps) - min(steps) < 1e-15
     assert field_values(0.7, 1.3, 1) == (1.0,)
     assert field_values(0.035, 0.035, 7) == (0.035,)
