@@ -15,9 +15,13 @@ Which poses count, for sensor ``i``:
 * the poses where the model says the wall is out of its reach (``E = 0``): the sensor
   reads its offset there, which fixes the offset best;
 * neither when the mean has a clipped reading in it (a value at 0 or at full scale is
-  not the response: the firmware clamps at 0, the ADC at 4095), nor when it lies within
-  three spreads of 0 or of full scale: there the readings that happened not to be clipped
-  are the high ones (or the low ones), and a mean of them is biased.
+  not the response: the firmware clamps at 0, the ADC at 4095), nor when the sensor's
+  value there lies within three spreads of 0 or of full scale: there the readings that
+  happened not to be clipped are the high ones (or the low ones), and a mean of them is
+  biased. Which value that is, is decided by the fit, not by the mean read (choosing by
+  the mean read would keep the poses whose noise happened to be high and bias the fit
+  the same way): a first fit on the poses clear by six spreads, then :data:`REFITS` more,
+  each on the poses its predecessor predicts clear by three.
 
 Each pose is weighted by the inverse variance of its mean, ``n_k / s_k²``: the table's
 noise grows with the response, so the readings near the wall, a hundred raw units apart
@@ -60,8 +64,10 @@ OUT_OF_REACH = 0.5
 MAX_GAIN = 10.0
 #: The smallest spread (raw) a pose's readings are taken to have.
 SPREAD_FLOOR = 1.0
-#: A mean within this many spreads of 0 or full scale counts as clipped.
+#: A value within this many spreads of 0 or full scale counts as clipped.
 CLIP_SPREADS = 3.0
+#: Fits after the first, each choosing its poses by its predecessor's prediction.
+REFITS = 2
 
 
 @dataclass(frozen=True)
@@ -128,35 +134,28 @@ def fit_all(readings: Sequence[PoseReading], model: WallModel) -> list[SensorFit
     stds = np.array([r.std for r in readings]).reshape(-1, 8)
     low = np.array([r.low for r in readings]).reshape(-1, 8) > 0
     high = np.array([r.high for r in readings]).reshape(-1, 8) > 0
-    margin = CLIP_SPREADS * np.maximum(stds, SPREAD_FLOOR)
-    clipped = low | high | (means - margin <= 0.0) | (means + margin >= RAW_MAX)
     samples = np.array([r.samples for r in readings], dtype=float)
     presented = np.array([[name in r.sensors for name in PROX_NAMES] for r in readings]).reshape(
         -1, 8
     )
-    out_of_reach = expected <= OUT_OF_REACH
+    candidates = ~low & ~high & (presented | (expected <= OUT_OF_REACH))
+    spread = np.maximum(stds, SPREAD_FLOOR)
     fits: list[SensorFit] = []
     problems: list[str] = []
     for i, name in enumerate(PROX_NAMES):
-        use = ~clipped[:, i] & (presented[:, i] | out_of_reach[:, i])
         reach = presented[:, i] & (expected[:, i] >= MIN_INFORMATIVE)
-        informative = use & reach
-        if int(informative.sum()) < MIN_POINTS:
-            at_full, at_zero = int((high[:, i] & reach).sum()), int((low[:, i] & reach).sum())
-            why = (
-                f"{at_full} read full scale ({RAW_MAX:.0f})"
-                if at_full >= at_zero
-                else f"{at_zero} read 0"
-            )
-            problems.append(
-                f"sensor {name}: only {int(informative.sum())} of the {int(reach.sum())} "
-                f"poses that present it to the wall give readings that are not clipped "
-                f"({why}); too few to fit"
-            )
+        use = _clear_of_the_ends(means[:, i], spread[:, i], 2 * CLIP_SPREADS) & candidates[:, i]
+        if int((use & reach).sum()) < MIN_POINTS:
+            problems.append(_too_few(name, int((use & reach).sum()), reach, low[:, i], high[:, i]))
             continue
-        g, o, se_g, se_o, rms = fit_sensor(
-            expected[use, i], means[use, i], stds[use, i], samples[use]
-        )
+        e, y, s, n = expected[:, i], means[:, i], stds[:, i], samples
+        g, o, se_g, se_o, rms = fit_sensor(e[use], y[use], s[use], n[use])
+        for _ in range(REFITS):
+            # choose the poses again by what the fit predicts there, not by what was read
+            use = _clear_of_the_ends(g * e + o, spread[:, i], CLIP_SPREADS) & candidates[:, i]
+            if int((use & reach).sum()) < MIN_POINTS:
+                break
+            g, o, se_g, se_o, rms = fit_sensor(e[use], y[use], s[use], n[use])
         if g < MIN_RESPONSE:
             problems.append(
                 f"sensor {name} does not respond: its fitted gain is {g:.3f}, below "
@@ -185,3 +184,20 @@ def fit_all(readings: Sequence[PoseReading], model: WallModel) -> list[SensorFit
     if problems:
         raise CalibrationError("no fit: " + "; ".join(problems))
     return fits
+
+
+def _clear_of_the_ends(value: FloatArray, spread: FloatArray, spreads: float) -> FloatArray:
+    """Where ``value`` lies more than ``spreads`` spreads from 0 and from full scale."""
+    margin = spreads * spread
+    return np.asarray((value - margin > 0.0) & (value + margin < RAW_MAX))
+
+
+def _too_few(name: str, usable: int, reach: FloatArray, low: FloatArray, high: FloatArray) -> str:
+    at_full, at_zero = int((high & reach).sum()), int((low & reach).sum())
+    why = (
+        f"{at_full} read full scale ({RAW_MAX:.0f})" if at_full >= at_zero else f"{at_zero} read 0"
+    )
+    return (
+        f"sensor {name}: only {usable} of the {int(reach.sum())} poses that present it to the "
+        f"wall give readings clear of 0 and of full scale ({why}); too few to fit"
+    )

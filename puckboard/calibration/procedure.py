@@ -5,8 +5,8 @@ and step counters: a real e-puck (``EPuckReal``, over Wi-Fi or sercom), the emul
 or a simulated one in tests. Where the robot is comes from its step counters alone
 (:class:`Odometry`, with the profile's wheels and axle), as it must on a real robot; a
 move runs until the counters say it is done, re-sending its command every poll so the
-adapter's command watchdog never stops it half way, and slowing down for its last quarter
-second so it stops close to where it was meant to. Where exactly it stopped is read
+adapter's command watchdog never stops it half way, and slowing down as it nears its
+target, as much as the link's latency needs, so it stops close to where it was meant to. Where exactly it stopped is read
 again afterwards: the fit uses the pose the counters give, not the one that was aimed at.
 
 At each pose the robot stands still for the plan's settling time and then takes the
@@ -64,11 +64,14 @@ STALL_S = 1.0
 #: A move may take this many times its expected duration, plus :data:`MOVE_SLACK_S`.
 MOVE_FACTOR = 3.0
 MOVE_SLACK_S = 2.0
-#: Seconds of travel over which a move slows down before its target (to a quarter speed).
-SLOW_WINDOW_S = 0.25
-#: Close enough: headings within 0.3°, distances within 0.1 mm.
-TURN_TOLERANCE = math.radians(0.3)
-DRIVE_TOLERANCE = 0.0001
+#: The slowest a move goes, as a fraction of its speed: about 3 steps/s while turning.
+MIN_SCALE = 0.01
+#: Near its target a move goes at most this fraction of the remaining way in one poll.
+APPROACH = 0.7
+#: Close enough: headings within 0.5°, distances within 0.2 mm (the pose is read again
+#: afterwards, and the fit uses that).
+TURN_TOLERANCE = math.radians(0.5)
+DRIVE_TOLERANCE = 0.0002
 #: Longest wait between two polls of a move (s).
 MAX_POLL_S = 0.02
 
@@ -206,6 +209,7 @@ class _Run:
         self.odometry = Odometry(plan.profile)
         self.poll = min(MAX_POLL_S, plan.sample_period)
         self.readings: list[PoseReading] = []
+        self.per_poll: dict[bool, float] = {}  # by turn (True) or drive: see _move
         self.t0 = clock.now()
         missing = {Sensor.PROXIMITY, Sensor.ENCODERS} - adapter.available_sensors
         if missing:
@@ -270,16 +274,26 @@ class _Run:
         """Drive forward until touching the wall again, and a little beyond (the wheels
         slip against it), and take up the count there: touching, the centre is one body
         radius from the wall (see :mod:`.plan`)."""
-        self.back_to(-self.plan.push(self.odometry.backed))
+        target = -self.plan.push(self.odometry.backed)
+        # never backwards: wheels that ran on into the wall slipped there, and driving
+        # them back would take the robot away from the wall by as much
+        self._move(lambda: target - self.odometry.backed, turn=False, reverse=False)
         self.clock.sleep(self.plan.settle)
         self.read()
         self.odometry.x = 0.0
 
-    def _move(self, remaining: Callable[[], float], *, turn: bool) -> None:
+    def _move(self, remaining: Callable[[], float], *, turn: bool, reverse: bool = True) -> None:
         """Drive until ``remaining()`` (rad or m still to go, by the step counters) is
-        done; a turn is counter-clockwise for a positive remainder, backing away for a
-        positive one. Raises :class:`CalibrationError` for wheels that do not turn and
-        for a move that does not finish in time."""
+        within tolerance: a turn counter-clockwise for a positive remainder, away from the
+        wall for a positive one; an overshoot is driven back (unless not ``reverse``:
+        then it ends the move).
+
+        The speed is proportional to what remains, so that one poll covers at most
+        :data:`APPROACH` of it: how far one poll carries the robot at full speed is learnt as the run goes
+        (the largest seen), since it depends on the link's latency. A slow link (a poll
+        of 0.1 s over Bluetooth) then stops as precisely as a fast one, only later.
+        Raises :class:`CalibrationError` for wheels that do not turn and for a move that
+        does not finish in time."""
         plan = self.plan
         full, rate = (
             (plan.turn_speed, plan.turn_rate) if turn else (plan.drive_speed, plan.drive_rate)
@@ -288,19 +302,28 @@ class _Run:
         first = remaining()
         if abs(first) <= tolerance:
             return
-        direction = 1.0 if first > 0 else -1.0
         start = self.clock.now()
         deadline = start + MOVE_FACTOR * abs(first) / rate + MOVE_SLACK_S
         assert self.odometry.encoders is not None
         enc0 = self.odometry.encoders
         one_step = self.adapter.profile.rad_per_step
+        # travel of one poll at full speed: a first guess, then the largest seen on this link
+        per_poll = self.per_poll.get(turn, rate * self.poll)
+        previous, scale, before = first, 0.0, 0.0
         while True:
-            left = remaining() * direction
-            if left <= tolerance:
+            left = remaining()
+            if abs(left) <= tolerance or (not reverse and left * first < 0):
                 break
-            scale = min(1.0, max(0.25, left / (rate * SLOW_WINDOW_S)))
-            w = full * scale * direction
+            if scale:
+                # what moved it since the last poll: the last command, or (the link being
+                # slow) still the one before it
+                per_poll = max(per_poll, abs(previous - left) / max(scale, before))
+                self.per_poll[turn] = per_poll
+            before = scale
+            scale = min(1.0, max(MIN_SCALE, APPROACH * abs(left) / per_poll))
+            w = math.copysign(full * scale, left)
             self.adapter.set_wheel_speeds(*((-w, w) if turn else (-w, -w)))
+            previous = left
             self.clock.sleep(self.poll)
             self.read()
             now = self.clock.now()
@@ -315,10 +338,11 @@ class _Run:
                 )
             if now > deadline:
                 self.adapter.stop_wheels()
+                still = remaining()
                 what = (
-                    f"turn ({math.degrees(left):.0f}° still to go)"
+                    f"turn ({math.degrees(still):.0f}° still to go)"
                     if turn
-                    else f"move ({left * 1000:.1f} mm still to go)"
+                    else f"move ({still * 1000:.1f} mm still to go)"
                 )
                 raise CalibrationError(
                     f"the robot did not finish a {what} in {now - start:.1f} s: its wheels "

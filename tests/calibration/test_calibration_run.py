@@ -38,7 +38,8 @@ def wheels_stopped(connection) -> bool:
 
 def test_the_fit_recovers_known_gains_and_offsets_on_a_slipping_noisy_robot():
     connection = wall_robot(known_profile(), seed=0)
-    measurements = run_calibration(connection.adapters["epuck"], PLAN, MODEL)
+    plan = make_plan(EPUCK)  # what a user runs: 21 stops
+    measurements = run_calibration(connection.adapters["epuck"], plan, MODEL)
     fits = {f.sensor: f for f in fit_all(measurements.readings, MODEL)}
     assert set(fits) == set(KNOWN_GAINS)
     for name, fit in fits.items():
@@ -46,8 +47,8 @@ def test_the_fit_recovers_known_gains_and_offsets_on_a_slipping_noisy_robot():
         assert fit.offset == pytest.approx(KNOWN_OFFSETS[name], abs=10.0), name
         assert fit.points >= 8 and fit.rms > 0  # noisy readings leave residuals
     assert wheels_stopped(connection)
-    # 1 facing reading + 8 poses at each of the 11 stops, every one read 10 times
-    assert len(measurements.readings) == 1 + 11 * 8
+    # 1 facing reading + 8 poses at each of the 21 stops, every one read 10 times
+    assert len(measurements.readings) == 1 + 21 * 8
     assert {r.samples for r in measurements.readings} == {10}
 
 
