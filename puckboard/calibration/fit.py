@@ -53,6 +53,7 @@ from .response import WallModel
 __all__ = ["MAX_GAIN", "MIN_INFORMATIVE", "SensorFit", "fit_all", "fit_sensor"]
 
 FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
 
 #: The weakest response (raw, gain 1) that informs the gain: the model's value about
 #: 5.5 cm from a sensor. A fit needs at least :data:`MIN_POINTS` such poses.
@@ -186,13 +187,13 @@ def fit_all(readings: Sequence[PoseReading], model: WallModel) -> list[SensorFit
     return fits
 
 
-def _clear_of_the_ends(value: FloatArray, spread: FloatArray, spreads: float) -> FloatArray:
+def _clear_of_the_ends(value: FloatArray, spread: FloatArray, spreads: float) -> BoolArray:
     """Where ``value`` lies more than ``spreads`` spreads from 0 and from full scale."""
     margin = spreads * spread
     return np.asarray((value - margin > 0.0) & (value + margin < RAW_MAX))
 
 
-def _too_few(name: str, usable: int, reach: FloatArray, low: FloatArray, high: FloatArray) -> str:
+def _too_few(name: str, usable: int, reach: BoolArray, low: BoolArray, high: BoolArray) -> str:
     at_full, at_zero = int((high & reach).sum()), int((low & reach).sum())
     why = (
         f"{at_full} read full scale ({RAW_MAX:.0f})" if at_full >= at_zero else f"{at_zero} read 0"
