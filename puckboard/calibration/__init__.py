@@ -6,7 +6,7 @@
   wall (:class:`WallModel`), the response every fit is made against.
 * :mod:`~puckboard.calibration.procedure`: the run on a robot adapter
   (:func:`run_calibration`): moves by the step counters, readings at every pose, wheels
-  stopped however it ends.
+  stopped however it ends; :mod:`~puckboard.calibration.readings`, what it reads.
 * :mod:`~puckboard.calibration.checks`: what stops a run that cannot work, and says what
   to fix.
 * :mod:`~puckboard.calibration.fit`: each sensor's gain and offset by least squares
@@ -19,7 +19,8 @@ from __future__ import annotations
 from .fit import SensorFit, fit_all, fit_sensor
 from .output import ambient_light, calibrated_profile, profile_file_text
 from .plan import CalibrationPlan, Presentation, make_plan
-from .procedure import Measurements, PoseReading, Progress, run_calibration
+from .procedure import run_calibration
+from .readings import Measurements, PoseReading, Progress
 from .response import WallModel
 
 __all__ = [

@@ -28,7 +28,7 @@ from ..ir_response import RAW_MAX
 from ..records import PROX_NAMES
 
 if TYPE_CHECKING:
-    from .procedure import PoseReading
+    from .readings import PoseReading
     from .response import WallModel
 
 __all__ = ["MIN_RESPONSE", "moving_away", "sensors_respond", "wall_seen"]

@@ -47,7 +47,7 @@ from ..errors import CalibrationError
 from ..ir_response import RAW_MAX
 from ..records import PROX_NAMES
 from .checks import MIN_RESPONSE
-from .procedure import PoseReading
+from .readings import PoseReading
 from .response import WallModel
 
 __all__ = ["MAX_GAIN", "MIN_INFORMATIVE", "SensorFit", "fit_all", "fit_sensor"]

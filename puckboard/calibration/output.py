@@ -36,7 +36,7 @@ import numpy as np
 from ..profile import RobotProfile, apply_overrides, get_profile, profile_from_data
 from ..records import PROX_NAMES
 from .fit import SensorFit
-from .procedure import Measurements
+from .readings import Measurements
 from .response import WallModel
 
 if sys.version_info >= (3, 11):

@@ -15,8 +15,8 @@ Two choices keep the robot's own errors out of the fit:
   (wheels slip, the axle length is uncertain) changes the reading by well under a
   percent, where at 17° from the perpendicular it would change it by several.
 * **Touching the wall again before each stop.** Turning in place on slipping wheels
-  moves the robot a little, and over twenty full turns that adds up to millimetres,
-  about 8 % of a sensor's response each (the response falls by 6 to 10 % per mm). So
+  moves the robot a little, and over twenty full turns that adds up to millimetres (the
+  response falls by 5 to 19 % per mm, by Webots' table). So
   before each stop the robot drives forward until it touches the wall again (a few mm
   beyond, which its wheels slip through), where its distance is known once more, and
   backs from there to the stop: each stop carries the errors of one turn and one move
@@ -165,14 +165,15 @@ class CalibrationPlan:
             f"{self.stops} stops, {self.backs[0] * mm:g} to {self.backs[-1] * mm:g} mm back "
             f"from touching in {step * mm:g} mm steps (centre "
             f"{(self.start_distance + self.backs[0]) * mm:g} to "
-            f"{(self.start_distance + self.backs[-1]) * mm:g} mm from the wall); before each "
-            "stop the robot touches the wall again",
-            "at each stop a full turn in place, alternately left and right, pausing with each "
-            "sensor straight at the wall:",
+            f"{(self.start_distance + self.backs[-1]) * mm:g} mm from the wall)",
+            "before each stop the robot touches the wall again, then backs to the stop",
+            "at each stop a full turn in place (alternately left and right), pausing with each "
+            "sensor",
+            "straight at the wall:",
         ]
-        lines.append(
-            "  " + ", ".join(f"{p.name} {math.degrees(p.heading):.0f}°" for p in self.presentations)
-        )
+        half = (len(self.presentations) + 1) // 2
+        for part in (self.presentations[:half], self.presentations[half:]):
+            lines.append("  " + ", ".join(f"{p.name} {math.degrees(p.heading):.0f}°" for p in part))
         lines += [
             f"{self.samples} readings per pose, {self.sample_period:g} s apart, after "
             f"{self.settle:g} s to settle",

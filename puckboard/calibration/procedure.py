@@ -30,7 +30,6 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
@@ -43,20 +42,14 @@ from ..profile import RobotProfile
 from ..records import Sensor
 from . import checks
 from .plan import CalibrationPlan, Presentation
+from .readings import Measurements, PoseReading, Progress
 from .response import WallModel
 
-__all__ = [
-    "Measurements",
-    "Odometry",
-    "PoseReading",
-    "Progress",
-    "run_calibration",
-]
+__all__ = ["Odometry", "run_calibration"]
 
 log = logging.getLogger(__name__)
 
 FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
 
 #: A move whose step counters have not changed after this long (s) is a robot whose
 #: wheels do not turn.
@@ -74,57 +67,6 @@ TURN_TOLERANCE = math.radians(0.5)
 DRIVE_TOLERANCE = 0.0002
 #: Longest wait between two polls of a move (s).
 MAX_POLL_S = 0.02
-
-
-@dataclass(frozen=True)
-class PoseReading:
-    """What the sensors read at one pose of the run.
-
-    ``distance`` is the robot centre's distance from the wall and ``heading`` its turn
-    from facing the wall (rad, counter-clockwise, cumulative over the run), both from the
-    step counters. ``mean`` and ``std`` (sample standard deviation) are per sensor over
-    ``samples`` readings, of which ``low`` were 0 and ``high`` full scale (clipped).
-    ``ambient`` is the mean ambient light per sensor (0 bright .. 4095 dark) or ``None``
-    where the backend does not report it.
-    """
-
-    stop: int
-    pose: str
-    sensors: tuple[str, ...]
-    backed: float
-    distance: float
-    heading: float
-    mean: FloatArray
-    std: FloatArray
-    samples: int
-    low: IntArray
-    high: IntArray
-    ambient: FloatArray | None
-    time: float
-
-
-@dataclass(frozen=True)
-class Measurements:
-    """A finished run: the plan, every pose's reading, and how long it took (s)."""
-
-    plan: CalibrationPlan
-    readings: tuple[PoseReading, ...]
-    seconds: float
-    backend: str
-
-
-@dataclass(frozen=True)
-class Progress:
-    """Where the run is, for a progress display: pose ``done + 1`` of ``total`` is being
-    read, at stop ``stop`` (0-based) of ``stops``, ``backed`` m from touching."""
-
-    stop: int
-    stops: int
-    backed: float
-    pose: str
-    sensors: tuple[str, ...]
-    done: int
-    total: int
 
 
 class _Clock(Protocol):

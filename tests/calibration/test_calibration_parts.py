@@ -210,3 +210,50 @@ def test_ambient_light_that_changes_is_a_warning():
     assert [c[0] for c in changed.changes()] == ["right"]
     assert changed.describe().startswith("warning: ambient light changed during the run (right:")
     assert AmbientLight(None, None).describe() == "ambient light: not reported by this backend"
+
+
+# -- what the pages say -------------------------------------------------------------------
+def test_the_calibration_wall_scene_is_what_its_description_says():
+    from puckboard.scenario.scenefile import load_scene, scene_description
+
+    scene = load_scene("calibration-wall")
+    (robot,) = scene.robots
+    arena = scene.arena
+    assert (arena.xmax - arena.xmin, arena.ymax - arena.ymin) == (0.6, 0.6)
+    # touching the east wall, facing it
+    assert arena.xmax - robot.x == pytest.approx(EPUCK.body_radius)
+    assert robot.theta == 0.0 and scene.noise.start_jitter == 0.0
+    # "nothing else within 25 cm": the other walls, from the body's edge
+    others = (robot.x - arena.xmin, arena.ymax - robot.y, robot.y - arena.ymin)
+    assert min(others) - EPUCK.body_radius > 0.25
+    assert not scene.obstacles
+    assert "nothing else within 25 cm" in scene_description("calibration-wall")
+
+
+def test_the_real_robot_pages_figures_are_the_models():
+    """docs/real-robot.md: where a side sensor stops detecting for a few gains, and how
+    fast the table's response falls per millimetre."""
+    from pathlib import Path
+
+    from puckboard.ir_response import CALIBRATED, TABLE
+
+    text = " ".join(
+        (Path(__file__).resolve().parents[2] / "docs" / "real-robot.md")
+        .read_text(encoding="utf-8")
+        .split()
+    )
+
+    def end_mm(gain: float) -> str:
+        end = MODEL.detection_end("right", gain, 0.0)
+        assert end is not None
+        return f"{end * 1000:.1f}"
+
+    assert (
+        f"a side sensor of gain 0.8 stops detecting a white wall straight ahead at "
+        f"{end_mm(0.8)} mm instead of {end_mm(1.0)} mm" in text
+    )
+    assert f"0.7 to 1.3, moves that from {end_mm(0.7)} to {end_mm(1.3)} mm" in text
+    # between the table's points from 5 mm to 5 cm, the fall per mm of C(d) = T(d) - T(inf)
+    d, c = TABLE[1:8, 0] * 1000, CALIBRATED[1:8]
+    per_mm = 100 * np.log(c[:-1] / c[1:]) / np.diff(d)
+    assert f"falls by {per_mm.min():.0f} to {per_mm.max():.0f} % for each millimetre" in text

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 import socket
+import textwrap
 from pathlib import Path
 
 import doc_pages
@@ -46,10 +47,12 @@ def test_dry_run_prints_the_plan_and_connects_to_nothing(capsys):
 def test_the_real_robot_page_shows_what_dry_run_prints(capsys):
     """docs/real-robot.md shows the plan of a dry run: that very output, every number."""
     page = (ROOT / "docs" / "real-robot.md").read_text(encoding="utf-8")
+    # the block is a step of a numbered list, so it is indented
+    fence = re.compile(r"^( *)```console\n(.*?)^\1```", re.MULTILINE | re.DOTALL)
     shown = [
-        body
-        for language, body in doc_pages.fences(page)
-        if language == "console" and body.startswith("$ puckboard calibrate ir --dry-run")
+        textwrap.dedent(m.group(2))
+        for m in fence.finditer(page)
+        if m.group(2).lstrip().startswith("$ puckboard calibrate ir --dry-run")
     ]
     assert len(shown) == 1
     command, _, output = shown[0].partition("\n")
