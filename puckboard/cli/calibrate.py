@@ -145,6 +145,19 @@ def _out_path(args: argparse.Namespace) -> Path:
     return check_writable(out, "--out")
 
 
+def _check_name(name: str) -> None:
+    """The robot's name in the file, checked before the robot moves: the file must load."""
+    from ..profile import profile_names
+
+    if not name.strip():
+        raise CliError("--name: give your robot a name, e.g. --name my-epuck")
+    if name in profile_names():
+        raise CliError(
+            f"the profile's name {name!r} is a shipped profile's; give your robot its own: "
+            "--name my-epuck (or an --out file of another name)"
+        )
+
+
 def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     if args.backend not in ROBOT_BACKENDS:
         given = f"--backend {args.backend}" if args.backend else "no --backend"
@@ -181,6 +194,7 @@ def main(args: argparse.Namespace) -> int:
         print("(--dry-run: nothing was connected, nothing moved)")
         return 0
     out = _out_path(args)
+    _check_name(args.name or out.stem)
     options = _backend_options(args)
     from ..calibration import WallModel, fit_all, run_calibration
     from ..errors import CalibrationError, ConnectionLostError

@@ -88,6 +88,8 @@ def test_dry_run_follows_the_options_and_the_profile(tmp_path, capsys):
         (["--dry-run", "--profile", "epuk"], "unknown robot profile 'epuk'"),
         (["--out", "x.toml", "--backend", "sercom"], "the sercom backend needs the serial device"),
         (["--out", "x.toml", "--backend", "epuck2-wifi", "--port", "70000"], "--port must be"),
+        (["--out", "epuck.toml"], "the profile's name 'epuck' is a shipped profile's; give"),
+        (["--out", "x.toml", "--name", "e-puck1"], "the profile's name 'e-puck1' is a shipped"),
     ],
 )
 def test_bad_input_is_one_line_and_status_2(argv, expected, capsys, tmp_path, monkeypatch):
