@@ -65,7 +65,8 @@ def wall_seen(first: PoseReading, model: WallModel) -> None:
     if np.all(_at_full_scale(first.mean, first.std)):
         raise CalibrationError(
             f"readings saturated: every sensor reads full scale ({RAW_MAX:.0f}) at the start; "
-            f"something covers the robot's sensors or their calibration is wrong: {_SWITCHED_ON_AWAY}"
+            "something covers the robot's sensors or their calibration is wrong: "
+            + _SWITCHED_ON_AWAY
         )
     expected = _expected(first, model)
     seen = [first.mean[i] >= MIN_RESPONSE * expected[i] for i in _FRONT]

@@ -173,7 +173,8 @@ class CalibrationPlan:
         ]
         half = (len(self.presentations) + 1) // 2
         for part in (self.presentations[:half], self.presentations[half:]):
-            lines.append("  " + ", ".join(f"{p.name} {math.degrees(p.heading):.0f}°" for p in part))
+            poses = (f"{p.name} {math.degrees(p.heading):.0f}°" for p in part)
+            lines.append("  " + ", ".join(poses))
         lines += [
             f"{self.samples} readings per pose, {self.sample_period:g} s apart, after "
             f"{self.settle:g} s to settle",

@@ -6,8 +6,9 @@ or a simulated one in tests. Where the robot is comes from its step counters alo
 (:class:`Odometry`, with the profile's wheels and axle), as it must on a real robot; a
 move runs until the counters say it is done, re-sending its command every poll so the
 adapter's command watchdog never stops it half way, and slowing down as it nears its
-target, as much as the link's latency needs, so it stops close to where it was meant to. Where exactly it stopped is read
-again afterwards: the fit uses the pose the counters give, not the one that was aimed at.
+target, as much as the link's latency needs, so that it stops close to where it was meant
+to. Where exactly it stopped is read again afterwards: the fit uses the pose the counters
+give, not the one that was aimed at.
 
 At each pose the robot stands still for the plan's settling time and then takes the
 plan's number of readings. What the run keeps per pose (:class:`PoseReading`) is the mean
@@ -231,9 +232,10 @@ class _Run:
         then it ends the move).
 
         The speed is proportional to what remains, so that one poll covers at most
-        :data:`APPROACH` of it: how far one poll carries the robot at full speed is learnt as the run goes
-        (the largest seen), since it depends on the link's latency. A slow link (a poll
-        of 0.1 s over Bluetooth) then stops as precisely as a fast one, only later.
+        :data:`APPROACH` of it: how far one poll carries the robot at full speed is learnt
+        as the run goes (the largest seen), since it depends on the link's latency. A slow
+        link (a poll of 0.1 s over Bluetooth) then stops as precisely as a fast one, only
+        later.
         Raises :class:`CalibrationError` for wheels that do not turn and for a move that
         does not finish in time."""
         plan = self.plan
