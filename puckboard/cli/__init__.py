@@ -33,6 +33,7 @@ COMMANDS: tuple[str, ...] = (
     "tree",
     "scenes",
     "profiles",
+    "calibrate",
     "examples",
     "docs",
 )
