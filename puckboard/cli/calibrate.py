@@ -334,7 +334,7 @@ class _Display:
             else self.total_s
         )
         line = (
-            f"stop {progress.stop + 1}/{progress.stops}, {max(progress.backed, 0.0) * 1000:.0f}"
+            f"stop {progress.stop + 1}/{progress.stops}, {round(max(progress.backed, 0.0) * 1000)}"
             f" mm from touching: {progress.pose} ({progress.done + 1}/{progress.total} poses, "
             f"about {math.ceil(left / 60)} min left)"
         )
