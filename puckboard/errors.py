@@ -5,6 +5,7 @@ from __future__ import annotations
 __all__ = [
     "AdapterClosedError",
     "AdapterError",
+    "CalibrationError",
     "ConnectionLostError",
     "LayerError",
     "NonFiniteError",
@@ -33,6 +34,11 @@ class AdapterClosedError(AdapterError):
 
 class ConnectionLostError(AdapterError):
     """The simulator or robot stopped answering within the timeout."""
+
+
+class CalibrationError(PuckboardError):
+    """A step of a robot's calibration cannot work (no wall in front of it, wheels that do
+    not turn, a sensor that does not respond ...); the message says what to fix."""
 
 
 class SceneError(PuckboardError, ValueError):

@@ -82,6 +82,8 @@ def files_of(subpackage: str) -> list[Path]:
         ("control", ("puckboard.cli",)),
         ("records", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
         ("profile", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
+        # a calibration drives an adapter and asks the engine's IR model; no controller
+        ("calibration", ("puckboard.cli", "puckboard.behaviours", "puckboard.control")),
     ],
 )
 def test_dependencies_point_one_way(subpackage, forbidden):
@@ -100,7 +102,9 @@ def test_dependencies_point_one_way(subpackage, forbidden):
     assert offenders == []
 
 
-@pytest.mark.parametrize("subpackage", ["backends", "control", "viz", "sweep", "web"])
+@pytest.mark.parametrize(
+    "subpackage", ["backends", "control", "viz", "sweep", "web", "calibration"]
+)
 def test_backends_use_the_engine_only_through_its_world(subpackage):
     """Outside the engine, only ``World`` is imported: the rest of sim/ is its internals."""
     allowed = {"puckboard.sim.world", "puckboard.sim.world.World"}

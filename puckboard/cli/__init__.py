@@ -34,6 +34,7 @@ COMMANDS: tuple[str, ...] = (
     "tree",
     "scenes",
     "profiles",
+    "calibrate",
     "examples",
     "docs",
 )

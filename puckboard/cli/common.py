@@ -36,6 +36,7 @@ __all__ = [
     "missing_extra",
     "require",
     "seed_type",
+    "serve_until_interrupted",
     "start_web_view",
     "user_code_error",
     "web_url",
@@ -400,3 +401,16 @@ def web_url(view: Any, host: str) -> str:
     if host in ("0.0.0.0", "*", "::"):
         return f"http://{socket.gethostname()}:{view.port}/  (or this machine's address)"
     return str(view.url)
+
+
+def serve_until_interrupted(view: Any) -> None:
+    """Keep a web view up (its page, its verdict) until Ctrl-C, then close it."""
+    import time
+
+    try:
+        while True:
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        view.close()

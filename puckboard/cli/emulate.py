@@ -1,7 +1,8 @@
 """``puckboard emulate``: a simulated e-puck that speaks the real robot's protocol.
 
 Serves the first robot of a scene over the e-puck2 Wi-Fi protocol (TCP) or advanced
-sercom (a pseudo-terminal on Linux/macOS, or TCP with ``--port``), paced in real time,
+sercom (a pseudo-terminal on Linux/macOS, or TCP with ``--port``), paced in real time
+(or ``--speed`` times faster),
 and prints the judge's verdict (the ``puckboard run --json`` fields) when it stops:
 when the client is done (it disconnects, or is silent for ``--idle-timeout`` s), after
 ``--duration`` seconds counted from its first command, or on Ctrl-C (then the verdict
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 
 from .common import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
@@ -69,6 +71,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     p.add_argument("--seed", type=seed_type, default=0, help="seed of the simulation's noise")
     p.add_argument(
+        "--speed",
+        type=float,
+        default=1.0,
+        metavar="X",
+        help="run the robot X times faster than real time (default 1, as a real robot): "
+        "for tests and demonstrations that need not wait; a client sees it move X times faster",
+    )
+    p.add_argument(
         "--profile",
         default="epuck",
         metavar="NAME|FILE.toml",
@@ -92,6 +102,8 @@ def main(args: argparse.Namespace) -> int:
 
     check_seconds(args.duration)
     check_port(args.port)
+    if not (math.isfinite(args.speed) and args.speed > 0):
+        raise CliError(f"--speed must be a finite number > 0 (times real time), got {args.speed}")
     if args.idle_timeout < 0:
         raise CliError(f"--idle-timeout must be >= 0 seconds, got {args.idle_timeout}")
     serial = None
@@ -118,6 +130,7 @@ def main(args: argparse.Namespace) -> int:
             serial=serial,
             others=args.others,
             idle_timeout=args.idle_timeout or None,
+            realtime=args.speed,
             profile=None if args.profile == "scene" else args.profile,
         )
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:

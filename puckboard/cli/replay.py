@@ -13,7 +13,15 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import CliError, add_web_arguments, check_port, help_text, start_web_view, web_url
+from .common import (
+    CliError,
+    add_web_arguments,
+    check_port,
+    help_text,
+    serve_until_interrupted,
+    start_web_view,
+    web_url,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -71,17 +79,5 @@ def main(args: argparse.Namespace) -> int:
         )
         print(f"replay: {web_url(view, args.web_host)}  (Ctrl-C ends it)", file=sys.stderr,
               flush=True)  # fmt: skip
-        _serve_until_interrupted(view)
+        serve_until_interrupted(view)
     return 0
-
-
-def _serve_until_interrupted(view: object) -> None:
-    import time
-
-    try:
-        while True:
-            time.sleep(0.5)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        view.close()  # type: ignore[attr-defined]

@@ -31,6 +31,7 @@ from .common import (
     missing_extra,
     require,
     seed_type,
+    serve_until_interrupted,
     start_web_view,
     user_code_error,
     web_url,
@@ -291,19 +292,11 @@ def main(args: argparse.Namespace) -> int:
 
 def _keep_web_view(web: Any) -> None:
     """Keep the page (and its verdict) up after the run until Ctrl-C."""
-    import time
-
     print(
         f"the live view stays at {web.url} with the verdict; Ctrl-C ends it",
         file=sys.stderr, flush=True,
     )  # fmt: skip
-    try:
-        while True:
-            time.sleep(0.5)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        web.close()
+    serve_until_interrupted(web)
 
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:

@@ -51,7 +51,7 @@ def test_scenes_lists_each_scene_with_its_description(capsys):
     assert scene_description("arena") in " ".join(arena.split())
 
 
-@pytest.mark.parametrize("command", ["serve", "emulate"])
+@pytest.mark.parametrize("command", ["serve", "emulate", "calibrate"])
 def test_help_has_no_rest_markup_and_every_option_is_explained(command, capsys):
     import argparse
 

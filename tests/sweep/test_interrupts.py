@@ -57,10 +57,15 @@ class Command:
             start_new_session=True,
         )
         self.seen: set[tuple[int, float]] = set()
+        #: each seen process's latest command line, read while it lived
+        self.command_lines: dict[tuple[int, float], str] = {}
         self.exit_s = float("nan")
 
     def watch(self) -> set[tuple[int, float]]:
         now = descendants(self.proc.pid)
+        for process in now:  # read again: a child shows its parent's line until it execs
+            if line := command_line(process[0]):
+                self.command_lines[process] = line
         self.seen |= now
         return now
 
@@ -86,7 +91,9 @@ class Command:
 
     def finish(self, *, spawns: bool = True) -> tuple[int, list[str]]:
         """Exit status and stderr lines, once it has exited and its processes are gone
-        (``spawns``: it was seen to start some, else the check would prove nothing)."""
+        (``spawns``: it was seen to start worker processes, else the check would prove
+        nothing; multiprocessing's resource tracker, which a library may start on its
+        own, is not a worker)."""
         try:
             self.proc.wait(timeout=EXIT_WITHIN)
         except subprocess.TimeoutExpired:
@@ -98,7 +105,8 @@ class Command:
         while (left := [p for p in self.seen if alive(p)]) and time.monotonic() < deadline:
             time.sleep(0.05)
         assert not left, f"processes left behind: {sorted(p[0] for p in left)}"
-        assert bool(self.seen) == spawns, self.seen
+        workers = {p: line for p, line in self.command_lines.items() if _is_worker(line)}
+        assert bool(workers) == spawns, self.command_lines
         assert "Traceback" not in err, err
         return self.proc.returncode, err.splitlines()
 
@@ -120,6 +128,13 @@ def rows_in(path: Path) -> int:
 def kept(line: str) -> int:
     """The episode count of ``puckboard sweep: interrupted; N episodes of this run kept``."""
     return int(line.split("; ")[1].split()[0])
+
+
+def _is_worker(line: str) -> bool:
+    """Whether a command line is a spawned worker's (local workers are always spawned),
+    not a helper a library starts on its own, such as multiprocessing's resource tracker
+    or a one-off system query."""
+    return "spawn_main" in line and "resource_tracker" not in line
 
 
 def _workers_started(command: Command) -> bool:
