@@ -11,18 +11,19 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 from typing import Any
 
 from .common import CliError
 from .sweep import (
-    DEFAULT_SCENARIO,
+    add_scene_and_controllers,
     add_where_to_run,
     check_numbers,
-    dask_executor,
+    execute,
     exit_status,
+    open_out,
     scene_or_error,
+    with_executor,
 )
 
 #: Seeds per value unless asked otherwise: a whole profile (16 fields × 7 values) of one
@@ -52,21 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "puckboard run SCENE --profile P --set profile.FIELD=VALUE --seed N."
         ),
     )
-    parser.add_argument(
-        "scenario",
-        nargs="?",
-        default=DEFAULT_SCENARIO,
-        metavar="SCENARIO | SCENE_FILE",
-        help=f"shipped scene name or a .toml/.json scene file (default: {DEFAULT_SCENARIO})",
-    )
-    parser.add_argument(
-        "--controller",
-        action="append",
-        default=[],
-        metavar="SPEC",
-        help="controller for every robot: stock, improved, MODULE:FACTORY or FILE.py:FACTORY "
-        "(repeatable; default: each robot's controller from the scene)",
-    )
+    add_scene_and_controllers(parser)
     parser.add_argument(
         "--profile",
         action="append",
@@ -137,24 +124,12 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _sensitivity(args: argparse.Namespace) -> int:
-    from ..sweep import LocalExecutor
-
     check_numbers(args)
     if args.values < 1:
         raise CliError(f"--values must be at least 1, got {args.values}")
     if args.plot is not None:
         _check_plot(args.plot)
-    if args.scheduler:
-        return _run(args, None)
-    local = LocalExecutor(args.workers)
-    try:
-        local.start()
-        return _run(args, local)
-    except BaseException:
-        local.cancel()
-        raise
-    finally:
-        local.close()
+    return with_executor(args, _run)
 
 
 def _check_plot(path: Path) -> None:
@@ -168,35 +143,30 @@ def _check_plot(path: Path) -> None:
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
     from ..sensitivity import format_result, run_sensitivity
-    from ..sweep import WorkerLostError, make_progress, open_store
+    from ..sweep import make_progress
     from ..sweep.signals import interrupts_deferred
 
     with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
         scene = scene_or_error(args.scenario)
         plan = _plan(args, scene)
-        try:
-            store = open_store(args.out) if args.out is not None else None
-        except (ValueError, ImportError, OSError) as exc:
-            raise CliError(str(exc)) from exc
-    executor = executor or dask_executor(args)
-    try:
-        result = run_sensitivity(
+        store = open_out(args)
+    result = execute(
+        args,
+        executor,
+        store,
+        "sensitivity",
+        lambda on: run_sensitivity(
             plan,
             scene,
-            executor=executor,
+            executor=on,
             store=store,
             batch_size=args.batch_size,
             progress=make_progress(enabled=not args.quiet),
             episode_timeout=args.episode_timeout,
-        )
-    except WorkerLostError as exc:
-        kept = f"; finished rows are in {args.out}: run again to resume" if store else ""
-        print(f"puckboard sensitivity: error: {exc}{kept}", file=sys.stderr)
+        ),
+    )
+    if result is None:
         return 1
-    finally:
-        executor.close()
-        if store is not None:
-            store.close()
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
