@@ -854,6 +854,21 @@ def test_the_sweeps_page_json_example_is_what_the_sweep_prints(tmp_path):
 
 
 @pytest.mark.slow
+def test_the_sweeps_page_shows_what_its_sensitivity_analysis_prints(tmp_path):
+    page = text(SWEEPS)
+    shown = re.search(r"^```bash\n(puckboard sensitivity [^\n]*)\n```\n\n```text\n(.*?)^```",
+                      page, re.MULTILINE | re.DOTALL)  # fmt: skip
+    assert shown, "the sensitivity section should show a command and what it prints"
+    argv = shlex.split(shown.group(1))[1:]
+    done = subprocess.run(
+        [sys.executable, "-m", "puckboard", *argv, "--workers", "1", "--quiet"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    doc_pages.assert_shown(shown.group(2), done.stdout, SWEEPS)
+
+
+@pytest.mark.slow
 def test_the_estimation_page_shows_what_go_home_prints():
     page = "docs/estimation.md"
     (block,) = [
