@@ -14,7 +14,7 @@ with ``my_controller.py`` saved from the tutorial's block, as a reader saves it,
 copies the figure into docs/img/. Every episode is kept in ``WORKDIR/flagship.csv``, so
 an interrupted run resumes (run it again) and a finished one redraws in seconds; the
 report is written to ``WORKDIR/report.txt``. The whole analysis is 8,720 episodes, about
-half an hour on two cores (docs/simulator.md gives the measured time). Needs the ``viz``
+25 minutes on two cores (docs/simulator.md gives the measured time). Needs the ``viz``
 extra (matplotlib).
 """
 
