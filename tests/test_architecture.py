@@ -84,6 +84,17 @@ def files_of(subpackage: str) -> list[Path]:
         ("profile", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
         # a calibration drives an adapter and asks the engine's IR model; no controller
         ("calibration", ("puckboard.cli", "puckboard.behaviours", "puckboard.control")),
+        # an analysis is points of a sweep: it runs episodes only through the sweep
+        (
+            "sensitivity",
+            (
+                "puckboard.cli",
+                "puckboard.behaviours",
+                "puckboard.backends",
+                "puckboard.sim",
+                "puckboard.control",
+            ),
+        ),
     ],
 )
 def test_dependencies_point_one_way(subpackage, forbidden):

@@ -254,13 +254,7 @@ def test_the_tutorial_controller_s_200_seed_claims_are_the_table_s():
     assert stated_failures(rows["epuck"]["reported failures"]) == f"`collision` {grazed}"
     assert "grazes the cylinder it has just rounded" in rows["epuck"]["reported failures"]
     claim(CONTROLLERS, r"finds the line again on every one of 200 seeds with either profile")
-    m = claim(
-        CONTROLLERS,
-        r"with V-REP's model it succeeds on all (\d+) \(95 % interval (\S+) %\); with the "
-        r"physical e-puck on (\d+) \((\S+) %, (\S+) %\), because on the other (\d+) a robot "
-        r"grazes the cylinder it has just rounded",
-    )
-    assert m.groups() == (
+    figures = (
         counts["epuck-vrep"],
         interval(*TUTORIAL_PASS, "epuck-vrep"),
         counts["epuck"],
@@ -268,20 +262,21 @@ def test_the_tutorial_controller_s_200_seed_claims_are_the_table_s():
         interval(*TUTORIAL_PASS, "epuck"),
         grazed,
     )
-    m = claim(
-        "README.md",
-        r"it passes all (\d+) with V-REP's model \((\S+) %\), and (\d+) with the physical one "
-        r"\((\S+) %, (\S+) %\), where a robot then grazes the cylinder it has just rounded "
-        r"\(`collision` (\d+)\)",
-    )
-    assert m.groups() == (
-        counts["epuck-vrep"],
-        interval(*TUTORIAL_PASS, "epuck-vrep"),
-        counts["epuck"],
-        percent(*TUTORIAL_PASS, "epuck"),
-        interval(*TUTORIAL_PASS, "epuck"),
-        grazed,
-    )
+    for page, pattern in [
+        (
+            CONTROLLERS,
+            r"with V-REP's model it succeeds on all (\d+) \(95 % interval (\S+) %\); with the "
+            r"physical e-puck on (\d+) \((\S+) %, (\S+) %\), because on the other (\d+) a robot "
+            r"grazes the cylinder it has just rounded",
+        ),
+        (
+            "README.md",
+            r"it passes all (\d+) with V-REP's model \((\S+) %\), and (\d+) with the physical one "
+            r"\((\S+) %, (\S+) %\), where a robot then grazes the cylinder it has just rounded "
+            r"\(`collision` (\d+)\)",
+        ),
+    ]:
+        assert claim(page, pattern).groups() == figures, page
     m = claim(
         "docs/tutorial.md",
         r"gives the same outcome for each, seed by seed: (\d+) of 200 with V-REP's model, (\d+) "
@@ -859,6 +854,21 @@ def test_the_sweeps_page_json_example_is_what_the_sweep_prints(tmp_path):
 
 
 @pytest.mark.slow
+def test_the_sweeps_page_shows_what_its_sensitivity_analysis_prints(tmp_path):
+    page = text(SWEEPS)
+    shown = re.search(r"^```bash\n(puckboard sensitivity [^\n]*)\n```\n\n```text\n(.*?)^```",
+                      page, re.MULTILINE | re.DOTALL)  # fmt: skip
+    assert shown, "the sensitivity section should show a command and what it prints"
+    argv = shlex.split(shown.group(1))[1:]
+    done = subprocess.run(
+        [sys.executable, "-m", "puckboard", *argv, "--workers", "1", "--quiet"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    doc_pages.assert_shown(shown.group(2), done.stdout, SWEEPS)
+
+
+@pytest.mark.slow
 def test_the_estimation_page_shows_what_go_home_prints():
     page = "docs/estimation.md"
     (block,) = [
@@ -982,3 +992,128 @@ def test_the_acceptance_tests_state_today_s_figures(tutorial_controller):
     text = acceptance_text("test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses")
     failed = 200 - int(plain(long_row(*TUTORIAL_PASS, "epuck")["success of 200"]).split()[0])
     assert f"(measured: {failed} of 200," in text, text
+
+
+# -- controllers.md: the bands (shipped, plausible robots, one number at a time) ---------
+BANDS = table(CONTROLLERS, "| controller | profile | shipped, of 200 |")
+PLAUSIBLE = {"variation": "plausible"}
+
+
+def band_key(row: dict[str, str]) -> tuple[str, str]:
+    return plain(row["controller"]), plain(row["profile"])
+
+
+def count_rate_interval(cell: str, n: int) -> tuple[int, list[float]]:
+    """Count and the figures after it of "138 (69 %, 62–75 %)", checked against each
+    other: the rate is count/n, the interval is Wilson's."""
+    count = int(plain(cell).split()[0])
+    numbers = [float(x) for x in re.findall(r"\d+(?:\.\d+)?", plain(cell))[1:]]
+    low, high = wilson_interval(count, n)
+    assert [int(x) for x in numbers[-2:]] == [round(100 * low), round(100 * high)], cell
+    if len(numbers) == 3:
+        assert numbers[0] == 100 * count / n, cell
+    return count, numbers
+
+
+@pytest.mark.parametrize("row", BANDS, ids=[" ".join(band_key(r)) for r in BANDS])
+def test_each_band_agrees_with_itself_and_with_the_200_seed_table(row):
+    controller, profile = band_key(row)
+    shipped = long_row(controller, "two-robot-pass", profile)["success of 200"]
+    assert plain(row["shipped, of 200"]) == plain(shipped), (row, shipped)
+    count, _ = count_rate_interval(row["plausible robots, of 200"], 200)
+    failures = stated_failures(row["failures of plausible robots"])
+    assert sum(int(n) for n in re.findall(r"\d+", failures)) == 200 - count, row
+
+
+def test_the_readme_s_bands_are_the_controllers_page_s():
+    readme = table("README.md", "| controller | profile | shipped, of 200 |")
+    page = {band_key(r): r for r in BANDS}
+    assert readme, "the README should show the bands"
+    for row in readme:
+        assert row == {k: page[band_key(row)][k] for k in row}, row
+    stock = [r for key, r in page.items() if key[0] == "stock"]
+    assert all(plain(r["plausible robots, of 200"]).startswith("0 ") for r in stock)
+    claim("README.md", r"`stock` fails on all of them\.")
+
+
+def test_the_pages_knife_edge_figures_are_the_band_s():
+    row = {band_key(r): r for r in BANDS}[("improved", "epuck")]
+    count, numbers = count_rate_interval(row["plausible robots, of 200"], 200)
+    edge = row["what moves it most (40 seeds per value)"]
+    heading = re.search(r"heading\*\*, (\d+)–(\d+)°: (\d+) to (\d+) of 40", edge)
+    assert heading, edge
+    m = claim("README.md", r"on plausible physical e-pucks it passes (\S+) % \((\S+) %\)")
+    assert m.groups() == (f"{numbers[0]:g}", f"{numbers[1]:g}–{numbers[2]:g}")
+    m = claim("README.md", r"within the (\d+)–(\d+)° the sources give moves it anywhere from "
+                           r"(\d+) to (\d+) seeds of 40")  # fmt: skip
+    assert m.groups() == heading.groups()
+    m = claim(CONTROLLERS, r"On plausible robots it passes (\S+) % \((\S+) %\)")
+    assert m.groups() == (f"{numbers[0]:g}", f"{numbers[1]:g}–{numbers[2]:g}")
+    m = claim(CONTROLLERS, r"within the (\d+)–(\d+)° the sources give moves it from (\d+) to "
+                           r"(\d+) of 40 seeds")  # fmt: skip
+    assert m.groups() == heading.groups()
+    from puckboard.profile import get_profile, uncertainty
+
+    spread = uncertainty(get_profile("epuck"))["prox_heading.front"]
+    assert [round(np.degrees(v)) for v in (spread.low, spread.high)] == [
+        int(heading.group(1)),
+        int(heading.group(2)),
+    ]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("row", BANDS, ids=[" ".join(band_key(r)) for r in BANDS])
+def test_the_plausible_robots_seeds_0_to_9_are_what_the_episodes_give(row, tutorial_controller):
+    controller, profile = band_key(row)
+    spec = f"{tutorial_controller}:my_controller" if controller.startswith("my_") else controller
+    runs = [episode("two-robot-pass", spec, s, profile, PLAUSIBLE) for s in range(10)]
+    assert row["plausible, seeds 0–9"] == str(sum(r.success for r in runs)), row
+
+
+@pytest.mark.slow
+def test_the_knife_edge_on_seeds_0_to_9_is_what_the_episodes_give():
+    """ "on seeds 0–9 alone: 1 at 17°, 8 at 12.7°, 7 at 10°": the front sensors' heading
+    set as the sensitivity analysis sets it (seven values evenly across the range)."""
+    from puckboard.profile import get_profile, uncertainty
+    from puckboard.profile.paths import path_value
+    from puckboard.sensitivity import field_values
+
+    m = claim(CONTROLLERS, r"on seeds 0–9 alone: (\d+) at (\S+)°, (\d+) at (\S+)°, (\d+) at (\S+)°")
+    spread = uncertainty(get_profile("epuck"))["prox_heading.front"]
+    values = {f"{np.degrees(v):.3g}": v for v in field_values(spread.low, spread.high, 7)}
+    shipped = path_value(get_profile("epuck"), "prox_heading.front")
+    for count, degrees in zip(m.groups()[::2], m.groups()[1::2]):
+        # the shipped value is the profile as it is, with nothing set
+        overrides = (
+            {}
+            if degrees == f"{np.degrees(shipped):.3g}"
+            else {"profile.prox_heading.front": values[degrees]}
+        )
+        runs = [episode("two-robot-pass", "improved", s, "epuck", overrides) for s in range(10)]
+        assert sum(r.success for r in runs) == int(count), (degrees, count)
+
+
+def test_the_scenarios_page_s_bands_are_the_controllers_page_s():
+    bands = {band_key(r): r for r in BANDS}
+
+    def shown(controller: str, profile: str, column: str) -> str:
+        cell = plain(bands[(controller, profile)][column])
+        return re.sub(r"^\d+ \((.*)\)$", r"\1", cell).replace(", ", " (") + ")"
+
+    m = claim(
+        "docs/scenarios.md",
+        r"the improved controller passes (.+?) with `epuck-vrep` as shipped and (.+?) on "
+        r"plausible V-REP models, (.+?) with `epuck` as shipped and (.+?) on plausible "
+        r"physical e-pucks, and the physical robot's front IR sensors' heading alone moves "
+        r"it from (\d+) to (\d+) seeds of 40",
+    )
+    edge = re.search(r"(\d+) to (\d+) of 40", bands[("improved", "epuck")][
+        "what moves it most (40 seeds per value)"])  # fmt: skip
+    assert edge
+    assert [" ".join(g.split()) for g in m.groups()] == [
+        shown("improved", "epuck-vrep", "shipped, of 200"),
+        shown("improved", "epuck-vrep", "plausible robots, of 200"),
+        shown("improved", "epuck", "shipped, of 200"),
+        shown("improved", "epuck", "plausible robots, of 200"),
+        *edge.groups(),
+    ]

@@ -125,9 +125,13 @@ def test_tutorial_code_runs_in_order_and_prints_exactly_what_the_page_shows(
             since_shown.append(printed[index])
             index += 1
         elif language == "text":
-            doc_pages.assert_shown(body, "".join(since_shown), f"tutorial, the output after python block {index}")
+            doc_pages.assert_shown(
+                body, "".join(since_shown), f"tutorial, the output after python block {index}"
+            )
             since_shown = []
-    assert not "".join(since_shown).strip(), f"the last blocks print, the page shows nothing: {since_shown}"
+    assert not "".join(since_shown).strip(), (
+        f"the last blocks print, the page shows nothing: {since_shown}"
+    )
     # step 2: stock fails at the meeting; improved gets the robots past each other
     assert re.search(
         r"stock +the robots got past each other untouched: False +outcome: failed \(collision\)",

@@ -27,6 +27,7 @@ COMMANDS: tuple[str, ...] = (
     "serve",
     "emulate",
     "sweep",
+    "sensitivity",
     "plot",
     "replay",
     "monitor",

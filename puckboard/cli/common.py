@@ -393,7 +393,9 @@ def start_web_view(start: Any, args: argparse.Namespace) -> Any:
     except ImportError as exc:
         raise missing_extra(exc, "--web") from None
     except OSError as exc:
-        raise CliError(bind_error_message(exc, args.web_host, args.web_port, "--web-port")) from None
+        raise CliError(
+            bind_error_message(exc, args.web_host, args.web_port, "--web-port")
+        ) from None
 
 
 def web_url(view: Any, host: str) -> str:

@@ -36,9 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--html", default=None, metavar="FILE",
         help="write the player as one self-contained .html file (no server, works offline)",
     )  # fmt: skip
-    add_web_arguments(
-        p, "serve the player in the browser, until Ctrl-C (needs puckboard[web])"
-    )
+    add_web_arguments(p, "serve the player in the browser, until Ctrl-C (needs puckboard[web])")
     p.set_defaults(func=main)
 
 

@@ -9,12 +9,14 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from .common import CliError, add_variation_argument, check_seconds
 
 DEFAULT_SCENARIO = "two-robot-pass"
+T = TypeVar("T")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -39,13 +41,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         ),
     )
     _add_what_to_run(parser)
-    _add_where_to_run(parser)
+    add_where_to_run(parser)
     _add_outputs(parser)
     parser.set_defaults(func=main)
 
 
-def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
-    """The sweep's grid: scene, controllers, seeds, swept parameters."""
+def add_scene_and_controllers(parser: argparse.ArgumentParser) -> None:
+    """What is judged: the scene, and the controllers compared on it."""
     parser.add_argument(
         "scenario",
         nargs="?",
@@ -61,6 +63,11 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         help="controller for every robot: stock, improved, MODULE:FACTORY or FILE.py:FACTORY "
         "(repeatable; default: each robot's controller from the scene)",
     )
+
+
+def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
+    """The sweep's grid: scene, controllers, seeds, swept parameters."""
+    add_scene_and_controllers(parser)
     parser.add_argument(
         "--controllers-dir",
         type=Path,
@@ -98,7 +105,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
     add_variation_argument(parser)
 
 
-def _add_where_to_run(parser: argparse.ArgumentParser) -> None:
+def add_where_to_run(parser: argparse.ArgumentParser) -> None:
     """Executors and their limits: local processes or a Dask cluster, batches, timeouts."""
     where = parser.add_mutually_exclusive_group()
     where.add_argument(
@@ -147,7 +154,7 @@ def _add_outputs(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
 
 
-def _scene(ref: str):  # type: ignore[no-untyped-def]
+def scene_or_error(ref: str):  # type: ignore[no-untyped-def]
     from ..scenario.scenefile import load_scene
 
     try:
@@ -166,17 +173,23 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _sweep(args: argparse.Namespace) -> int:
+    check_numbers(args)
+    return with_executor(args, _run)
+
+
+def with_executor(args: argparse.Namespace, run: Callable[[argparse.Namespace, Any], int]) -> int:
+    """``run(args, executor)`` with local workers, or with ``None`` for ``--scheduler``
+    (``run`` connects to the cluster only once its plan is known to be good)."""
     from ..sweep import LocalExecutor
 
-    _check_numbers(args)
-    if args.scheduler:  # connect only to run a plan that is known to be good
-        return _run(args, None)
+    if args.scheduler:
+        return run(args, None)
     # Local workers start up (an interpreter and the imports each) while this process
     # loads the scene, checks the plan and reads --out; on bad input they are ended.
     local = LocalExecutor(args.workers)
     try:
         local.start()
-        return _run(args, local)
+        return run(args, local)
     except BaseException:
         local.cancel()
         raise
@@ -185,7 +198,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
-    from ..sweep import WorkerLostError, make_progress, open_store, run_sweep
+    from ..sweep import make_progress, run_sweep
     from ..sweep.signals import interrupts_deferred
 
     # Ctrl-C here waits the moment the preparation takes and is raised after it: raised
@@ -193,38 +206,63 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
     # SIGINT after our one-line message (a KeyboardInterrupt within exec() of source
     # text, as dataclasses do, counts as unhandled even when caught).
     with interrupts_deferred():
-        scene = _scene(args.scenario)
+        scene = scene_or_error(args.scenario)
         plan = _plan(args, scene)
         plot_param = _plot_param(args, plan)
-        try:
-            store = open_store(args.out) if args.out is not None else None
-        except (ValueError, ImportError, OSError) as exc:
-            raise CliError(str(exc)) from exc
-    executor = executor or _executor(args)
-    progress = make_progress(enabled=not args.quiet)
-    try:
-        result = run_sweep(
+        store = open_out(args)
+    result = execute(
+        args,
+        executor,
+        store,
+        "sweep",
+        lambda on: run_sweep(
             plan,
             scene,
-            executor=executor,
+            executor=on,
             store=store,
             batch_size=args.batch_size,
-            progress=progress,
+            progress=make_progress(enabled=not args.quiet),
             episode_timeout=args.episode_timeout,
-        )
+        ),
+    )
+    if result is None:
+        return 1
+    _report(args, plan, result, stored=store is not None, plot_param=plot_param)
+    return exit_status(args, result, stored=store is not None)
+
+
+def open_out(args: argparse.Namespace) -> Any:
+    """The ``--out`` file's store (``None`` without ``--out``); a file that cannot be
+    used is one line."""
+    from ..sweep import open_store
+
+    try:
+        return open_store(args.out) if args.out is not None else None
+    except (ValueError, ImportError, OSError) as exc:
+        raise CliError(str(exc)) from exc
+
+
+def execute(
+    args: argparse.Namespace, executor: Any, store: Any, command: str, run: Callable[[Any], T]
+) -> T | None:
+    """``run(executor)``, on the Dask cluster when ``executor`` is ``None``; ``None`` when
+    a worker was lost, said in one line. The executor and the store are closed after."""
+    from ..sweep import WorkerLostError
+
+    executor = executor or dask_executor(args)
+    try:
+        return run(executor)
     except WorkerLostError as exc:
         kept = f"; finished rows are in {args.out}: run again to resume" if store else ""
-        print(f"puckboard sweep: error: {exc}{kept}", file=sys.stderr)
-        return 1
+        print(f"puckboard {command}: error: {exc}{kept}", file=sys.stderr)
+        return None
     finally:
         executor.close()
         if store is not None:
             store.close()
-    _report(args, plan, result, stored=store is not None, plot_param=plot_param)
-    return _exit_status(args, result, stored=store is not None)
 
 
-def _check_numbers(args: argparse.Namespace) -> None:
+def check_numbers(args: argparse.Namespace) -> None:
     check_seconds(args.duration)
     if args.batch_size is not None and args.batch_size < 1:
         raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
@@ -273,17 +311,13 @@ def _profile_parameters(ref: str) -> dict[str, Any]:
     base plus each value it sets, so every episode's identity holds the numbers it ran
     with and no worker needs the file."""
     from ..errors import PuckboardError
-    from ..profile import get_profile
     from ..scenario.robot_profiles import scene_profile
+    from ..sweep.plan import profile_parameters
 
     try:
-        profile = scene_profile(ref)
+        return profile_parameters(scene_profile(ref))
     except PuckboardError as exc:
         raise CliError(str(exc)) from None
-    if isinstance(profile, str):
-        return {"robot.profile": profile}
-    base = profile.base or get_profile(profile).name
-    return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
 def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
@@ -296,7 +330,7 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
     return plot_param
 
 
-def _executor(args: argparse.Namespace) -> Any:
+def dask_executor(args: argparse.Namespace) -> Any:
     from ..sweep import DaskExecutor
 
     try:
@@ -338,19 +372,22 @@ def _report(
             print(f"\nplot written to {args.plot}")
 
 
-def _exit_status(args: argparse.Namespace, result: Any, *, stored: bool) -> int:
-    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup)."""
+def exit_status(
+    args: argparse.Namespace, result: Any, *, stored: bool, command: str = "sweep"
+) -> int:
+    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
+    Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""
     errors = result.errors
     if errors:
         print(
-            f"puckboard sweep: warning: {len(errors)} of {result.ran} episodes raised an "
+            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes raised an "
             f"exception (counted as failure 'error'; see the error column of --out). "
             f"First: {errors[0]}",
             file=sys.stderr,
         )
     if result.interrupted:
         print(
-            f"puckboard sweep: {'terminated' if result.terminated else 'interrupted'}; "
+            f"puckboard {command}: {'terminated' if result.terminated else 'interrupted'}; "
             f"{result.ran} episodes of this run kept"
             + (f" in {args.out}; run the same command again to resume" if stored else ""),
             file=sys.stderr,

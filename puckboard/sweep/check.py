@@ -68,7 +68,7 @@ def _check_layer_names(plan: SweepPlan, scene: Any, tolerate: Collection[str]) -
     parameter, whoever's controllers are swept; say so rather than blame each one."""
     from ..behaviours import load_controller
 
-    names = sorted(n for n in {*plan.grid, *plan.fixed} if n.startswith("layer."))
+    names = sorted(n for n in plan.parameter_names if n.startswith("layer."))
     if not names:
         return
     built = []

@@ -25,9 +25,11 @@ __all__ = [
     "SweepPlan",
     "check_parameter",
     "episode_key",
+    "params_key",
     "parse_seeds",
     "parse_set",
     "parse_value",
+    "profile_parameters",
 ]
 
 #: Controller spec meaning "each robot keeps the controller its scene names".
@@ -91,6 +93,26 @@ def episode_key(scenario: str, controller: str, seed: int, params: Mapping[str, 
         sort_keys=True,
         separators=(",", ":"),
     )
+
+
+def params_key(params: Mapping[str, Any]) -> str:
+    """A parameter combination as one canonical string: equal for equal settings, however
+    spelt (``2`` or ``2.0``) and whether read back from a CSV row or built in Python."""
+    return json.dumps(
+        {name: _canonical(params[name]) for name in sorted(params)}, separators=(",", ":")
+    )
+
+
+def profile_parameters(profile: Any) -> dict[str, Any]:
+    """The episode parameters that give every robot ``profile``: a shipped profile by its
+    name; a changed one (a profile file) as its base plus each value it sets, so that every
+    episode's identity holds the numbers it ran with and no worker needs the file."""
+    from ..profile import get_profile
+
+    if isinstance(profile, str):
+        return {"robot.profile": get_profile(profile).name}
+    base = profile.base or get_profile(profile).name
+    return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
 def parse_value(text: str) -> bool | int | float | str:
@@ -242,6 +264,10 @@ class SweepPlan:
     ``fixed`` parameters apply to every episode (``--duration`` becomes
     ``fixed={"duration": S}``) and are part of each episode's identity, so a longer
     re-run is never mistaken for the shorter one already in the output file.
+
+    ``points``, when given, are explicit parameter combinations, each crossed with the
+    grid's product: a study that moves one parameter at a time (``puckboard
+    sensitivity``) is a list of points, not a product, and runs on the same machinery.
     """
 
     scenario: str
@@ -249,6 +275,7 @@ class SweepPlan:
     seeds: range = range(10)
     grid: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
     fixed: Mapping[str, Any] = field(default_factory=dict)
+    points: tuple[Mapping[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
         if not self.controllers:
@@ -268,9 +295,26 @@ class SweepPlan:
             _check_value(name, value)
             if name in self.grid:
                 raise PlanError(f"parameter {name} is both swept and fixed; give it once")
+        self._check_points()
         object.__setattr__(self, "controllers", tuple(self.controllers))
         object.__setattr__(self, "grid", {k: tuple(v) for k, v in self.grid.items()})
         object.__setattr__(self, "fixed", dict(self.fixed))
+        object.__setattr__(self, "points", tuple(dict(p) for p in self.points))
+
+    def _check_points(self) -> None:
+        seen: set[str] = set()
+        for point in self.points:
+            for name, value in point.items():
+                check_parameter(name)
+                _check_value(name, value)
+                if name in self.grid or name in self.fixed:
+                    raise PlanError(
+                        f"parameter {name} is both in a point and swept or fixed; give it once"
+                    )
+            canon = json.dumps({k: _canonical(v) for k, v in point.items()}, sort_keys=True)
+            if canon in seen:
+                raise PlanError(f"point {canon} is listed twice")
+            seen.add(canon)
 
     @classmethod
     def from_specs(
@@ -301,14 +345,23 @@ class SweepPlan:
         )
 
     def combinations(self) -> list[dict[str, Any]]:
-        """Every parameter combination (fixed parameters included), in grid order."""
+        """Every parameter combination (fixed parameters included): each point (in the
+        order given) with each grid product (in grid order)."""
         names = list(self.grid)
         combos = []
-        for values in itertools.product(*(self.grid[n] for n in names)):
-            combo = dict(self.fixed)
-            combo.update(zip(names, values))
-            combos.append(combo)
+        for point in self.points or ({},):
+            for values in itertools.product(*(self.grid[n] for n in names)):
+                combo = dict(self.fixed)
+                combo.update(point)
+                combo.update(zip(names, values))
+                combos.append(combo)
         return combos
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        """Every parameter an episode of this plan may be given (grid, fixed, points)."""
+        names = dict.fromkeys([*self.grid, *self.fixed, *(n for p in self.points for n in p)])
+        return tuple(names)
 
     def episodes(self) -> Iterator[EpisodeSpec]:
         """Every episode, grouped by controller, then parameters, then seed."""

@@ -24,6 +24,7 @@ __all__ = [
     "controller_labels",
     "format_groups",
     "format_ranking",
+    "format_table",
     "params_label",
     "rank_controllers",
     "summarise",
@@ -159,7 +160,9 @@ def _failures_label(failures: dict[str, int]) -> str:
     return ", ".join(f"{name} {count}" for name, count in failures.items()) or "-"
 
 
-def _table(headers: Sequence[str], rows: Sequence[Sequence[str]], right: set[int]) -> str:
+def format_table(headers: Sequence[str], rows: Sequence[Sequence[str]], right: set[int]) -> str:
+    """A plain-text table: columns as wide as their widest cell, those in ``right``
+    right-aligned, a rule under the header."""
     widths = [len(h) for h in headers]
     for row in rows:
         widths = [max(w, len(cell)) for w, cell in zip(widths, row)]
@@ -201,7 +204,7 @@ def format_groups(groups: Sequence[GroupSummary]) -> str:
         [names[g.controller], params_label(g.params, varying), *_stats_cells(g)] for g in groups
     ]
     headers = ["controller", "parameters", *_STATS_HEADERS]
-    return _table(headers, rows, right=set(range(2, 8)))
+    return format_table(headers, rows, right=set(range(2, 8)))
 
 
 def format_ranking(ranking: Sequence[GroupSummary]) -> str:
@@ -209,4 +212,4 @@ def format_ranking(ranking: Sequence[GroupSummary]) -> str:
     names = controller_labels(g.controller for g in ranking)
     rows = [[str(i), names[g.controller], *_stats_cells(g)] for i, g in enumerate(ranking, 1)]
     headers = ["rank", "controller", *_STATS_HEADERS]
-    return _table(headers, rows, right={0, *range(2, 8)})
+    return format_table(headers, rows, right={0, *range(2, 8)})

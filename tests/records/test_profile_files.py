@@ -49,7 +49,10 @@ def test_sub_tables_name_paths_too_and_the_name_defaults_to_the_file_s(tmp_path)
         ("[set]\naxle_length = 0.05\n", "base: missing"),
         ('base = "epuk"\n', "base = 'epuk': unknown robot profile; shipped: epuck, epuck-vrep"),
         ('base = "epuck"\n[set]\nprox_max_distanse = 0.04\n', "did you mean prox_max_distance?"),
-        ('base = "epuck"\n[set]\naxle_length = "wide"\n', "axle_length = 'wide': expected a number"),
+        (
+            'base = "epuck"\n[set]\naxle_length = "wide"\n',
+            "axle_length = 'wide': expected a number",
+        ),
         ('base = "epuck"\n[set]\naxle_length = 0.5\n', "axle_length = 0.5: outside [0.01 m"),
         ('base = "epuck"\n[set]\naxle_length = { value = 0.05, sauce = "x" }\n', "'sauce'"),
         ('base = "epuck"\nname = "epuck-vrep"\n', "is a shipped profile's"),

@@ -272,3 +272,77 @@ def test_improved_robots_meeting_in_a_bend_pass_each_other(profile):
         result = run("two-robot-pass-bend", "improved", seed, profile)
         assert all(m.passed_other for m in result.robots), (profile, seed, result.events)
         assert not set(result.failures) & MEETING_FAILURES, (profile, seed, result.failures)
+
+
+# -- plausible robots (--variation plausible): the same findings on robots as built ---------
+#: Each robot drawn within its profile's plausible ranges, a robot each, seeded by the seed.
+VARIED = {"variation": "plausible"}
+
+
+@pytest.fixture(scope="module", params=PROFILES)
+def varied_improved_runs(request):
+    profile = request.param
+    return profile, {
+        s: run("two-robot-pass", "improved", s, profile, **VARIED) for s in IMPROVED_SEEDS
+    }
+
+
+@pytest.mark.slow
+def test_plausible_improved_robots_still_pass_each_other_on_every_seed(varied_improved_runs):
+    """Measured over seeds 0..199 with either profile: the meeting works on all 200 runs;
+    the failures come after it: the robot outside the loop loses the line (lost_line),
+    or, with the physical robot, one that found the line again grazes the cylinder it
+    rounds (collision, 5 of 200, each seconds before passing the obstacle)."""
+    profile, runs = varied_improved_runs
+    for seed, result in runs.items():
+        assert all(m.passed_other for m in result.robots), (profile, seed, result.events)
+        assert not set(result.failures) & {"parallel_driving", "stuck"}, (profile, seed)
+        first_touch = result_time(result, "collision")
+        passed = max(e.time_s for e in result.events if e.kind == "passed_other")
+        assert first_touch > passed, (profile, seed, result.events)
+        if not result.success:
+            assert result.failure in ("lost_line", "collision"), (profile, seed, result.failures)
+            lost = {e.robot for e in result.events if e.kind == "lost_line"}
+            assert lost <= {OUTSIDE_ROBOT}, (profile, seed, result.events)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("varied_improved_runs", ["epuck-vrep"], indirect=True)
+def test_plausible_robots_of_vrep_s_model_pass_on_most_seeds(varied_improved_runs):
+    """Measured: 138 of seeds 0..199 (69 %, 95 % interval 62-75 %), 15 of 0..19, with
+    V-REP's model varied (its one uncertain number: the body's radius, 35.2-36.2 mm).
+    The floor, 10 of 20, is the unvaried one's."""
+    _, runs = varied_improved_runs
+    assert sum(r.success for r in runs.values()) >= 10, {s: r.failure for s, r in runs.items()}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("profile", PROFILES)
+def test_the_line_search_layer_finds_the_line_on_plausible_robots_too(profile, tmp_path):
+    """Measured over seeds 0..199 on plausible robots: the tutorial's controller never
+    loses the line with either profile; with V-REP's model it passes all 200, with the
+    physical robot 50 (25 %, 95 % interval 20-31 %; 4 of seeds 0..19), every failure a
+    robot grazing the cylinder it has just rounded (collision). Floors: 15 of 20 and 1 of
+    20."""
+    spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
+    runs = [run("two-robot-pass", spec, s, profile, **VARIED) for s in IMPROVED_SEEDS]
+    for seed, result in zip(IMPROVED_SEEDS, runs):
+        assert all(m.passed_other for m in result.robots), (profile, seed)
+        assert "lost_line" not in result.failures, (profile, seed, result.failures)
+        assert result.success or result.failure == "collision", (profile, seed, result.failures)
+    floor = 15 if profile == "epuck-vrep" else 1
+    assert sum(r.success for r in runs) >= floor, [r.failure for r in runs]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("profile", PROFILES)
+def test_plausible_stock_robots_still_fail_at_the_meeting(profile):
+    """Measured over seeds 0..199 on plausible robots: 0 successes with either profile;
+    V-REP's model collision 200, the physical one collision 133, parallel_driving 67."""
+    runs = {s: run("two-robot-pass", "stock", s, profile, **VARIED) for s in STOCK_SEEDS}
+    for seed, result in runs.items():
+        assert not result.success, (profile, seed)
+        first = result.failures[0]
+        passed = [e.time_s for e in result.events if e.kind == "passed_other"]
+        assert first in MEETING_FAILURES, (profile, seed, result.failures)
+        assert not passed or result_time(result, first) < min(passed), (profile, seed)

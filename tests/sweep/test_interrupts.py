@@ -169,6 +169,29 @@ def test_a_stopped_sweep_keeps_its_finished_rows(tmp_path, signum, status, word)
     assert rows_in(out) < 2000  # it did stop
 
 
+def test_a_stopped_sensitivity_analysis_keeps_its_rows_and_resumes(tmp_path):
+    """The analysis runs on the sweep's machinery: Ctrl-C keeps what ran, the same
+    command takes up from there."""
+    out = tmp_path / "runs.csv"
+    analysis = [
+        "sensitivity", "line-follow", "--controller", "stock", "--profile", "epuck",
+        "--seeds", "0:100", "--duration", "20", "--workers", "2", "--quiet", "--out", str(out),
+    ]  # fmt: skip
+    command = Command(*analysis)
+    command.wait_for("a finished row", lambda: rows_in(out) > 0)
+    command.signal(signal.SIGINT)
+    code, err = command.finish()
+    assert code == 130
+    assert len(err) == 1 and err[0].startswith("puckboard sensitivity: interrupted; "), err
+    assert kept(err[0]) == rows_in(out) > 0
+    before = rows_in(out)
+    again = Command(*analysis)
+    again.wait_for("a row more", lambda: rows_in(out) > before)
+    again.signal(signal.SIGINT)
+    code, err = again.finish()
+    assert code == 130 and kept(err[0]) == rows_in(out) - before
+
+
 SLOW_CONTROLLER = """
 import time
 from pathlib import Path

@@ -142,7 +142,9 @@ def test_any_key_a_layer_reads_is_kept_numbers_as_numbers_text_by_its_age(tmp_pa
     np.testing.assert_array_equal(levels, [float(k % 3) - 1.0 for k in range(40)])
     assert "label" not in d.values and d.reads[0]["type"] == "str"
     np.testing.assert_allclose(d.age[:, 0, 0], 0.1 * np.arange(40), atol=1e-5)  # never updated
-    np.testing.assert_allclose(d.age[:, 0, 1], [0.05 if k % 2 else 0.0 for k in range(40)], atol=1e-5)
+    np.testing.assert_allclose(
+        d.age[:, 0, 1], [0.05 if k % 2 else 0.0 for k in range(40)], atol=1e-5
+    )
     for k in range(40):
         expected = "Reader" if k % 3 == 2 else "Cruise"
         assert rec.robot("a").layer_at(k) == expected
@@ -171,5 +173,8 @@ def test_a_tick_on_stale_inputs_is_recorded_as_nobody_asked():
     assert layers == ["Cruise"] * 5 + ["(stale inputs)"]
     assert rec.tree_at("a", 4)["Cruise"] == "RUNNING"
     assert set(rec.tree_at("a", 5).values()) == {"not ticked"}
-    assert rec.decisions.fresh[4, 0].tolist() == [1, 1] and rec.decisions.fresh[5, 0].tolist() == [1, 2]
+    assert rec.decisions.fresh[4, 0].tolist() == [1, 1] and rec.decisions.fresh[5, 0].tolist() == [
+        1,
+        2,
+    ]
     assert rec.decisions.age[5, 0, 1] == pytest.approx(0.15)

@@ -115,7 +115,9 @@ def test_obstacle_names_on_the_trajectories_are_covered_by_nothing(two_robot_pas
     ]  # fmt: skip
     assert len(markers) == 2 * len(rec.robot_names)  # a start and an end each
     others = [m.get_window_extent(renderer) for m in markers]
-    others += [p.get_window_extent(renderer) for p in ax.patches if p.get_zorder() == 3]  # obstacles
+    others += [
+        p.get_window_extent(renderer) for p in ax.patches if p.get_zorder() == 3
+    ]  # obstacles
     others.append(ax.get_legend().get_window_extent(renderer))
     inside = ax.get_window_extent(renderer)
     track = ax.patches[0]

@@ -35,7 +35,9 @@ class Browser:
     """One headless Chromium with one page; use as a context manager."""
 
     def __init__(self, binary: str, width: int = 1280, height: int = 720) -> None:
-        self._profile = tempfile.TemporaryDirectory(ignore_cleanup_errors=True)  # a renderer may still write
+        self._profile = tempfile.TemporaryDirectory(
+            ignore_cleanup_errors=True
+        )  # a renderer may still write
         self.proc = subprocess.Popen(
             [binary, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
              "--remote-debugging-port=0", f"--user-data-dir={self._profile.name}",

@@ -103,7 +103,9 @@ def test_robot_names_never_sit_on_an_obstacle_a_robot_or_another_name(
 def test_on_a_phone_the_footer_follows_the_events_and_names_stay_on_one_line(replay_page):
     rec, path = replay_page
     longest = max(rec.layer_names, key=len)
-    tick = next(i for i in range(len(rec)) if longest in (rec.robot(n).layer_at(i) for n in rec.robot_names))
+    tick = next(
+        i for i in range(len(rec)) if longest in (rec.robot(n).layer_at(i) for n in rec.robot_names)
+    )
     with Browser(BINARY) as browser:
         open_page(browser, path, 412, 915, True)
         browser.evaluate(f"state.player.seek({tick})")
@@ -127,7 +129,9 @@ def test_on_a_phone_the_footer_follows_the_events_and_names_stay_on_one_line(rep
     footer, events = boxes["footer"], boxes["events"]
     assert len(events) == len(rec.meta["events"])
     for li in [*events, boxes["table"]]:
-        overlap = min(footer[2], li[2]) > max(footer[0], li[0]) and min(footer[3], li[3]) > max(footer[1], li[1])
+        overlap = min(footer[2], li[2]) > max(footer[0], li[0]) and min(footer[3], li[3]) > max(
+            footer[1], li[1]
+        )
         assert not overlap, (footer, li)
     assert footer[1] >= events[-1][3]  # below the last event: the page scrolls to it
     assert boxes["page"][0] <= boxes["page"][1]  # nothing wider than the phone
@@ -146,7 +150,9 @@ def test_an_event_names_its_robot_apart_from_the_events_words(replay_page):
           return [li.textContent, who && who.textContent, who && getComputedStyle(who).color,
                   who && getComputedStyle(who).fontWeight];
         })""")
-        colours = browser.evaluate("Object.fromEntries(state.scene.robots.map(r => [r.name, r.colour]))")
+        colours = browser.evaluate(
+            "Object.fromEntries(state.scene.robots.map(r => [r.name, r.colour]))"
+        )
     events = sorted(rec.meta["events"], key=lambda e: e["time_s"])
     assert len(items) == len(events)
     for (text, who, colour, weight), e in zip(items, events):
@@ -157,6 +163,8 @@ def test_an_event_names_its_robot_apart_from_the_events_words(replay_page):
             assert text == f"{e['time_s']:.1f} s  {e['robot']}: {words}"
             assert who == e["robot"] and int(weight) >= 600
             hexa = colours[e["robot"]].lstrip("#")
-            assert colour == "rgb({}, {}, {})".format(*(int(hexa[k : k + 2], 16) for k in (0, 2, 4)))
+            assert colour == "rgb({}, {}, {})".format(
+                *(int(hexa[k : k + 2], 16) for k in (0, 2, 4))
+            )
         else:
             assert text == f"{e['time_s']:.1f} s  {words}" and who is None

@@ -36,7 +36,9 @@ def test_the_document_holds_every_tick_of_every_robot(recording):
     assert len(data["t"]) == t and data["t"][-1] == pytest.approx(recording.time[-1], abs=1e-3)
     assert [r["name"] for r in data["scene"]["robots"]] == ["left", "right"]
     for r, robot in enumerate(data["robots"]):
-        np.testing.assert_allclose(np.reshape(robot["pose"], (t, 3)), recording.pose[:, r], atol=6e-5)
+        np.testing.assert_allclose(
+            np.reshape(robot["pose"], (t, 3)), recording.pose[:, r], atol=6e-5
+        )
         assert [data["layer_names"][k] for k in robot["layer"][:3]] == [
             recording.robot(r).layer_at(k) for k in range(3)
         ]
@@ -145,7 +147,13 @@ def test_the_live_panel_shows_the_tree_with_the_layer_in_control():
     for name in ("left", "right"):
         tree = details[name]["tree"]
         names = [n["name"] for n in tree["nodes"]]
-        assert names == ["improved", "FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"]
+        assert names == [
+            "improved",
+            "FrontObstacleLeftTurn",
+            "LineFollow",
+            "SideWallKeep",
+            "Cruise",
+        ]
         assert tree["active"] == episode.controllers[name].active_layer
         k = names.index(tree["active"])
         assert tree["status"] == [2] + [1] * (k - 1) + [2] + [0] * (len(names) - k - 1)

@@ -121,7 +121,13 @@ def test_clicking_an_event_jumps_to_its_time(served):
 
 def test_the_tree_at_a_tick_shows_the_recorded_statuses_and_who_drove(served):
     rec, view = served
-    codes = rec.meta.get("tree_status") or ["not ticked", "FAILURE", "RUNNING", "SUCCESS", "INVALID"]
+    codes = rec.meta.get("tree_status") or [
+        "not ticked",
+        "FAILURE",
+        "RUNNING",
+        "SUCCESS",
+        "INVALID",
+    ]
     with Browser(BINARY) as browser:
         browser.open(view.url)
         browser.wait_for(READY)

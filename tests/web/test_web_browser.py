@@ -99,7 +99,13 @@ def test_clicking_a_robot_opens_its_panel(live_run):
         nodes = browser.wait_for(
             "Array.from(document.querySelectorAll('#tree li')).map(e => e.dataset.node)"
         )
-        assert nodes == ["improved", "FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"]
+        assert nodes == [
+            "improved",
+            "FrontObstacleLeftTurn",
+            "LineFollow",
+            "SideWallKeep",
+            "Cruise",
+        ]
         marked = browser.wait_for(
             "document.querySelector('#tree li.in-control') && "
             "[document.querySelector('#tree li.in-control').dataset.node, "
@@ -123,7 +129,9 @@ RESTORED_PAGE = """(() => ({
 def restored(browser: Browser) -> dict:
     """The page once it shows the restored scene (time 0, stopped) and has had a moment
     to fetch what it needs."""
-    browser.wait_for("window.state && state.frame && state.frame.t === 0 && state.frame.status == 'stopped'")
+    browser.wait_for(
+        "window.state && state.frame && state.frame.t === 0 && state.frame.status == 'stopped'"
+    )
     time.sleep(1.0)
     return browser.evaluate(RESTORED_PAGE)
 
@@ -145,7 +153,9 @@ def test_a_restored_served_world_shows_the_run_that_ended_as_the_previous_run():
         with Browser(BINARY) as watching:
             watching.open(view.url)
             watching.wait_for("window.state && state.frame && state.frame.status == 'stopped'")
-            result = run_episode("two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port)
+            result = run_episode(
+                "two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port
+            )
             seen = [restored(watching)]
         with Browser(BINARY) as opened_after:
             opened_after.open(view.url)

@@ -73,7 +73,9 @@ def test_page_scene_and_final_frame(finished_run):
     assert len(scene["obstacles"]) == 2 and scene["track"]["closed"]
     frame = json.loads(get(view.url + "frame.json")[1])
     assert frame["status"] == "finished" and frame["t"] == pytest.approx(result.sim_time_s)
-    assert [e["kind"] for e in frame["events"]] == [e.kind for e in sorted(result.events, key=lambda e: e.time_s)]
+    assert [e["kind"] for e in frame["events"]] == [
+        e.kind for e in sorted(result.events, key=lambda e: e.time_s)
+    ]
     assert frame["verdict"]["success"] == result.success
     for r in frame["robots"]:
         assert r["layer"] in {"FrontObstacleLeftTurn", "LineFollow", "SideWallKeep", "Cruise"}
@@ -82,7 +84,9 @@ def test_page_scene_and_final_frame(finished_run):
     keys = {k["key"] for k in details["left"]["keys"]}
     assert {"proximity", "ground", "command/layer", "command/wheels"} <= keys
     timeline = details["left"]["timeline"]
-    assert timeline[0]["t"] <= 0.1 and [c["t"] for c in timeline] == sorted(c["t"] for c in timeline)
+    assert timeline[0]["t"] <= 0.1 and [c["t"] for c in timeline] == sorted(
+        c["t"] for c in timeline
+    )
     trails = json.loads(get(view.url + "trails.json")[1])
     assert len(trails["trails"]["left"]) > 50 and trails["previous"] is None
     assert trails["run"] == frame["run"] == 0

@@ -95,7 +95,9 @@ def test_velocity_of_a_robot_driving_straight(make_client):
     linear, angular = sim.getObjectVelocity(base)
     heading = sim.getObjectOrientation(base, sim.handle_world)[2]
     speed = 2.0 * EPUCK_VREP.wheel_radius
-    assert linear == pytest.approx([speed * math.cos(heading), speed * math.sin(heading), 0], abs=1e-3)
+    assert linear == pytest.approx(
+        [speed * math.cos(heading), speed * math.sin(heading), 0], abs=1e-3
+    )
     assert angular == pytest.approx([0, 0, 0], abs=1e-2)
     _, wheel_spin = sim.getObjectVelocity(sim.getObject("/ePuck/leftRespondableWheel"))
     assert np.linalg.norm(wheel_spin) == pytest.approx(2.0, rel=0.05)
@@ -108,7 +110,9 @@ def test_signals_are_shared_and_cleared_at_stop(make_client):
     a.setInt32Signal("count", 3)
     a.setFloatSignal("gain", 0.5)
     assert (b.getStringSignal("layer"), b.getInt32Signal("count"), b.getFloatSignal("gain")) == (
-        "avoid", 3, 0.5
+        "avoid",
+        3,
+        0.5,
     )
     assert b.getStringSignal("nothing") is None
     assert b.clearInt32Signal("count") == 1 and b.getInt32Signal("count") is None
@@ -124,7 +128,9 @@ def test_parameters_and_images(make_client):
     sim.setObjectInt32Param(light, sim.objintparam_visibility_layer, 4)
     assert sim.getObjectInt32Param(light, sim.objintparam_visibility_layer) == 4
     with pytest.raises(Exception, match="always velocity-controlled"):
-        sim.setObjectInt32Param(sim.getObject("/ePuck/leftJoint"), sim.jointintparam_motor_enabled, 0)
+        sim.setObjectInt32Param(
+            sim.getObject("/ePuck/leftJoint"), sim.jointintparam_motor_enabled, 0
+        )
     assert sim.getInt32Param(sim.intparam_program_version) >= 40700
     sim.setInt32Param(sim.intparam_idle_fps, 0)  # what old examples do: accepted
     rgb, res = sim.getVisionSensorImg(light)

@@ -88,7 +88,9 @@ def test_bad_arguments_are_refused_with_the_parameter_named(server, make_client)
         sim.setJointTargetVelocity(sim.getObject("ePuck_proxSensor1"), 1.0)
     with pytest.raises(Exception, match=r"object does not exist \(handle 99999\)"):
         sim.getJointPosition(99999)
-    with pytest.raises(Exception, match="object does not exist, or alias/path is ill formatted: '/ePuk'.*ePuck#0"):
+    with pytest.raises(
+        Exception, match="object does not exist, or alias/path is ill formatted: '/ePuk'.*ePuck#0"
+    ):
         sim.getObject("/ePuk")
 
 

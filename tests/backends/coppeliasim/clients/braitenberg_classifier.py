@@ -38,7 +38,9 @@ for handle in sim.getObjectsInTree(sim.handle_scene, sim.handle_all, 2):  # root
 
 
 def apply(matrix, point):
-    return [sum(matrix[4 * r + c] * point[c] for c in range(3)) + matrix[4 * r + 3] for r in range(3)]
+    return [
+        sum(matrix[4 * r + c] * point[c] for c in range(3)) + matrix[4 * r + 3] for r in range(3)
+    ]
 
 
 seen = {}
@@ -60,9 +62,15 @@ try:
                     kind = "obstacle"
                 label = others.get(obj) or sim.getObjectAlias(obj, 1)
                 seen.setdefault(kind, set()).add(label)
-                points.append({"sensor": i + 1, "object": label, "kind": kind,
-                               "world": apply(sim.getObjectMatrix(sensor, sim.handle_world), point),
-                               "distance": distance})
+                points.append(
+                    {
+                        "sensor": i + 1,
+                        "object": label,
+                        "kind": kind,
+                        "world": apply(sim.getObjectMatrix(sensor, sim.handle_world), point),
+                        "distance": distance,
+                    }
+                )
             else:
                 distances.append(no_detection)
         vl = vr = max_vel

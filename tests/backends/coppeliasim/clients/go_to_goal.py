@@ -49,5 +49,4 @@ finally:
     sim.setJointTargetVelocity(right_motor, 0)
     sim.stopSimulation()
 
-print(json.dumps({"reached": reached, "steps": steps, "robot": [x, y, heading],
-                  "goal": goal_xyz}))
+print(json.dumps({"reached": reached, "steps": steps, "robot": [x, y, heading], "goal": goal_xyz}))

@@ -45,5 +45,8 @@ try:
 finally:
     sim.stopSimulation()
 
-print(json.dumps({"resolution": resolution, "bytes": len(image), "dark_reads": dark_reads,
-                  "path": path}))
+print(
+    json.dumps(
+        {"resolution": resolution, "bytes": len(image), "dark_reads": dark_reads, "path": path}
+    )
+)

@@ -17,8 +17,14 @@ sim = client.require("sim")
 
 type_names = {
     getattr(sim, name): name.removeprefix("object_").removesuffix("_type")
-    for name in ("object_shape_type", "object_joint_type", "object_dummy_type",
-                 "object_proximitysensor_type", "object_visionsensor_type", "object_light_type")
+    for name in (
+        "object_shape_type",
+        "object_joint_type",
+        "object_dummy_type",
+        "object_proximitysensor_type",
+        "object_visionsensor_type",
+        "object_light_type",
+    )
 }
 
 

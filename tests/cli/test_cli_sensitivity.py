@@ -1,0 +1,109 @@
+"""``puckboard sensitivity`` from the command line: results, the figure, resuming, mistakes."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from puckboard.cli import main
+from puckboard.scenario import load_scene, scene_to_dict
+
+#: A few seconds of line following: enough for the command's whole path, quick.
+SMALL = [
+    "sensitivity", "line-follow", "--controller", "stock", "--profile", "epuck",
+    "--fields", "ir_gain,prox_radius.side", "--values", "2", "--seeds", "0:2",
+    "--duration", "3", "--workers", "1", "--quiet",
+]  # fmt: skip
+
+
+def one_error_line(capsys) -> str:
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith("puckboard sensitivity: error: ")
+    return lines[0]
+
+
+def test_json_gives_every_field_and_value_a_rate_with_its_interval(capsys):
+    assert main([*SMALL, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    # shipped, plausible, and two values of each field (ir_gain 0.7 and 1.3; 30 and 33 mm)
+    assert data["planned"] == data["episodes"] == data["ran"] == 6 * 2
+    assert data["episodes_per_s"] > 0
+    (analysis,) = data["analyses"]
+    assert (analysis["controller"], analysis["profile"]) == ("stock", "epuck")
+    assert {f["field"] for f in analysis["fields"]} == {"ir_gain", "prox_radius.side"}
+    for f in analysis["fields"]:
+        assert [v["value"] for v in f["values"] if not v["shipped"]] == [f["low"], f["high"]]
+        assert [v["value"] for v in f["values"] if v["shipped"]] == [f["shipped_value"]]
+        for v in f["values"]:
+            assert v["episodes"] == 2
+            assert 0.0 <= v["ci95_low"] <= v["success_rate"] <= v["ci95_high"] <= 1.0
+    assert analysis["shipped"]["episodes"] == analysis["plausible"]["episodes"] == 2
+
+
+def test_plot_draws_the_figure_and_out_resumes(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    out, figure = tmp_path / "runs.csv", tmp_path / "sensitivity.png"
+    assert main([*SMALL, "--out", str(out), "--plot", str(figure)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.splitlines()[0].startswith(
+        f"line-follow: 12 of 12 episodes (12 run, 0 already in {out}), "
+    )
+    assert printed.rstrip().endswith(f"plot written to {figure}")
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert main([*SMALL, "--out", str(out)]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith(f"line-follow: 12 of 12 episodes (0 run, 12 already in {out}), ")
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (["--fields", "ir_gains"], "'ir_gains' is not an uncertain field of epuck (did you mean ir_gain?)"),
+        (["--fields", ","], "--fields: name at least one field"),
+        (["--values", "0"], "--values must be at least 1, got 0"),
+        (["--plot", "figure.txt"], "--plot 'figure.txt': use a .png, .svg or .pdf file name"),
+        (["--profile", "epuck-3"], "unknown robot profile 'epuck-3'"),
+        (["--seeds", "5:1"], "--seeds '5:1' is empty"),
+        (["--controller", "nosuch"], "nosuch"),
+    ],
+)  # fmt: skip
+def test_mistakes_are_one_line_before_anything_runs(capsys, change, message):
+    args = list(SMALL)
+    flag, value = change
+    if flag in args:
+        args[args.index(flag) + 1] = value
+    else:
+        args += [flag, value]
+    assert main(args) == 2
+    assert message in one_error_line(capsys)
+
+
+def test_robots_of_different_profiles_need_a_profile_named(capsys, tmp_path):
+    data = scene_to_dict(load_scene("two-robot-pass"))
+    data["robots"][0]["profile"] = "epuck"
+    scene = tmp_path / "mixed.json"
+    scene.write_text(json.dumps(data), encoding="utf-8")
+    assert main(["sensitivity", str(scene), "--seeds", "0:1", "--workers", "1"]) == 2
+    assert "have different profiles; name the one to analyse with --profile" in one_error_line(
+        capsys
+    )
+
+
+def test_without_a_profile_the_scene_s_own_is_analysed(capsys):
+    """two-robot-pass's robots are V-REP's model, whose one uncertain number is its body."""
+    args = [
+        "sensitivity", "two-robot-pass", "--controller", "improved", "--values", "2",
+        "--seeds", "0:1", "--duration", "2", "--workers", "1", "--quiet", "--json",
+    ]  # fmt: skip
+    assert main(args) == 0
+    (analysis,) = json.loads(capsys.readouterr().out)["analyses"]
+    assert analysis["profile"] == "epuck-vrep"
+    assert [f["field"] for f in analysis["fields"]] == ["body_radius"]
+
+
+def test_the_command_is_listed(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "sensitivity" in capsys.readouterr().out
