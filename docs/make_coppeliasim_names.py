@@ -32,11 +32,18 @@ from pathlib import Path
 
 OUT = (
     Path(__file__).resolve().parents[1]
-    / "puckboard" / "backends" / "coppeliasim" / "server" / "api" / "coppeliasim_sim.json"
+    / "puckboard"
+    / "backends"
+    / "coppeliasim"
+    / "server"
+    / "api"
+    / "coppeliasim_sim.json"
 )
 
 _REGISTERED = re.compile(r'\{"sim\.([A-Za-z0-9_]+)",\s*([^}]+?)\s*\}')
-_LUA_FUNCTION = re.compile(r"^\s*function sim\.([A-Za-z0-9_]+)\s*\(|^\s*sim\.([A-Za-z0-9_]+)\s*=\s*function", re.M)
+_LUA_FUNCTION = re.compile(
+    r"^\s*function sim\.([A-Za-z0-9_]+)\s*\(|^\s*sim\.([A-Za-z0-9_]+)\s*=\s*function", re.M
+)
 _ENUM = re.compile(r"enum\s*\{(.*?)\}\s*;", re.S)
 _COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
 _BINARY = {

@@ -36,7 +36,9 @@ def main() -> None:
         with Browser(binary, width=1600, height=900) as browser:
             browser.open(view.url)
             browser.wait_for("window.state && state.frame && state.frame.t > 1")
-            browser.evaluate("document.querySelector('#robots tbody tr[data-robot=\"right\"]').click()")
+            browser.evaluate(
+                "document.querySelector('#robots tbody tr[data-robot=\"right\"]').click()"
+            )
             browser.wait_for("window.state && state.frame && state.frame.t > 36", timeout=60)
             time.sleep(0.6)  # the panel's next refresh
             browser.screenshot(str(OUT))

@@ -92,7 +92,9 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
         with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
             import irsim
     except ImportError as exc:
-        return {"skipped": f"IR-SIM is not installed (pip install 'puckboard[compare]') to compare with: {exc}"}
+        return {
+            "skipped": f"IR-SIM is not installed (pip install 'puckboard[compare]') to compare with: {exc}"
+        }
     out: dict[str, Any] = {
         "world": "2 robots, 8 ranges each, 2 posts in a 1.0 m x 0.8 m walled arena, dt 50 ms",
         "steps_per_repeat": n_steps,

@@ -222,8 +222,7 @@ def _as_type_of(current: Any, name: str, value: Any) -> Any:
         if text in _TRUE or text in _FALSE:
             return text in _TRUE
         raise ValueError(
-            f"override {name!r} is a boolean: use true/false, yes/no, on/off or 1/0, "
-            f"got {value!r}"
+            f"override {name!r} is a boolean: use true/false, yes/no, on/off or 1/0, got {value!r}"
         )
     if isinstance(current, (int, float)):
         number: Any = value

@@ -98,9 +98,7 @@ def frame_indices(
             window = f"between {start:g} s and {end:g} s"
         else:
             window = f"from {start:g} s on" if start is not None else f"up to {end:g} s"
-        raise ValueError(
-            f"nothing to animate {window}: the run covers {t[0]:.2f} to {t[-1]:.2f} s"
-        )
+        raise ValueError(f"nothing to animate {window}: the run covers {t[0]:.2f} to {t[-1]:.2f} s")
     n = int(math.floor((t1 - t0) * fps / speed + 1e-9)) + 1
     wanted = t0 + np.arange(n) * (speed / fps)
     idx = np.clip(np.searchsorted(t, wanted - 1e-9), 0, len(t) - 1)

@@ -154,7 +154,9 @@ class Decisions:
         return arrays, meta
 
     @classmethod
-    def from_arrays(cls, meta: Mapping[str, Any], arrays: Mapping[str, np.ndarray]) -> Decisions | None:
+    def from_arrays(
+        cls, meta: Mapping[str, Any], arrays: Mapping[str, np.ndarray]
+    ) -> Decisions | None:
         """The decisions stored in a loaded recording, or ``None`` if it has none
         (format 2, or a run recorded without its controllers)."""
         if "tree" not in arrays or "trees" not in meta:

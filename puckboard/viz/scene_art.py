@@ -184,7 +184,9 @@ def label_obstacles(ax: Any, scene: Any, avoid: Sequence[Any] = ()) -> list[Any]
             text = _name(ax, ob, spot)
             box = text.get_window_extent(renderer)
             cost = 1000.0 * sum(box.overlaps(other) for other in hard)
-            cost += 1000.0 * (box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0 or box.y1 > frame.y1)
+            cost += 1000.0 * (
+                box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0 or box.y1 > frame.y1
+            )
             cost += 100.0 * bool(ink is not None and ink.intersects_bbox(box, filled=True))
             cost += sum(int(box.count_contains(points)) for points in trails)
             if best is None or cost < best[0]:

@@ -113,8 +113,10 @@ def _reads(rec: Recording, r: int, name: str) -> list[dict[str, Any]]:
         if values is not None:
             own = values[:, r]
             twin = same_as.get(key)
-            if twin is not None and twin.shape == own.shape and np.array_equal(
-                twin, own, equal_nan=True
+            if (
+                twin is not None
+                and twin.shape == own.shape
+                and np.array_equal(twin, own, equal_nan=True)
             ):
                 item["same_as"] = key  # the page reads the array it already has
             else:
@@ -161,9 +163,9 @@ def replay_data(rec: Recording) -> dict[str, Any]:
         "layer_names": layer_names,
         "layer_colours": layer_colours([*layer_names, "(none)", "(stale inputs)"]),
         "tree_status": list(STATUS_NAMES),
-        "reads": [] if d is None else [
-            {k: e.get(k) for k in ("key", "type", "labels", "unit")} for e in d.reads
-        ],
+        "reads": []
+        if d is None
+        else [{k: e.get(k) for k in ("key", "type", "labels", "unit")} for e in d.reads],
         "robots": robots,
         "events": _events(rec),
     }
@@ -179,4 +181,3 @@ def serve_replay(rec: Recording, *, host: str = "127.0.0.1", port: int = 8080) -
     view.publish("scene", data["scene"])
     view.publish("replay", data)
     return view.start()
-

@@ -62,7 +62,10 @@ class WebView:
         self._runner: web.AppRunner | None = None
         self._thread: threading.Thread | None = None
         self._static = {
-            path: (resources.files(__package__).joinpath("static").joinpath(name).read_bytes(), kind)
+            path: (
+                resources.files(__package__).joinpath("static").joinpath(name).read_bytes(),
+                kind,
+            )
             for path, (name, kind) in _STATIC.items()
         }
 

@@ -458,9 +458,7 @@ class ServerFollower(_Follower):
                          api.targets[i].tolist(), layers[i], drivers[i])
             for i, name in enumerate(self.names)
         ]  # fmt: skip
-        status = (
-            "paused" if api.running and api.paused else "running" if api.running else "stopped"
-        )
+        status = "paused" if api.running and api.paused else "running" if api.running else "stopped"
         if self.previous is not None:
             judge: Judge | None = self.previous.judge
         else:

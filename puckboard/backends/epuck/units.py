@@ -75,6 +75,7 @@ firmware measured at start-up (``getAllAxesGyro`` in ``src/epuck1x/acc_gyro/e_ls
 so a robot standing still reads about 0.
 """
 
+
 # -- wheels ------------------------------------------------------------------------------
 def rad_s_to_steps_s(speed: float, profile: RobotProfile) -> int:
     """Wheel speed (rad/s) to the integer steps/s the motors take, rounded to nearest."""

@@ -197,9 +197,7 @@ class SceneObjects:
                  **fields: object) -> ServedObject:  # fmt: skip
             return self._add(kind, f"{m}_{name}{suffix}", alias, parent, local, robot=i, **fields)
 
-        base = self._add(
-            SHAPE, m + suffix, m, None, IDENTITY, robot=i, part="base", model=True
-        )
+        base = self._add(SHAPE, m + suffix, m, None, IDENTITY, robot=i, part="base", model=True)
         self.bases.append(base)
         self.detectable[("robot", i)] = base
         part(SHAPE, "base", "base", base, part="body")
@@ -223,7 +221,9 @@ class SceneObjects:
             pose = p.prox_poses[ps]
             c, s = math.cos(pose.heading), math.sin(pose.heading)
             frame = frame_from_axes(
-                (-s, c, 0.0), (0.0, 0.0, 1.0), (c, s, 0.0),
+                (-s, c, 0.0),
+                (0.0, 0.0, 1.0),
+                (c, s, 0.0),
                 position=(pose.x, pose.y, PROX_HEIGHT - axle_z),
             )  # z looks where the sensor looks, y up
             part(PROXIMITY_SENSOR, f"proxSensor{k + 1}", "proxSensor", base, frame,

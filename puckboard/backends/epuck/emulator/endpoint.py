@@ -36,7 +36,6 @@ class EndpointInfo:
         return f"puckboard run {scene} --backend {self.backend} {opts}"
 
 
-
 def open_endpoint(
     robot: EmulatedRobot,
     protocol: str,

@@ -153,8 +153,7 @@ def check_args(func: str, params: tuple[Param, ...], args: list[Any]) -> list[An
             values.append(p.check(v))
         except TypeError as exc:
             raise ApiError(
-                f"bad argument #{i + 1} to '{func}' ({p.name}: {exc} expected, "
-                f"got {type_name(v)})"
+                f"bad argument #{i + 1} to '{func}' ({p.name}: {exc} expected, got {type_name(v)})"
             ) from None
     return values + list(extra)
 

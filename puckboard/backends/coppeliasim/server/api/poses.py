@@ -99,7 +99,9 @@ class PoseFunctions(ServedState):
                 "placed"
             )
         if isinstance(rel, bool) or not isinstance(rel, int):
-            raise ApiError(f"bad argument #3 to '{func}' (relativeToObjectHandle: integer expected)")
+            raise ApiError(
+                f"bad argument #3 to '{func}' (relativeToObjectHandle: integer expected)"
+            )
         return obj, value, rel
 
     def _dummy_names(self) -> list[str]:
@@ -113,10 +115,14 @@ class PoseFunctions(ServedState):
         try:
             xyz = np.array(vector(3)(position))
         except TypeError:
-            raise ApiError(f"bad argument #2 to '{func}' (position: array of 3 numbers expected)") from None
+            raise ApiError(
+                f"bad argument #2 to '{func}' (position: array of 3 numbers expected)"
+            ) from None
         ref = self._reference(obj, rel, func)
         current = self.dummy_frames[obj.handle]
-        self.dummy_frames[obj.handle] = Frame(current.rotation, xyz if ref is None else ref.apply(xyz))
+        self.dummy_frames[obj.handle] = Frame(
+            current.rotation, xyz if ref is None else ref.apply(xyz)
+        )
         return []
 
     def set_object_pose(self, client: ClientState, handle: int, pose: Any, rel: Any) -> list[Any]:
@@ -125,7 +131,9 @@ class PoseFunctions(ServedState):
         try:
             local = Frame.from_pose7(vector(7)(pose))
         except TypeError:
-            raise ApiError(f"bad argument #2 to '{func}' (pose: array of 7 numbers expected)") from None
+            raise ApiError(
+                f"bad argument #2 to '{func}' (pose: array of 7 numbers expected)"
+            ) from None
         except ValueError as exc:
             raise ApiError(f"{func}: {exc}") from None
         ref = self._reference(obj, rel, func)

@@ -89,9 +89,7 @@ class SceneTreeFunctions(ServedState):
         return [[o.handle for o in found]]
 
     def get_objects(self, client: ClientState, index: int, object_type: int) -> list[Any]:
-        found = [
-            o for o in self.objects if object_type in (HANDLE_ALL, OBJECT_TYPES[o.kind])
-        ]
+        found = [o for o in self.objects if object_type in (HANDLE_ALL, OBJECT_TYPES[o.kind])]
         return [found[index].handle if 0 <= index < len(found) else -1]
 
     def is_handle(self, client: ClientState, handle: int) -> list[Any]:
