@@ -161,7 +161,7 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
             executor=on,
             store=store,
             batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet),
+            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
             episode_timeout=args.episode_timeout,
         ),
     )

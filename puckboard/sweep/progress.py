@@ -47,9 +47,12 @@ def _clock(seconds: float) -> str:
 class PlainProgress:
     """One line per ``every`` seconds (and a last one), for pipes and logs."""
 
-    def __init__(self, stream: TextIO | None = None, every: float = 5.0) -> None:
+    def __init__(
+        self, stream: TextIO | None = None, every: float = 5.0, label: str = "sweep"
+    ) -> None:
         self.stream = stream or sys.stderr
         self.every = every
+        self.label = label
         self.total = self.done = self.skipped = 0
         self._t0 = self._last = 0.0
 
@@ -57,7 +60,7 @@ class PlainProgress:
         self.total, self.done, self.skipped = total, done, done
         self._t0 = self._last = time.monotonic()
         if done:
-            self.stream.write(f"sweep: {done}/{total} episodes already in the output file\n")
+            self.stream.write(f"{self.label}: {done}/{total} episodes already in the output file\n")
             self.stream.flush()
 
     def eta(self) -> float | None:
@@ -79,7 +82,7 @@ class PlainProgress:
         left = "?" if eta is None else _clock(eta)
         percent = 100.0 * self.done / self.total if self.total else 100.0
         self.stream.write(
-            f"sweep: {self.done}/{self.total} episodes ({percent:.0f} %), "
+            f"{self.label}: {self.done}/{self.total} episodes ({percent:.0f} %), "
             f"elapsed {_clock(time.monotonic() - self._t0)}, left ~{left}\n"
         )
         self.stream.flush()
@@ -91,7 +94,7 @@ class PlainProgress:
 class RichProgress:
     """A ``rich`` progress bar with elapsed and remaining time."""
 
-    def __init__(self, stream: TextIO | None = None) -> None:
+    def __init__(self, stream: TextIO | None = None, label: str = "sweep") -> None:
         from rich.console import Console
         from rich.progress import (
             BarColumn,
@@ -103,7 +106,7 @@ class RichProgress:
         from rich.progress import Progress as Bar
 
         self._bar: Any = Bar(
-            TextColumn("sweep"),
+            TextColumn(label),
             BarColumn(),
             MofNCompleteColumn(),
             TextColumn("episodes"),
@@ -114,11 +117,12 @@ class RichProgress:
             transient=False,
         )
         self._task: Any = None
+        self.label = label
 
     def start(self, total: int, done: int = 0) -> None:
         self._bar.start()
         # Skipped episodes start the bar as done; rich estimates speed only from advances.
-        self._task = self._bar.add_task("sweep", total=total, completed=done)
+        self._task = self._bar.add_task(self.label, total=total, completed=done)
 
     def advance(self, n: int) -> None:
         self._bar.advance(self._task, n)
@@ -127,14 +131,17 @@ class RichProgress:
         self._bar.stop()
 
 
-def make_progress(enabled: bool = True, stream: TextIO | None = None) -> Progress:
-    """The best progress display for ``stream`` (default ``stderr``)."""
+def make_progress(
+    enabled: bool = True, stream: TextIO | None = None, label: str = "sweep"
+) -> Progress:
+    """The best progress display for ``stream`` (default ``stderr``), its lines starting
+    with ``label`` (the command's name)."""
     if not enabled:
         return NullProgress()
     stream = stream or sys.stderr
     if stream.isatty():
         try:
-            return RichProgress(stream)
+            return RichProgress(stream, label)
         except ImportError:
             pass
-    return PlainProgress(stream)
+    return PlainProgress(stream, label=label)

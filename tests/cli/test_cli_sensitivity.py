@@ -107,3 +107,15 @@ def test_the_command_is_listed(capsys):
     with pytest.raises(SystemExit):
         main(["--help"])
     assert "sensitivity" in capsys.readouterr().out
+
+
+def test_progress_names_the_command(capsys):
+    """Without --quiet, progress goes to stderr (plain lines when it is not a terminal)
+    under the command's own name, and the result stays on stdout."""
+    args = [a for a in SMALL if a != "--quiet"]
+    assert main([*args, "--json"]) == 0
+    captured = capsys.readouterr()
+    progress = captured.err.strip().splitlines()
+    assert progress and all(line.startswith("sensitivity: ") for line in progress), progress
+    assert progress[-1].startswith("sensitivity: 12/12 episodes (100 %)"), progress
+    json.loads(captured.out)
