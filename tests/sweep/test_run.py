@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import DURATION, CountingExecutor
+from sweep_helpers import DURATION, CountingExecutor
 
 from puckboard.sweep import (
     DaskExecutor,

@@ -9,7 +9,7 @@ import math
 import struct
 
 import pytest
-from conftest import DURATION, CountingExecutor
+from sweep_helpers import DURATION, CountingExecutor
 
 from puckboard.control.episode import run_episode
 from puckboard.profile import get_profile, load_profile_file, uncertainty
