@@ -1117,3 +1117,13 @@ def test_the_scenarios_page_s_bands_are_the_controllers_page_s():
         shown("improved", "epuck", "plausible robots, of 200"),
         *edge.groups(),
     ]
+
+
+def test_the_real_robot_page_s_gain_figure_is_the_band_s():
+    row = {band_key(r): r for r in BANDS}[("my_controller (the tutorial's)", "epuck")]
+    band = re.search(r"IR gain, [\d.]+–[\d.]+: (\d+) to (\d+) of 40", row[
+        "what moves it most (40 seeds per value)"])  # fmt: skip
+    assert band, row
+    m = claim("docs/real-robot.md", r"IR gain alone moves the tutorial's controller from (\d+) "
+                                    r"to (\d+) seeds of 40")  # fmt: skip
+    assert m.groups() == band.groups()
