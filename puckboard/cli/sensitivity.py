@@ -27,7 +27,7 @@ from .sweep import (
 )
 
 #: Seeds per value unless asked otherwise: a whole profile (the physical e-puck's 16
-#: fields × 7 values, about 2,200 episodes) of one controller in about six minutes on two
+#: fields × 7 values, about 2,000 episodes) of one controller in about six minutes on two
 #: cores, at the two-robot pass's measured 6 episodes/s (docs/simulator.md).
 DEFAULT_SEEDS = "0:20"
 
