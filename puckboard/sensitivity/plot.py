@@ -120,7 +120,8 @@ def plot_sensitivity(
     names = controller_labels(result.plan.sweep.controllers)
     columns = min(4, max(1, math.ceil(math.sqrt(len(order)))))
     panel_rows = max(1, math.ceil(len(order) / columns))
-    fig = plt.figure(figsize=(6.5 + 4.2 * columns, 1.6 + 3.4 * panel_rows))
+    # at least as wide as the title and the legend need, with few fields too
+    fig = plt.figure(figsize=(max(15.0, 6.5 + 4.2 * columns), 2.2 + 3.4 * panel_rows))
     try:
         grid = fig.add_gridspec(panel_rows, columns + 2, width_ratios=[1.6, 0.25] + [1] * columns)
         _tornado(fig.add_subplot(grid[:, 0]), analyses, order)
@@ -141,10 +142,13 @@ def plot_sensitivity(
         heading = title or f"{result.plan.scenario}: success rate, one number at a time"
         fig.suptitle(f"{heading} (seeds {seeds}, 95 % Wilson intervals)",
                      fontsize=FONT + 4, fontweight="bold")  # fmt: skip
-        fig.legend(handles=handles, loc="lower center", ncol=min(3, len(handles)),
-                   fontsize=FONT - 1, frameon=False)  # fmt: skip
-        legend_rows = math.ceil(len(handles) / min(3, len(handles)))
-        fig.tight_layout(rect=(0, 0.035 * legend_rows + 0.01, 1, 0.95))
-        fig.savefig(path, dpi=100)
+        ncol = min(3 if columns > 2 else 2, len(handles))
+        fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=FONT - 1,
+                   frameon=False)  # fmt: skip
+        legend_rows = math.ceil(len(handles) / ncol)
+        legend_height = legend_rows * 0.32 / fig.get_figheight() * 1.3
+        fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))
+        # "tight": whatever the layout, no title, legend or label is cut at the edge
+        fig.savefig(path, dpi=100, bbox_inches="tight")
     finally:
         plt.close(fig)
