@@ -138,22 +138,17 @@ class DaskExecutor(SweepExecutor):
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
         futures: dict[str, Any] = {}
         self._futures = futures
-        try:
+        with self.cancelled_on_error():
             for task in tasks:
                 future = self.client.submit(fn, *task, pure=False)
                 futures[future.key] = future
-        except KeyboardInterrupt:
-            raise  # the caller stops or cancels
-        except BaseException:
-            self.cancel()
-            raise
         return self._results(futures)
 
     def _results(self, futures: dict[str, Any]) -> Iterator[Any]:
         from dask.distributed import as_completed
         from distributed.scheduler import KilledWorker
 
-        try:
+        with self.cancelled_on_error():
             for future in as_completed(list(futures.values())):
                 futures.pop(future.key, None)
                 try:
@@ -162,11 +157,6 @@ class DaskExecutor(SweepExecutor):
                     raise WorkerLostError(f"Dask workers died running a batch: {exc}") from exc
                 future.release()
                 yield result
-        except KeyboardInterrupt:
-            raise  # the caller stops or cancels
-        except BaseException:
-            self.cancel()
-            raise
 
     def stop(self, grace: float) -> Iterator[Any]:
         """Raise the stop flag, collect the batches that end within ``grace`` seconds

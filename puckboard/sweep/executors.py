@@ -21,6 +21,7 @@ They are created with Ctrl-C ignored and end themselves when the parent is gone
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import logging
 import multiprocessing.context
 import os
@@ -97,6 +98,18 @@ class SweepExecutor(ABC):
     @abstractmethod
     def cancel(self) -> None:
         """Drop pending tasks and stop the running ones at once."""
+
+    @contextlib.contextmanager
+    def cancelled_on_error(self) -> Iterator[None]:
+        """:meth:`cancel` on any exception but :class:`KeyboardInterrupt` (and on an
+        iterator closed early), as :meth:`run` promises; Ctrl-C is left to the caller."""
+        try:
+            yield
+        except KeyboardInterrupt:
+            raise  # the caller stops or cancels
+        except BaseException:
+            self.cancel()
+            raise
 
     @abstractmethod
     def close(self) -> None:
@@ -210,22 +223,17 @@ class LocalExecutor(SweepExecutor):
     def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
         futures: list[cf.Future[Any]] = []
         self._pending = set()
-        try:
-            with creating_processes():  # the pool's threads too: see .signals
-                pool = self._ensure_pool()
-                for task in tasks:  # the first submits may create the worker processes
-                    future = pool.submit(fn, *task)
-                    futures.append(future)
-                    self._pending.add(future)
-        except KeyboardInterrupt:
-            raise  # the caller stops or cancels
-        except BaseException:
-            self.cancel()
-            raise
+        # creating_processes: the pool's threads too, see .signals
+        with self.cancelled_on_error(), creating_processes():
+            pool = self._ensure_pool()
+            for task in tasks:  # the first submits may create the worker processes
+                future = pool.submit(fn, *task)
+                futures.append(future)
+                self._pending.add(future)
         return self._results(futures)
 
     def _results(self, futures: list[cf.Future[Any]]) -> Iterator[Any]:
-        try:
+        with self.cancelled_on_error():
             for future in cf.as_completed(futures):
                 self._pending.discard(future)
                 try:
@@ -233,11 +241,6 @@ class LocalExecutor(SweepExecutor):
                 except BrokenProcessPool as exc:
                     raise WorkerLostError(f"a local worker process died: {exc}") from exc
                 yield result
-        except KeyboardInterrupt:
-            raise  # the caller stops or cancels
-        except BaseException:
-            self.cancel()
-            raise
 
     def stop(self, grace: float) -> Iterator[Any]:
         pending, self._pending = self._pending, set()
