@@ -16,6 +16,7 @@ from typing import Any
 
 from .common import CliError
 from .sweep import (
+    add_duration,
     add_scene_and_controllers,
     add_where_to_run,
     check_numbers,
@@ -83,12 +84,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="evenly spaced values per field, both ends of its range included (default: 7); "
         "the shipped value is a point of its own",
     )
-    parser.add_argument(
-        "--duration",
-        type=float,
-        metavar="S",
-        help="simulated seconds per episode (default: scene's)",
-    )
+    add_duration(parser)
     parser.add_argument(
         "--variation",
         choices=("none", "plausible"),

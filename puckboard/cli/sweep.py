@@ -89,12 +89,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         metavar="PARAM=V1,V2,...",
         help="sweep a parameter over values (repeatable; see the list below)",
     )
-    parser.add_argument(
-        "--duration",
-        type=float,
-        metavar="S",
-        help="simulated seconds per episode (default: scene's)",
-    )
+    add_duration(parser)
     parser.add_argument(
         "--profile",
         metavar="NAME|FILE.toml",
@@ -103,6 +98,16 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         "profiles, --set robot.profile=epuck,epuck-vrep)",
     )
     add_variation_argument(parser)
+
+
+def add_duration(parser: argparse.ArgumentParser) -> None:
+    """Every episode's simulated length (checked by :func:`check_numbers`)."""
+    parser.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="simulated seconds per episode (default: scene's)",
+    )
 
 
 def add_where_to_run(parser: argparse.ArgumentParser) -> None:
