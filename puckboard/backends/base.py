@@ -369,11 +369,6 @@ class RobotAdapter(abc.ABC):
         """``observer(adapter, image)`` after every new camera image."""
         self._camera_observers.append(observer)
 
-    def remove_observer(self, observer: Callable[..., None]) -> None:
-        for lst in (self._sensor_observers, self._camera_observers):
-            while observer in lst:
-                lst.remove(observer)  # type: ignore[arg-type]
-
     def start_sensing_thread(self, period: float = 0.05) -> None:
         """Run ``sense_all`` every ``period`` wall-clock seconds in a background thread."""
         self._start_thread("sensing", period, self.sense_all)
