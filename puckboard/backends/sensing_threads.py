@@ -15,20 +15,19 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..errors import AdapterClosedError
 from ..records import CameraImage, Sensor
-
-if TYPE_CHECKING:
-    from .base import RobotAdapter
 
 __all__ = ["CameraObserver", "SensingThreads", "SensorObserver"]
 
 log = logging.getLogger(__name__)
 
-SensorObserver = Callable[["RobotAdapter", frozenset[Sensor]], None]
-CameraObserver = Callable[["RobotAdapter", CameraImage], None]
+# an observer is handed the adapter (a RobotAdapter; named Any here, since base.py
+# imports this module and the import graph has no circle)
+SensorObserver = Callable[[Any, frozenset[Sensor]], None]
+CameraObserver = Callable[[Any, CameraImage], None]
 
 
 class SensingThreads:
