@@ -4,7 +4,7 @@ Each tool lives in its own module and imports matplotlib, Pillow, imageio or ric
 when it is used, so ``import puckboard.viz`` costs nothing. Every tool reads what every
 backend provides (blackboard keys and the scene), so each works the same with the
 embedded simulator, CoppeliaSim and a real e-puck. Recorded runs are in
-:mod:`puckboard.viz.recording`; ``puckboard.viz.hooks.attach`` wires the tools to a run.
+:mod:`puckboard.recording.recorder`; ``puckboard.viz.hooks.attach`` wires the tools to a run.
 In Jupyter, :func:`replay` shows a recorded run in the web view's player, inline.
 """
 
@@ -18,13 +18,13 @@ __all__ = ["replay"]
 
 
 def replay(recording: Any, *, height: int = 720) -> Any:
-    """Show ``recording`` (a :class:`~puckboard.viz.recording.Recording` or the path of
+    """Show ``recording`` (a :class:`~puckboard.recording.recorder.Recording` or the path of
     one) in the web view's player, inline in a Jupyter notebook: the one-file export of
     ``puckboard replay --html`` in an iframe, so it needs no server. Returns an
     ``IPython.display.HTML`` object (a notebook shows it when it is a cell's last value).
     """
+    from ..recording.recorder import load_recording
     from ..web.export import replay_html
-    from .recording import load_recording
 
     try:
         from IPython.display import HTML

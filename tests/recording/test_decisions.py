@@ -10,8 +10,8 @@ from viz_standin import StandInEpisode
 
 from puckboard.behaviours import Controller, Cruise, Layer
 from puckboard.blackboard import Blackboard
+from puckboard.recording.recorder import FORMAT_VERSION, Recorder, load_recording
 from puckboard.records import WheelCommand
-from puckboard.viz.recording import FORMAT_VERSION, Recorder, load_recording
 
 
 def recorded(tmp_path, seconds=2.0, **options):

@@ -14,7 +14,7 @@ import pytest
 from test_web_stream import get, request
 
 from puckboard.control.episode import Episode
-from puckboard.viz.recording import Recorder, load_recording
+from puckboard.recording.recorder import Recorder, load_recording
 from puckboard.web import watch_episode
 from puckboard.web.export import replay_html, write_replay_html
 from puckboard.web.replay import replay_data, serve_replay
