@@ -10,3 +10,10 @@ writes one. Apart from both, so that neither a picture nor a page is needed to r
 * :mod:`.decisions` — each arbiter's decisions per tick (format 3);
 * :mod:`.atomic` — files a reader never sees half-written.
 """
+
+from __future__ import annotations
+
+from .decisions import Decisions
+from .recorder import FORMAT_VERSION, Recorder, Recording, load_recording
+
+__all__ = ["FORMAT_VERSION", "Decisions", "Recorder", "Recording", "load_recording"]
