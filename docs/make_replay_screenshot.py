@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT / "tests" / "web"))
 from browser import Browser, chromium  # noqa: E402
 
 from puckboard.control.episode import Episode  # noqa: E402
-from puckboard.viz.recording import Recorder  # noqa: E402
+from puckboard.recording.recorder import Recorder  # noqa: E402
 from puckboard.web.export import write_replay_html  # noqa: E402
 
 OUT = ROOT / "docs" / "img" / "replay.png"

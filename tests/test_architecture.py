@@ -84,6 +84,21 @@ def files_of(subpackage: str) -> list[Path]:
         ("profile", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
         # a calibration drives an adapter and asks the engine's IR model; no controller
         ("calibration", ("puckboard.cli", "puckboard.behaviours", "puckboard.control")),
+        # a recording is read by the pictures and the player, and knows neither
+        (
+            "recording",
+            (
+                "puckboard.viz",
+                "puckboard.web",
+                "puckboard.cli",
+                "puckboard.backends",
+                "puckboard.sim",
+                "puckboard.control",
+                "puckboard.sweep",
+            ),
+        ),
+        # the pictures read recordings and the scene; the web view builds on them
+        ("viz", ("puckboard.web", "puckboard.cli", "puckboard.sweep")),
         # an analysis is points of a sweep: it runs episodes only through the sweep
         (
             "sensitivity",
@@ -114,7 +129,7 @@ def test_dependencies_point_one_way(subpackage, forbidden):
 
 
 @pytest.mark.parametrize(
-    "subpackage", ["backends", "control", "viz", "sweep", "web", "calibration"]
+    "subpackage", ["backends", "control", "viz", "recording", "sweep", "web", "calibration"]
 )
 def test_backends_use_the_engine_only_through_its_world(subpackage):
     """Outside the engine, only ``World`` is imported: the rest of sim/ is its internals."""

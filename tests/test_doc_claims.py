@@ -1075,7 +1075,7 @@ def test_the_knife_edge_on_seeds_0_to_9_is_what_the_episodes_give():
     """ "on seeds 0–9 alone: 1 at 17°, 8 at 12.7°, 7 at 10°": the front sensors' heading
     set as the sensitivity analysis sets it (seven values evenly across the range)."""
     from puckboard.profile import get_profile, uncertainty
-    from puckboard.profile.paths import path_value
+    from puckboard.profile.setting_names import path_value
     from puckboard.sensitivity import field_values
 
     m = claim(CONTROLLERS, r"on seeds 0–9 alone: (\d+) at (\S+)°, (\d+) at (\S+)°, (\d+) at (\S+)°")

@@ -15,7 +15,8 @@ backend:
 * ``camera_image()``;
 * for simulators, synchronous stepping through a shared :class:`Stepper`;
 * a background sensing thread and camera thread with their own periods, and observers
-  that learn which sensors changed or receive each new image;
+  that learn which sensors changed or receive each new image
+  (:class:`~puckboard.backends.sensing_threads.SensingThreads`);
 * ``close()``, which zeroes the wheels first.
 
 Every call into the transport goes through one lock per adapter. The source framework
@@ -38,13 +39,11 @@ from ..blackboard import Blackboard, InstanceOf, Namespace
 from ..errors import AdapterClosedError, NotSupportedError
 from ..profile import EPUCK2, RobotProfile
 from ..records import RECORD_TYPES, CameraImage, Sensor, WheelCommand
+from .sensing_threads import SensingThreads
 
 __all__ = ["Connection", "RobotAdapter", "Stepper", "declare_robot_keys"]
 
 log = logging.getLogger(__name__)
-
-SensorObserver = Callable[["RobotAdapter", frozenset[Sensor]], None]
-CameraObserver = Callable[["RobotAdapter", CameraImage], None]
 
 
 @runtime_checkable
@@ -131,7 +130,7 @@ def declare_robot_keys(ns: Namespace, max_age: float | None = None) -> None:
     ns.declare("command/layer", schema=InstanceOf(str))
 
 
-class RobotAdapter(abc.ABC):
+class RobotAdapter(SensingThreads, abc.ABC):
     """Base class of every robot backend; see the module docstring.
 
     Subclasses implement :meth:`_read_sensors`, :meth:`_write_wheels`,
@@ -169,9 +168,7 @@ class RobotAdapter(abc.ABC):
         self._clamp_warned = False
         self._last_command_time: float | None = None
         self._wheels_moving = False
-        self._sensor_observers: list[SensorObserver] = []
-        self._camera_observers: list[CameraObserver] = []
-        self._threads: list[_PeriodicThread] = []
+        SensingThreads.__init__(self)
         self.ns: Namespace = self._make_namespace(blackboard)
 
     # -- blackboard ------------------------------------------------------------------------
@@ -264,8 +261,7 @@ class RobotAdapter(abc.ABC):
             image = self._read_camera()
             stamp = self.now()
         self.ns.put(Sensor.CAMERA.key, image, stamp=stamp, writer=self.name)
-        for obs in list(self._camera_observers):
-            _call_observer(obs, self, image)
+        self._tell_camera_observers(image)
         return image
 
     def _publish(self, records: Mapping[Sensor, Any], stamp: float) -> None:
@@ -279,10 +275,8 @@ class RobotAdapter(abc.ABC):
         ns.board.put_many(
             {prefix + s.value: r for s, r in records.items()}, stamp=stamp, writer=self.name
         )
-        if self._sensor_observers:
-            changed = frozenset(records)
-            for obs in list(self._sensor_observers):
-                _call_observer(obs, self, changed)
+        if self._sensor_observers:  # no set to build on the usual, unobserved cycle
+            self._tell_sensor_observers(frozenset(records))
 
     # -- actuators -------------------------------------------------------------------------
     def command_wheels(self, command: WheelCommand) -> WheelCommand:
@@ -360,46 +354,6 @@ class RobotAdapter(abc.ABC):
     def stop_simulation(self) -> None:
         self._require_stepper().stop()
 
-    # -- threads and observers -------------------------------------------------------------
-    def add_sensor_observer(self, observer: SensorObserver) -> None:
-        """``observer(adapter, changed_sensors)`` after every sensing cycle."""
-        self._sensor_observers.append(observer)
-
-    def add_camera_observer(self, observer: CameraObserver) -> None:
-        """``observer(adapter, image)`` after every new camera image."""
-        self._camera_observers.append(observer)
-
-    def remove_observer(self, observer: Callable[..., None]) -> None:
-        for lst in (self._sensor_observers, self._camera_observers):
-            while observer in lst:
-                lst.remove(observer)  # type: ignore[arg-type]
-
-    def start_sensing_thread(self, period: float = 0.05) -> None:
-        """Run ``sense_all`` every ``period`` wall-clock seconds in a background thread."""
-        self._start_thread("sensing", period, self.sense_all)
-
-    def start_camera_thread(self, period: float = 0.2) -> None:
-        """Refresh the camera image every ``period`` wall-clock seconds in a background thread."""
-        self._start_thread("camera", period, self.camera_image)
-
-    def _start_thread(self, what: str, period: float, fn: Callable[[], Any]) -> None:
-        if period <= 0:
-            raise ValueError(f"{what} thread period must be positive seconds, got {period}")
-        self._ensure_open()
-        if any(t.what == what and t.is_alive() for t in self._threads):
-            raise RuntimeError(f"robot {self.name!r} already has a {what} thread")
-        thread = _PeriodicThread(f"{self.name}-{what}", what, period, fn)
-        self._threads.append(thread)
-        thread.start()
-
-    def stop_threads(self, timeout: float = 2.0) -> None:
-        threads, self._threads = self._threads, []
-        for t in threads:
-            t.stop()
-        for t in threads:
-            if t is not threading.current_thread():
-                t.join(timeout)
-
     # -- lifecycle -------------------------------------------------------------------------
     @property
     def closed(self) -> bool:
@@ -453,51 +407,8 @@ class RobotAdapter(abc.ABC):
     def _read_camera(self) -> CameraImage:
         raise NotSupportedError(f"{self.backend_name} has no camera")
 
-    def _close(self) -> None:  # noqa: B027 - optional hook, a no-op by default
+    def _close(self) -> None:
         """Release the transport."""
-
-
-class _PeriodicThread(threading.Thread):
-    """Calls ``fn`` every ``period`` seconds until stopped; logs (and survives) failures."""
-
-    def __init__(self, name: str, what: str, period: float, fn: Callable[[], Any]) -> None:
-        super().__init__(name=name, daemon=True)
-        self.what = what
-        self.period = period
-        self.fn = fn
-        self._stop_event = threading.Event()
-
-    def stop(self) -> None:
-        self._stop_event.set()
-
-    def run(self) -> None:
-        next_time = time.monotonic()
-        failures = 0
-        while not self._stop_event.is_set():
-            try:
-                self.fn()
-                failures = 0
-            except AdapterClosedError:
-                return
-            except Exception:
-                failures += 1
-                log.exception("%s thread %s failed (%d in a row)", self.what, self.name, failures)
-                if failures >= 10:
-                    log.error("%s thread %s gives up after 10 failures", self.what, self.name)
-                    return
-            next_time += self.period
-            delay = next_time - time.monotonic()
-            if delay < 0:  # overran: do not try to catch up with a burst
-                next_time = time.monotonic()
-                delay = 0
-            self._stop_event.wait(delay)
-
-
-def _call_observer(observer: Callable[..., None], *args: Any) -> None:
-    try:
-        observer(*args)
-    except Exception:
-        log.exception("observer %r failed", observer)
 
 
 def _as_sensor(s: Sensor | str) -> Sensor:

@@ -147,9 +147,6 @@ class FakeAdapter(RobotAdapter):
             v[GROUND_NAMES.index(name)] = float(value)
         self._ground = Ground(v, v * 1023.0)
 
-    def set_image(self, pixels: np.ndarray) -> None:
-        self._image = CameraImage(pixels)
-
     # -- kinematics ------------------------------------------------------------------------
     def _velocity(self) -> tuple[float, float]:
         """The body's (forward m/s, turn rate rad/s) as its wheels, as built, drive it."""

@@ -82,10 +82,6 @@ class WallModel:
         self._world.set_pose(0, -float(distance), 0.0, float(heading))
         return np.array(self._world.prox_raw[0], dtype=float)
 
-    def expected_many(self, distances: FloatArray, headings: FloatArray) -> FloatArray:
-        """:meth:`expected` for K poses at once (K×8)."""
-        return np.array([self.expected(d, h) for d, h in zip(distances, headings)]).reshape(-1, 8)
-
     def facing(self, sensor: str, gap: float) -> float:
         """Gain-1 value of ``sensor`` looking straight at the wall from ``gap`` m (the
         sensor's own distance to the wall along its axis)."""

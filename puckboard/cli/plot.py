@@ -62,6 +62,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def main(args: argparse.Namespace) -> int:
     """Check every option, then write: a bad --from/--to or --size found after the plots
     were written would leave half the outputs behind and the user unsure which."""
+    from ..recording.recorder import load_recording
     from ..viz.animation import (
         VideoSupportError,
         check_animation_path,
@@ -69,7 +70,6 @@ def main(args: argparse.Namespace) -> int:
         render_animation,
     )
     from ..viz.plots import save_plots
-    from ..viz.recording import load_recording
 
     _check_window(args.start, args.end)
     try:

@@ -1,7 +1,7 @@
 """The table ``puckboard profiles show`` prints: every path of a profile with its value,
 its plausible range and where that comes from.
 
-Rows follow the paths a user sets (:mod:`puckboard.profile.paths`), grouped as people
+Rows follow the paths a user sets (:mod:`puckboard.profile.setting_names`), grouped as people
 read them: a symmetric pair of IR sensors is one row while its two sensors agree. A
 profile file is shown beside the shipped profile it changes. docs/profiles.md holds the
 Markdown form of the shipped profiles' tables, and a test keeps the two equal.
@@ -20,7 +20,7 @@ from ..profile import (
     profile_values,
     uncertainty,
 )
-from ..profile.paths import PATH_FIELDS, expand_path, path_unit, path_value
+from ..profile.setting_names import PATH_FIELDS, expand_path, path_unit, path_value
 from ..profile.uncertainty import certainty_note
 from ..records import PROX_NAMES
 

@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..viz.recording import load_recording
+    from ..recording.recorder import load_recording
 
     if not args.web and not args.html:
         raise CliError(

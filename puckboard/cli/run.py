@@ -123,37 +123,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.set_defaults(func=main)
 
 
-def parse_overrides(items: list[str]) -> dict[str, Any]:
-    """``NAME=VALUE`` strings to a dict; values are numbers, true/false or text."""
-    out: dict[str, Any] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise CliError(
-                f"--set {item!r}: expected NAME=VALUE, e.g. --set noise.wheel_speed=0.05"
-            )
-        text = text.strip()
-        value: Any
-        if text.lower() in ("true", "false"):
-            value = text.lower() == "true"
-        else:
-            try:
-                value = int(text)
-            except ValueError:
-                try:
-                    value = float(text)
-                except ValueError:
-                    value = text
-        out[name] = value
-    return out
-
-
 def main(args: argparse.Namespace) -> int:
     from ..control.episode import Episode
     from ..errors import LayerError, PuckboardError
+    from ..scenario.overrides import parse_overrides
 
-    overrides = parse_overrides(args.overrides)
+    try:
+        overrides = parse_overrides(args.overrides)
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
     if args.profile is not None:
         overrides["robot.profile"] = args.profile
     if args.json and args.monitor:

@@ -16,14 +16,12 @@ each robot's ``pose`` blackboard key. Viewers and recorders hook in with
 :meth:`Episode.add_observer` and :meth:`Episode.add_close_observer`; they only read, so a
 run is the same with or without them.
 
-``overrides`` change a scene or the controllers without editing files, by dotted name:
-``robot.profile`` (every robot's profile), ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
-``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
-robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``); ``profile.<path>``
-and ``robot.<name>.profile.<path>`` set a number of every robot's or one robot's profile
-(:mod:`puckboard.scenario.robot_profiles`); ``variation`` = ``plausible`` (also the
-``variation`` argument) builds each robot from numbers drawn within its profile's
-plausible ranges.
+``overrides`` change a scene or the controllers without editing files, by dotted name
+(``noise.proximity``, ``dt``, ``layer.<LayerName>.<attribute>``, ``profile.<path>``, ...;
+the dialect and every name are in :mod:`puckboard.scenario.overrides`): the scene's are
+applied before the backend opens, the layers' (:mod:`puckboard.behaviours.overrides`) on
+each robot's controller; ``variation`` = ``plausible`` (also the ``variation`` argument)
+builds each robot from numbers drawn within its profile's plausible ranges.
 """
 
 from __future__ import annotations
@@ -41,26 +39,19 @@ import numpy as np
 
 from ..backends.registry import default_backend, open_backend
 from ..behaviours.controller import Controller
-from ..behaviours.layer import Layer
+from ..behaviours.overrides import apply_layer_overrides
 from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
 from ..scenario.judge import Judge
+from ..scenario.overrides import apply_scene_overrides
 from ..scenario.result import EpisodeResult
-from ..scenario.robot_profiles import apply_profile_overrides, is_profile_override, scene_profile
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.variation import check_variation, vary_scene
+from ..scenario.variation import vary_scene
 from .loop import ControlLoop
 
-__all__ = [
-    "MAX_STEPS",
-    "OVERRIDE_NAMES",
-    "Episode",
-    "apply_scene_overrides",
-    "check_steps",
-    "run_episode",
-]
+__all__ = ["MAX_STEPS", "Episode", "check_steps", "run_episode"]
 
 log = logging.getLogger(__name__)
 
@@ -70,23 +61,6 @@ log = logging.getLogger(__name__)
 #: at the usual dt of 0.05 s. Raise it (``puckboard.control.episode.MAX_STEPS = ...``)
 #: for a run that really needs more.
 MAX_STEPS = 10_000_000
-
-OVERRIDE_NAMES = (
-    "robot.profile",
-    "noise.wheel_speed",
-    "noise.proximity",
-    "noise.ground",
-    "noise.start_jitter",
-    "noise.gyro",
-    "noise.gyro_bias",
-    "dt",
-    "duration",
-    "layer.<LayerName>.<attribute>",
-    "profile.<path>",
-    "robot.<name>.profile.<path>",
-    "variation",
-)
-"""The dotted names :class:`Episode` accepts in ``overrides``."""
 
 EpisodeObserver = Callable[["Episode"], None]
 
@@ -110,141 +84,6 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
     from ..scenario.scenefile import load_scene
 
     return load_scene(scene)
-
-
-def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
-    """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
-    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
-    controllers and ``variation`` (checked here) for the episode, which knows the seed.
-    Unknown names raise ``ValueError``."""
-    noise_changes: dict[str, float] = {}
-    scene_changes: dict[str, Any] = {}
-    noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
-    for name, value in overrides.items():
-        if name.startswith("layer."):
-            continue
-        if name.startswith("noise."):
-            key = name.split(".", 1)[1]
-            if key not in noise_fields:
-                raise ValueError(
-                    f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
-                )
-            noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
-        elif name == "robot.profile":
-            profile = scene_profile(value)  # a clear error names the known profiles
-            scene_changes["robots"] = scene.with_profile(profile).robots
-        elif name in ("dt", "duration"):
-            number = _number(name, value)
-            if number <= 0:
-                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
-            scene_changes[name] = number
-        elif name == "variation":
-            check_variation(str(value))  # drawn by the episode, which knows the seed
-        elif not is_profile_override(name):
-            raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
-    if noise_changes:
-        scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
-    scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
-    return apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
-
-
-#: Noise fields that are offsets rather than spreads, so either sign means something.
-_SIGNED_NOISE = frozenset({"gyro_bias"})
-
-
-def _number(name: str, value: Any, *, signed: bool = False) -> float:
-    """``value`` as a float: a finite number, and unless ``signed`` not negative."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"override {name} needs a number, got {value!r}")
-    if not np.isfinite(value) or (value < 0 and not signed):
-        bound = "" if signed else " >= 0"
-        raise ValueError(f"override {name} must be a finite number{bound}, got {value!r}")
-    return float(value)
-
-
-def apply_layer_overrides(
-    controllers: Mapping[str, Controller], overrides: Mapping[str, Any]
-) -> None:
-    """Set ``layer.<LayerName>.<attribute>`` overrides on every controller that has that
-    layer; an error when no controller has it or the layer has no such attribute."""
-    for name, value in overrides.items():
-        if not name.startswith("layer."):
-            continue
-        parts = name.split(".")
-        if len(parts) != 3 or not parts[1] or not parts[2]:
-            raise ValueError(f"override {name!r} must look like layer.<LayerName>.<attribute>")
-        _, layer_name, attr = parts
-        found = False
-        for ctrl in controllers.values():
-            try:
-                layer: Layer = ctrl.find(layer_name)
-            except KeyError:
-                continue
-            params = layer.parameters()
-            if attr not in params:
-                raise ValueError(
-                    f"override {name!r}: layer {layer_name} has no parameter {attr!r}; "
-                    f"its parameters: {', '.join(sorted(params))}"
-                )
-            setattr(layer, attr, _as_type_of(params[attr], name, value))
-            found = True
-        if not found:
-            layers = sorted(
-                {
-                    n.name
-                    for c in controllers.values()
-                    for n in c.root.iterate()
-                    if isinstance(n, Layer)
-                }
-            )
-            raise ValueError(
-                f"override {name!r}: no controller has a layer {layer_name!r}; "
-                f"layers: {', '.join(layers)}"
-            )
-
-
-_TRUE = frozenset({"true", "yes", "on", "1"})
-_FALSE = frozenset({"false", "no", "off", "0"})
-
-
-def _as_type_of(current: Any, name: str, value: Any) -> Any:
-    """``value`` as the type of the parameter's ``current`` value, or ``ValueError``.
-
-    A command line gives text: ``recovery=no`` must switch recovery off, not store the
-    string ``"no"``, which is true. Booleans take true/false, yes/no, on/off or 1/0 and
-    nothing else; whole-number parameters take whole numbers, others any number.
-    Parameters of other types (text, tuples) take the value as given.
-    """
-    if isinstance(current, bool):
-        if isinstance(value, bool):
-            return value
-        text = str(value).strip().lower() if isinstance(value, (str, int)) else None
-        if text in _TRUE or text in _FALSE:
-            return text in _TRUE
-        raise ValueError(
-            f"override {name!r} is a boolean: use true/false, yes/no, on/off or 1/0, got {value!r}"
-        )
-    if isinstance(current, (int, float)):
-        number: Any = value
-        if isinstance(value, str):
-            try:
-                number = float(value)
-            except ValueError:
-                number = None
-        if isinstance(number, bool) or not isinstance(number, (int, float)):
-            kind = "a whole number" if isinstance(current, int) else "a number"
-            raise ValueError(
-                f"override {name!r} needs {kind} "
-                f"(the parameter is {type(current).__name__}), got {value!r}"
-            )
-        if isinstance(current, int):
-            if not float(number).is_integer():
-                raise ValueError(
-                    f"override {name!r} needs a whole number (the parameter is int), got {value!r}"
-                )
-            return int(number)
-        return float(number)
-    return value
 
 
 class Episode:

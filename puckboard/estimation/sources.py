@@ -27,14 +27,14 @@ import numpy as np
 
 from ..blackboard import Snapshot
 from ..profile import EPUCK2, RobotProfile, get_profile
-from ..records import Pose, Proximity
+from ..records import Pose, Proximity, Sensor
 from .knowledge import KnowledgeSource
 from .odometry import OdometryFilter, OdometryNoise
 from .proximity import ProximityFilter
 
 __all__ = ["GYRO_KEY", "OdometrySource", "ProximitySource"]
 
-GYRO_KEY = "gyro"
+GYRO_KEY = Sensor.GYRO.key
 """Key of a yaw-rate reading (rad/s, counter-clockwise): the
 :class:`~puckboard.records.AngularVelocity` record adapters write under
 ``Sensor.GYRO`` (its ``z``), or a plain number on a board of your own. EPuckReal writes

@@ -5,7 +5,7 @@ your own robot as a file.
   and its unit conversions.
 * :mod:`~puckboard.profile.shipped`: the shipped profiles (``epuck``, ``e-puck1``,
   ``epuck-vrep``), every number with its source.
-* :mod:`~puckboard.profile.paths`: the names numbers are set by (``prox_radius.side``),
+* :mod:`~puckboard.profile.setting_names`: the names numbers are set by (``prox_radius.side``),
   checked against physical sense; :func:`apply_overrides`.
 * :mod:`~puckboard.profile.uncertainty`: plausible ranges with their sources, plausible
   robots drawn from them (:func:`draw`), :func:`profile_values`.
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from .files import load_profile_file, profile_from_data, profile_to_data, resolve_profile
 from .model import NO_DETECTION_DISTANCE, RobotProfile, SensorPose
-from .paths import PROX_GROUPS, apply_overrides, check_path, check_value
+from .setting_names import PROX_GROUPS, apply_overrides, check_path, check_value
 from .shipped import EPUCK, EPUCK1, EPUCK2, EPUCK_VREP, PROFILES, get_profile, profile_names
 from .uncertainty import VARIATIONS, Range, draw, profile_values, uncertainty, variation_rng
 

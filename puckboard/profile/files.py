@@ -29,7 +29,7 @@ from typing import Any
 
 from ..errors import ProfileError
 from .model import RobotProfile
-from .paths import apply_overrides, check_path
+from .setting_names import apply_overrides, check_path
 from .shipped import PROFILES, get_profile, profile_names
 
 if sys.version_info >= (3, 11):

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..records import PROX_NAMES
 from .model import RobotProfile
-from .paths import (
+from .setting_names import (
     PROX_GROUPS,
     apply_overrides,
     check_path,

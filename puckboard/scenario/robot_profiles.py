@@ -1,5 +1,5 @@
-"""A scene's robots and their profiles: how a scene file names them, how a scene is
-written back with them, and how ``profile.*`` overrides change them.
+"""A scene's robots and their profiles: how a scene file names them and how a scene is
+written back with them (``profile.*`` overrides change them in :mod:`.overrides`).
 
 A scene names a robot's profile as a shipped profile (``profile = "epuck"``), a profile
 file relative to the scene file (``profile = "my-epuck.toml"``) or the file's form inline
@@ -11,28 +11,19 @@ recording rebuilds the very same robots without the files it once named.
 
 from __future__ import annotations
 
-import dataclasses
-import re
-from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Protocol
 
 from ..errors import ProfileError, SceneError
 from ..profile import (
     RobotProfile,
-    apply_overrides,
-    check_path,
     get_profile,
     profile_to_data,
     resolve_profile,
 )
-from .scene import RobotSpec, Scene
+from .scene import RobotSpec
 
 __all__ = [
-    "PROFILE_OVERRIDE_NAMES",
-    "SET_SOURCE",
-    "apply_profile_overrides",
-    "is_profile_override",
     "read_actual",
     "read_default_profile",
     "read_profile",
@@ -40,13 +31,6 @@ __all__ = [
     "robot_profile_data",
     "scene_profile",
 ]
-
-#: The override names this module handles (``Episode(overrides=...)``, ``--set``).
-PROFILE_OVERRIDE_NAMES = ("profile.<path>", "robot.<name>.profile.<path>")
-#: The source recorded for a number set with ``--set``.
-SET_SOURCE = "set on the command line (--set profile.PATH=VALUE)"
-
-_PER_ROBOT = re.compile(r"^robot\.(.+)\.profile\.(.+)$")
 
 
 def scene_profile(value: Any) -> str | RobotProfile:
@@ -118,56 +102,3 @@ def robot_profile_data(robot: RobotSpec) -> dict[str, Any]:
     if robot.actual is not None:
         out["actual"] = profile_to_data(robot.actual)
     return out
-
-
-def is_profile_override(name: str) -> bool:
-    """Whether ``name`` is a ``profile.<path>`` or ``robot.<name>.profile.<path>`` override."""
-    return name.startswith("profile.") or _PER_ROBOT.match(name) is not None
-
-
-def apply_profile_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
-    """``scene`` with ``profile.<path>`` set on every robot's profile and
-    ``robot.<name>.profile.<path>`` on one robot's (both on the believed profile and on
-    the truth, when a robot has one: a set number defines the robot). Other names are
-    left alone. Errors are ``ValueError`` naming the override."""
-    every: dict[str, Any] = {}
-    per_robot: dict[str, dict[str, Any]] = {}
-    names = [r.name for r in scene.robots]
-    for name, value in overrides.items():
-        match = _PER_ROBOT.match(name)
-        if name.startswith("profile."):
-            every[_checked(name, name[len("profile.") :])] = value
-        elif match is not None:
-            robot, path = match.group(1), match.group(2)
-            if robot not in names:
-                raise ProfileError(
-                    f"override {name!r}: the scene has no robot {robot!r}; robots: {', '.join(names)}"
-                )
-            per_robot.setdefault(robot, {})[_checked(name, path)] = value
-    if not every and not per_robot:
-        return scene
-    robots = []
-    for spec in scene.robots:
-        changes = {**every, **per_robot.get(spec.name, {})}
-        robots.append(_changed(spec, changes) if changes else spec)
-    return dataclasses.replace(scene, robots=tuple(robots))
-
-
-def _checked(name: str, path: str) -> str:
-    try:
-        return check_path(path)
-    except ProfileError as exc:
-        raise ProfileError(f"override {name!r}: {exc}") from None
-
-
-def _changed(spec: RobotSpec, changes: Mapping[str, Any]) -> RobotSpec:
-    try:
-        profile = apply_overrides(get_profile(spec.profile), changes, source=SET_SOURCE)
-        actual = (
-            None
-            if spec.actual is None
-            else apply_overrides(spec.actual, changes, source=SET_SOURCE)
-        )
-    except ProfileError as exc:
-        raise ProfileError(f"profile.{exc} (robot {spec.name!r})") from None
-    return dataclasses.replace(spec, profile=profile, actual=actual)

@@ -19,7 +19,6 @@ __all__ = [
     "cast_rays",
     "circle_hits",
     "ray_hits",
-    "segment_distance",
     "segment_hits",
 ]
 
@@ -172,19 +171,3 @@ def circle_hits(
     if visible is not None:
         ok &= visible
     return np.where(ok, t, np.inf)
-
-
-def segment_distance(
-    points: FloatArray, seg_start: FloatArray, seg_vector: FloatArray
-) -> FloatArray:
-    """Distance from each of P points to the nearest of S segments (P values)."""
-    if seg_start.shape[0] == 0:
-        return np.full(points.shape[0], np.inf)
-    length2 = (seg_vector * seg_vector).sum(axis=1)
-    length2 = np.where(length2 > 0.0, length2, 1.0)
-    wx = points[:, 0:1] - seg_start[:, 0]  # P×S
-    wy = points[:, 1:2] - seg_start[:, 1]
-    s = np.clip((wx * seg_vector[:, 0] + wy * seg_vector[:, 1]) / length2, 0.0, 1.0)
-    qx = wx - s * seg_vector[:, 0]
-    qy = wy - s * seg_vector[:, 1]
-    return np.sqrt((qx * qx + qy * qy).min(axis=1))

@@ -32,7 +32,8 @@ def check_plan(plan: SweepPlan, scene: Any, *, tolerate: Collection[str] = ()) -
     controllers in ``tolerate`` are returned as warnings instead (graded submissions,
     whose episodes then count as ``error``).
     """
-    from ..control.episode import apply_scene_overrides, check_steps
+    from ..control.episode import check_steps
+    from ..scenario.overrides import apply_scene_overrides
 
     combos = plan.combinations()
     for combo in combos:  # the scene's part: the same for every controller
@@ -105,7 +106,7 @@ def _controller_problem(spec: str, scene: Any, combos: list[dict[str, Any]]) -> 
     on the layers themselves), once otherwise.
     """
     from ..behaviours import load_controller
-    from ..control.episode import apply_layer_overrides
+    from ..behaviours.overrides import apply_layer_overrides
 
     specs = _robot_specs(spec, scene)
     layered = [{k: v for k, v in c.items() if k.startswith("layer.")} for c in combos]

@@ -12,7 +12,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -28,7 +27,6 @@ __all__ = [
     "params_key",
     "parse_seeds",
     "parse_set",
-    "parse_value",
     "profile_parameters",
 ]
 
@@ -50,7 +48,6 @@ PARAMETERS: dict[str, str] = {
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
 
-_LAYER_PARAM = re.compile(r"^layer\.([A-Za-z_][\w-]*)\.([A-Za-z_]\w*)$")
 _POSITIVE = {"dt", "duration"}
 
 
@@ -115,27 +112,6 @@ def profile_parameters(profile: Any) -> dict[str, Any]:
     return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
-def parse_value(text: str) -> bool | int | float | str:
-    """``true``/``false`` → bool, then int, then float, else the string itself.
-
-    Quote a value (``'3'`` or ``"3"``) to keep it a string.
-    """
-    stripped = text.strip()
-    if len(stripped) >= 2 and stripped[0] == stripped[-1] and stripped[0] in "'\"":
-        return stripped[1:-1]
-    lowered = stripped.lower()
-    if lowered in ("true", "false"):
-        return lowered == "true"
-    try:
-        return int(stripped)
-    except ValueError:
-        pass
-    try:
-        return float(stripped)
-    except ValueError:
-        return stripped
-
-
 def check_parameter(name: str) -> str:
     """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
     if _is_profile_param(name):
@@ -146,7 +122,7 @@ def check_parameter(name: str) -> str:
         except ValueError as exc:
             raise PlanError(f"parameter {name}: {exc}") from None
         return name
-    if (name in PARAMETERS and "<" not in name) or _LAYER_PARAM.match(name):
+    if (name in PARAMETERS and "<" not in name) or _is_layer_param(name):
         return name
     known = ", ".join(PARAMETERS)
     raise PlanError(
@@ -155,16 +131,27 @@ def check_parameter(name: str) -> str:
     )
 
 
-_ROBOT_PROFILE_PARAM = re.compile(r"^robot\.(.+)\.profile\.(.+)$")
+def _is_layer_param(name: str) -> bool:
+    from ..behaviours.overrides import layer_target
+
+    try:
+        return layer_target(name) is not None
+    except ValueError:
+        return False
 
 
 def _is_profile_param(name: str) -> bool:
-    return name.startswith("profile.") or _ROBOT_PROFILE_PARAM.match(name) is not None
+    from ..scenario.overrides import profile_target
+
+    return profile_target(name) is not None
 
 
 def _profile_path(name: str) -> str:
-    match = _ROBOT_PROFILE_PARAM.match(name)
-    return match.group(2) if match else name[len("profile.") :]
+    from ..scenario.overrides import profile_target
+
+    target = profile_target(name)
+    assert target is not None
+    return target[1]
 
 
 def _profile_value(name: str, value: Any) -> Any:
@@ -223,6 +210,8 @@ def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
     parts = [p for p in (v.strip() for v in values_text.split(",")) if p]
     if not parts:
         raise PlanError(f"--set {spec!r}: no values after '='; give one or more, comma-separated")
+    from ..scenario.overrides import parse_value
+
     values = tuple(_profile_value(name, parse_value(p)) for p in parts)
     for value in values:
         _check_value(name, value)

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import PuckboardError
-from .recording import Recording
+from ..recording.recorder import Recording
 
 __all__ = [
     "ANIMATION_SUFFIXES",

@@ -1,7 +1,7 @@
 """Wiring the visual tools to a run: what ``puckboard run --view/--record/--plots/--monitor`` do.
 
 :func:`attach` registers observers on an episode before it runs. Everything that needs
-the run's states shares one :class:`~puckboard.viz.recording.Recorder`, registered first so
+the run's states shares one :class:`~puckboard.recording.recorder.Recorder`, registered first so
 the live view and the end-of-run outputs read the states of the cycle just finished.
 Outputs that need extra packages are checked here, before the run starts, so a missing
 MP4 writer is reported in a second and not after a two-minute run.
@@ -23,7 +23,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
-from .recording import Recorder
+from ..recording.recorder import Recorder
 
 __all__ = ["RunOutputs", "attach"]
 

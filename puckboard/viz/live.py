@@ -1,6 +1,6 @@
 """The live view: watch a run in a matplotlib window or a Jupyter notebook.
 
-The view is an episode observer. It reads the states a :class:`~puckboard.viz.recording.Recorder`
+The view is an episode observer. It reads the states a :class:`~puckboard.recording.recorder.Recorder`
 has taken from the blackboard and draws them on a :class:`~puckboard.viz.stage.Stage`, the
 same picture the animations use. It never touches the simulation: pausing blocks the
 control loop between two cycles and single-stepping lets exactly one cycle through, so a
@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from .recording import Recorder
+from ..recording.recorder import Recorder
 
 __all__ = ["LiveView"]
 

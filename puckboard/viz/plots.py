@@ -1,6 +1,6 @@
 """Plots of a recorded run: trajectories, arbitration timeline, sensor traces, wheels.
 
-Each ``plot_*`` function takes a :class:`~puckboard.viz.recording.Recording` and returns a
+Each ``plot_*`` function takes a :class:`~puckboard.recording.recorder.Recording` and returns a
 matplotlib figure (drawn off-screen, no window); :func:`save_plots` writes all four as
 PNG or SVG. Titles carry the scenario, controller and seed; axes are in metres,
 seconds and rad/s; robots and layers have the colours they have in the live view.
@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .recording import Recording
+from ..recording.recorder import Recording
 from .style import FONT, LINE, event_label, layer_colours, robot_colours
 
 __all__ = [

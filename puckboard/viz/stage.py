@@ -25,7 +25,7 @@ from ..profile import EPUCK2, get_profile
 from .scene_art import draw_scene, scene_bounds
 from .style import FONT, LINE, event_label, layer_colour, layer_colours
 
-__all__ = ["Stage", "figure_rgb"]
+__all__ = ["Stage"]
 
 ZOOM_MAX_ROBOTS = 3
 """Above this many robots the stage shows the overview only."""
@@ -423,9 +423,3 @@ def _profile_of(scene: Any, name: str) -> Any:
                 except (KeyError, ValueError):
                     break
     return EPUCK2
-
-
-def figure_rgb(fig: Any) -> np.ndarray:
-    """Render ``fig`` (Agg canvas) and return its pixels as an H×W×3 uint8 array."""
-    fig.canvas.draw()
-    return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()

@@ -11,7 +11,8 @@ package (no CDN: it works offline) and read-only.
 * :mod:`.server` — the aiohttp server: the page, a Server-Sent Events stream;
 * :mod:`.replay` — a recorded run as one document the page's player scrubs through
   (``puckboard replay RUN.npz --web``);
-* :mod:`.export` — that player as one self-contained HTML file (``--html``).
+* :mod:`.export` — that player as one self-contained HTML file (``--html``), which
+  :func:`show_replay` shows inline in a Jupyter notebook.
 
 Serving needs the ``web`` extra (``pip install "puckboard[web]"``, aiohttp); writing the
 one-file player does not.
@@ -19,9 +20,11 @@ one-file player does not.
 
 from __future__ import annotations
 
+import html
+import os
 from typing import Any
 
-__all__ = ["watch_episode", "watch_server"]
+__all__ = ["show_replay", "watch_episode", "watch_server"]
 
 
 def watch_episode(
@@ -58,3 +61,29 @@ def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> A
     view.follow(follower)
     server.add_step_observer(follower)
     return view
+
+
+def show_replay(recording: Any, *, height: int = 720) -> Any:
+    """Show ``recording`` (a :class:`~puckboard.recording.recorder.Recording` or the path
+    of one) in the web view's player, inline in a Jupyter notebook: the one-file export
+    of ``puckboard replay --html`` in an iframe, so it needs no server. Returns an
+    ``IPython.display.HTML`` object (a notebook shows it when it is a cell's last value).
+    """
+    from ..recording.recorder import load_recording
+    from .export import replay_html
+
+    try:
+        from IPython.display import HTML
+    except ImportError:
+        raise ImportError(
+            "puckboard.web.show_replay shows the player inside Jupyter and needs IPython "
+            "(run it in a notebook); elsewhere write the player to a file: "
+            "puckboard replay RUN.npz --html run.html"
+        ) from None
+    if isinstance(recording, (str, os.PathLike)):
+        recording = load_recording(recording)
+    page = html.escape(replay_html(recording), quote=True)
+    return HTML(
+        f'<iframe srcdoc="{page}" style="width: 100%; height: {int(height)}px; border: 0" '
+        'sandbox="allow-scripts" title="puckboard replay"></iframe>'
+    )

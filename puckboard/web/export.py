@@ -16,7 +16,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..viz.atomic import write_atomically
+from ..recording.atomic import write_atomically
 from .replay import replay_data
 
 __all__ = ["HTML_SUFFIXES", "replay_html", "write_replay_html"]
@@ -41,7 +41,7 @@ def _script(code: str) -> str:
 
 
 def replay_html(recording: Any) -> str:
-    """The player for ``recording`` (a :class:`~puckboard.viz.recording.Recording`, or
+    """The player for ``recording`` (a :class:`~puckboard.recording.recorder.Recording`, or
     a replay document) as one HTML document."""
     data = recording if isinstance(recording, dict) else replay_data(recording)
     # JSON in a <script> element: "<" escaped so that no "</script>" or "<!--" can occur

@@ -21,8 +21,8 @@ import numpy as np
 
 from ..behaviours.tracing import STATUS_NAMES
 from ..profile import get_profile
+from ..recording.recorder import Recording
 from ..records import PROX_NAMES
-from ..viz.recording import Recording
 from ..viz.scene_art import scene_bounds
 from ..viz.style import event_label, layer_colours, robot_colours
 from .state import describe_scene

@@ -13,7 +13,7 @@ from pathlib import Path
 import doc_pages
 import pytest
 
-from puckboard.cli import COMMANDS, main
+from puckboard.cli import main
 from puckboard.profile import EPUCK
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -26,10 +26,6 @@ def one_error_line(capsys: pytest.CaptureFixture[str]) -> str:
     assert lines[0].startswith("puckboard calibrate: error: "), captured.err
     assert "Traceback" not in captured.err
     return lines[0]
-
-
-def test_calibrate_is_a_command():
-    assert "calibrate" in COMMANDS
 
 
 def test_dry_run_prints_the_plan_and_connects_to_nothing(capsys):

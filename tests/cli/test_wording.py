@@ -35,8 +35,8 @@ def test_backend_options_for_the_embedded_backend_are_refused_in_good_grammar(
 def test_a_window_past_the_run_is_described_as_it_was_given():
     pytest.importorskip("matplotlib")
     from puckboard.control.episode import Episode
+    from puckboard.recording.recorder import Recorder
     from puckboard.viz.animation import frame_indices
-    from puckboard.viz.recording import Recorder
 
     episode = Episode("line-follow", seed=0)
     recorder = Recorder.for_episode(episode, None)

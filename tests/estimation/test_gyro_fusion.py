@@ -48,10 +48,6 @@ def test_gyro_record_from_the_simulator_corrects_the_slipping_wheels() -> None:
     assert fused < 0.1 * without  # the gyro saw what the body did
 
 
-def test_the_gyro_key_is_the_record_key() -> None:
-    assert Sensor.GYRO.key == GYRO_KEY
-
-
 def test_bench_compares_encoders_with_and_without_the_gyro() -> None:
     info, _ = run_case("line-follow", 0.1, 1, steps=120)
     (robot,) = info["robots"]

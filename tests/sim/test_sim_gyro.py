@@ -138,7 +138,7 @@ def test_embedded_robot_has_the_gyro_off_until_enabled() -> None:
 
 
 def test_gyro_bias_offsets_every_reading_without_a_draw() -> None:
-    from puckboard.control.episode import apply_scene_overrides
+    from puckboard.scenario.overrides import apply_scene_overrides
 
     scene = apply_scene_overrides(empty_scene(robot()), {"noise.gyro_bias": -0.01})
     assert scene.noise.gyro_bias == -0.01

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from viz_standin import StandInEpisode
 
-from puckboard.viz.recording import Recorder, Recording
+from puckboard.recording.recorder import Recorder, Recording
 
 
 def stand_in_recording(seconds: float = 2.0) -> Recording:

@@ -11,7 +11,6 @@ from puckboard.sweep.plan import (
     episode_key,
     parse_seeds,
     parse_set,
-    parse_value,
 )
 
 
@@ -35,16 +34,6 @@ def test_seeds_are_a_python_range():
 def test_bad_seeds_say_what_is_wrong(spec, message):
     with pytest.raises(PlanError, match=message):
         parse_seeds(spec)
-
-
-def test_values_become_numbers_bools_or_strings():
-    assert parse_value("3") == 3 and isinstance(parse_value("3"), int)
-    assert parse_value("0.05") == pytest.approx(0.05)
-    assert parse_value("1e-3") == pytest.approx(0.001)
-    assert parse_value("True") is True
-    assert parse_value("false") is False
-    assert parse_value("left") == "left"
-    assert parse_value("'3'") == "3"
 
 
 def test_set_parses_names_and_values():

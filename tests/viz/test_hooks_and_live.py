@@ -4,9 +4,9 @@ import pytest
 from PIL import Image
 
 from puckboard.control.episode import Episode
+from puckboard.recording.recorder import load_recording
 from puckboard.viz.hooks import attach
 from puckboard.viz.live import LiveView
-from puckboard.viz.recording import load_recording
 
 
 @pytest.fixture(autouse=True)
@@ -98,7 +98,7 @@ def test_bad_outputs_fail_before_the_run(tmp_path):
 def test_live_view_keys_pause_and_step_without_a_window():
     from viz_standin import StandInEpisode
 
-    from puckboard.viz.recording import Recorder
+    from puckboard.recording.recorder import Recorder
 
     ep = StandInEpisode()
     recorder = Recorder.for_episode(ep)
@@ -150,7 +150,7 @@ def test_notebook_inline_view_updates_one_displayed_image(monkeypatch):
     import matplotlib
     from viz_standin import StandInEpisode
 
-    from puckboard.viz.recording import Recorder
+    from puckboard.recording.recorder import Recorder
 
     shown = []
 
@@ -197,7 +197,7 @@ def test_a_window_torn_down_by_ctrl_c_does_not_replace_the_interrupt():
     one time in nine): the user must see the interrupt, not a redraw traceback."""
     from viz_standin import StandInEpisode
 
-    from puckboard.viz.recording import Recorder
+    from puckboard.recording.recorder import Recorder
 
     ep = StandInEpisode()
     recorder = Recorder.for_episode(ep)

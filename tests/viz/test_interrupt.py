@@ -124,7 +124,7 @@ def test_an_animation_abandoned_while_it_is_saved_leaves_no_part_file(tmp_path, 
     pytest.importorskip("PIL")
     from PIL import Image
 
-    from puckboard.viz.recording import Recorder
+    from puckboard.recording.recorder import Recorder
 
     episode = Episode("line-follow", seed=0)
     recorder = Recorder.for_episode(episode, None)

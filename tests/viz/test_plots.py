@@ -84,7 +84,7 @@ def test_wheel_plot_says_wheel_for_the_lines_and_robot_for_the_panels(rec):
 @pytest.fixture(scope="module")
 def two_robot_pass(tmp_path_factory):
     from puckboard.control.episode import Episode
-    from puckboard.viz.recording import Recorder, load_recording
+    from puckboard.recording.recorder import Recorder, load_recording
 
     path = tmp_path_factory.mktemp("pass") / "pass.npz"
     episode = Episode("two-robot-pass", seed=0)

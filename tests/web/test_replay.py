@@ -14,7 +14,7 @@ import pytest
 from test_web_stream import get, request
 
 from puckboard.control.episode import Episode
-from puckboard.viz.recording import Recorder, load_recording
+from puckboard.recording.recorder import Recorder, load_recording
 from puckboard.web import watch_episode
 from puckboard.web.export import replay_html, write_replay_html
 from puckboard.web.replay import replay_data, serve_replay
@@ -116,7 +116,7 @@ def test_the_one_file_export_needs_nothing_from_outside(recording, tmp_path):
 
 
 def test_jupyter_shows_the_player_in_an_iframe(recording, monkeypatch):
-    from puckboard.viz import replay
+    from puckboard.web import show_replay
 
     display = types.ModuleType("IPython.display")
 
@@ -127,13 +127,13 @@ def test_jupyter_shows_the_player_in_an_iframe(recording, monkeypatch):
     display.HTML = HTML  # type: ignore[attr-defined]
     monkeypatch.setitem(sys.modules, "IPython", types.ModuleType("IPython"))
     monkeypatch.setitem(sys.modules, "IPython.display", display)
-    shown = replay(recording, height=500)
+    shown = show_replay(recording, height=500)
     assert shown.data.startswith("<iframe srcdoc=") and "height: 500px" in shown.data
     assert "&lt;script id=&quot;replay-data&quot;" in shown.data  # the page, escaped
     monkeypatch.setitem(sys.modules, "IPython", None)
     monkeypatch.setitem(sys.modules, "IPython.display", None)
     with pytest.raises(ImportError, match="needs IPython.*puckboard replay RUN.npz --html"):
-        replay(recording)
+        show_replay(recording)
 
 
 def test_the_live_panel_shows_the_tree_with_the_layer_in_control():

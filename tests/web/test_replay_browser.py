@@ -10,7 +10,7 @@ import pytest
 from browser import Browser, chromium
 
 from puckboard.control.episode import Episode
-from puckboard.viz.recording import Recorder, load_recording
+from puckboard.recording.recorder import Recorder, load_recording
 from puckboard.web.export import write_replay_html
 from puckboard.web.replay import serve_replay
 

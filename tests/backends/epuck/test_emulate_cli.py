@@ -83,6 +83,8 @@ def test_connecting_to_this_machine_on_the_robot_port_suggests_the_emulator_port
     from puckboard.backends.epuck.factories import EMULATOR_WIFI_PORT
     from puckboard.cli.emulate import DEFAULT_WIFI_PORT
 
+    # two definitions (the command line's keeps --help from importing the backend): the
+    # emulator must listen where the client's hint sends the user
     assert DEFAULT_WIFI_PORT == EMULATOR_WIFI_PORT
     with pytest.raises(ConnectionLostError, match=f"add --port {EMULATOR_WIFI_PORT}"):
         open_wifi("line-follow", host="127.0.0.1", connect_timeout=2.0)

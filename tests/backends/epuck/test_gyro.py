@@ -66,7 +66,7 @@ def test_gyro_sits_in_bytes_18_to_23_of_the_sensor_block(wifi: bool) -> None:
 
 
 def test_sercom_gyro_command() -> None:
-    assert sc.GET_GYRO == 0x99  # -'g'
+    assert sc.encode_request([(sc.GET_GYRO, b"")]) == bytes.fromhex("9900")  # [-'g'][0]
     assert sc.reply_size(sc.GET_GYRO) == 6
 
 

@@ -68,7 +68,6 @@ __all__ = [
     "ObjectNotFound",
     "SceneObjects",
     "ServedObject",
-    "served_model_name",
 ]
 
 #: The stock model's base name.
@@ -127,11 +126,6 @@ class ServedObject:
     part: str = ""
     index: int = 0
     model: bool = False
-
-
-def served_model_name(i: int, model: str = MODEL_NAME) -> str:
-    """The deprecated name of robot ``i``'s model base: ``ePuck``, ``ePuck#0``, ``ePuck#1``..."""
-    return model if i == 0 else f"{model}#{i - 1}"
 
 
 class SceneObjects:

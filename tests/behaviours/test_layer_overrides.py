@@ -6,9 +6,9 @@ from __future__ import annotations
 import pytest
 
 from puckboard.behaviours import Controller, Layer, improved
+from puckboard.behaviours.overrides import apply_layer_overrides
 from puckboard.cli import main
-from puckboard.cli.run import parse_overrides
-from puckboard.control.episode import apply_layer_overrides
+from puckboard.scenario.overrides import parse_overrides
 
 
 class Tunable(Layer):

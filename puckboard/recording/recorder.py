@@ -26,7 +26,7 @@ array         shape          dtype    meaning
 and, from format 3, what each robot's arbiter decided every tick: the status of every
 node of its behaviour tree and the blackboard values its layers read, with their ages
 (``tree``, ``read_age``, ``read_status``, ``read_<j>``; see
-:mod:`puckboard.viz.decisions`). Format 2 recordings, which lack them, still load.
+:mod:`puckboard.recording.decisions`). Format 2 recordings, which lack them, still load.
 
 T is the number of recorded cycles, N the number of robots (in ``meta["robots"]``
 order). ``meta`` holds ``format`` (``"puckboard-recording"``), ``version``,

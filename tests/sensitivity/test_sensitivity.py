@@ -13,7 +13,7 @@ from sweep_helpers import DURATION, CountingExecutor
 
 from puckboard.control.episode import run_episode
 from puckboard.profile import get_profile, load_profile_file, uncertainty
-from puckboard.profile.paths import path_value
+from puckboard.profile.setting_names import path_value
 from puckboard.sensitivity import (
     SensitivityResult,
     analyse,

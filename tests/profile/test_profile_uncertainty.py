@@ -17,7 +17,7 @@ from puckboard.profile import (
     uncertainty,
     variation_rng,
 )
-from puckboard.profile.paths import expand_path, path_value
+from puckboard.profile.setting_names import expand_path, path_value
 from puckboard.profile.uncertainty import RANGE_KINDS, VARIATION_STREAM
 from puckboard.scenario import load_scene
 from puckboard.scenario.variation import vary_scene

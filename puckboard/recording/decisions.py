@@ -182,7 +182,7 @@ class Decisions:
 
 class DecisionRecorder:
     """Samples the decisions of ``controllers`` (robot name → controller) into
-    preallocated arrays; :class:`~puckboard.viz.recording.Recorder` calls :meth:`sample`
+    preallocated arrays; :class:`~puckboard.recording.recorder.Recorder` calls :meth:`sample`
     once per recorded cycle, right after the controllers ticked."""
 
     def __init__(

@@ -1,4 +1,9 @@
-"""Profile paths: the names a user sets a robot-model number by, with what makes sense.
+"""Setting names: the names a user sets a robot-model number by, with what makes sense.
+
+Called *paths* below and on the command line (``profile.<path>``): a dotted name into the
+robot model, not a file. They are the one dialect every profile setting speaks: ``--set
+profile.<path>=VALUE``, a profile file's ``set`` table, a scene's inline profile, a sweep's
+and a sensitivity analysis's points.
 
 A path names one number of a :class:`~puckboard.profile.model.RobotProfile` the way a
 person thinks of it (``prox_max_distance``, ``prox_radius.side``, ``ir_gain.right``),

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from viz_helpers import stand_in_recording
 
-from puckboard.viz.recording import load_recording
+from puckboard.recording.recorder import load_recording
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX permission bits")

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from viz_standin import StandInEpisode
 
-from puckboard.viz.recording import FORMAT_VERSION, Recorder, load_recording
+from puckboard.recording.recorder import FORMAT_VERSION, Recorder, load_recording
 
 
 def _recorded(tmp_path, seconds=2.0):

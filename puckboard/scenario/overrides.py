@@ -1,0 +1,217 @@
+"""Overrides: a scene and its controllers changed by dotted name, without editing a file.
+
+One dialect for every place a user writes them: ``puckboard run --set NAME=VALUE``,
+``puckboard sweep --set NAME=V1,V2``, a sweep's or a sensitivity analysis's points and
+``run_episode(overrides={...})``. The names:
+
+* ``robot.profile`` (every robot's profile), ``noise.<field>``, ``dt``, ``duration``:
+  the scene's, applied by :func:`apply_scene_overrides`;
+* ``profile.<path>`` and ``robot.<name>.profile.<path>``: a number of every robot's or
+  one robot's profile, by the setting names of :mod:`puckboard.profile.setting_names`
+  (:func:`apply_profile_overrides`, which :func:`apply_scene_overrides` calls);
+* ``layer.<LayerName>.<attribute>``: the controllers', applied by
+  :func:`puckboard.behaviours.overrides.apply_layer_overrides` (a scene holds no
+  controller, so they are left alone here);
+* ``variation`` (``none`` or ``plausible``): checked here, drawn by the episode, which
+  knows the seed.
+
+A value written as text (:func:`parse_value`) is ``true``/``false``, a whole number, a
+number, or else the text itself (quotes keep a number as text); a profile number may carry
+its unit (``31mm``, ``17deg``), read by the setting's own check.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import numpy as np
+
+from ..errors import ProfileError
+from ..profile import apply_overrides, check_path, get_profile
+from .robot_profiles import scene_profile
+from .scene import RobotSpec, Scene
+from .variation import check_variation
+
+__all__ = [
+    "OVERRIDE_NAMES",
+    "SET_SOURCE",
+    "apply_profile_overrides",
+    "apply_scene_overrides",
+    "parse_override",
+    "parse_overrides",
+    "parse_value",
+    "profile_target",
+]
+
+OVERRIDE_NAMES = (
+    "robot.profile",
+    "noise.wheel_speed",
+    "noise.proximity",
+    "noise.ground",
+    "noise.start_jitter",
+    "noise.gyro",
+    "noise.gyro_bias",
+    "dt",
+    "duration",
+    "layer.<LayerName>.<attribute>",
+    "profile.<path>",
+    "robot.<name>.profile.<path>",
+    "variation",
+)
+"""Every name an override may have, as error messages list them."""
+
+#: The source recorded in a profile for a number set with ``--set``.
+SET_SOURCE = "set on the command line (--set profile.PATH=VALUE)"
+
+_PER_ROBOT = re.compile(r"^robot\.(.+)\.profile\.(.+)$")
+#: Noise fields that are offsets rather than spreads, so either sign means something.
+_SIGNED_NOISE = frozenset({"gyro_bias"})
+
+
+# -- text --------------------------------------------------------------------------------
+def parse_value(text: str) -> bool | int | float | str:
+    """``true``/``false`` → bool, then int, then float, else the string itself.
+
+    Quote a value (``'3'`` or ``"3"``) to keep it a string.
+    """
+    stripped = text.strip()
+    if len(stripped) >= 2 and stripped[0] == stripped[-1] and stripped[0] in "'\"":
+        return stripped[1:-1]
+    lowered = stripped.lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        return int(stripped)
+    except ValueError:
+        pass
+    try:
+        return float(stripped)
+    except ValueError:
+        return stripped
+
+
+def parse_override(item: str) -> tuple[str, Any]:
+    """``NAME=VALUE`` as ``(NAME, value)``, the value read by :func:`parse_value`;
+    ``ValueError`` (one line, with an example) when there is no ``=`` or no name.
+    The name is checked where it is applied, which knows the scene and the layers."""
+    name, sep, text = item.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise ValueError(f"--set {item!r}: expected NAME=VALUE, e.g. --set noise.wheel_speed=0.05")
+    return name, parse_value(text)
+
+
+def parse_overrides(items: Iterable[str]) -> dict[str, Any]:
+    """``NAME=VALUE`` strings (each as :func:`parse_override`) as one dict; a name given
+    twice keeps its last value."""
+    return dict(parse_override(item) for item in items)
+
+
+def profile_target(name: str) -> tuple[str | None, str] | None:
+    """``(robot, path)`` of a ``profile.<path>`` (robot ``None``: every robot) or
+    ``robot.<name>.profile.<path>`` override; ``None`` for any other name."""
+    if name.startswith("profile."):
+        return None, name[len("profile.") :]
+    match = _PER_ROBOT.match(name)
+    return (match.group(1), match.group(2)) if match is not None else None
+
+
+# -- the scene ---------------------------------------------------------------------------
+def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
+    """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
+    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
+    controllers and ``variation`` (checked here) for the episode, which knows the seed.
+    Unknown names raise ``ValueError``."""
+    noise_changes: dict[str, float] = {}
+    scene_changes: dict[str, Any] = {}
+    noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
+    for name, value in overrides.items():
+        if name.startswith("layer."):
+            continue
+        if name.startswith("noise."):
+            key = name.split(".", 1)[1]
+            if key not in noise_fields:
+                raise ValueError(
+                    f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
+                )
+            noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
+        elif name == "robot.profile":
+            profile = scene_profile(value)  # a clear error names the known profiles
+            scene_changes["robots"] = scene.with_profile(profile).robots
+        elif name in ("dt", "duration"):
+            number = _number(name, value)
+            if number <= 0:
+                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
+            scene_changes[name] = number
+        elif name == "variation":
+            check_variation(str(value))  # drawn by the episode, which knows the seed
+        elif profile_target(name) is None:
+            raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
+    if noise_changes:
+        scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
+    scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
+    return apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+
+
+def _number(name: str, value: Any, *, signed: bool = False) -> float:
+    """``value`` as a float: a finite number, and unless ``signed`` not negative."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"override {name} needs a number, got {value!r}")
+    if not np.isfinite(value) or (value < 0 and not signed):
+        bound = "" if signed else " >= 0"
+        raise ValueError(f"override {name} must be a finite number{bound}, got {value!r}")
+    return float(value)
+
+
+# -- the robots' profiles ----------------------------------------------------------------
+def apply_profile_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
+    """``scene`` with ``profile.<path>`` set on every robot's profile and
+    ``robot.<name>.profile.<path>`` on one robot's (both on the believed profile and on
+    the truth, when a robot has one: a set number defines the robot). Other names are
+    left alone. Errors are ``ValueError`` naming the override."""
+    every: dict[str, Any] = {}
+    per_robot: dict[str, dict[str, Any]] = {}
+    names = [r.name for r in scene.robots]
+    for name, value in overrides.items():
+        target = profile_target(name)
+        if target is None:
+            continue
+        robot, path = target
+        if robot is None:
+            every[_checked(name, path)] = value
+            continue
+        if robot not in names:
+            raise ProfileError(
+                f"override {name!r}: the scene has no robot {robot!r}; robots: {', '.join(names)}"
+            )
+        per_robot.setdefault(robot, {})[_checked(name, path)] = value
+    if not every and not per_robot:
+        return scene
+    robots = []
+    for spec in scene.robots:
+        changes = {**every, **per_robot.get(spec.name, {})}
+        robots.append(_changed(spec, changes) if changes else spec)
+    return dataclasses.replace(scene, robots=tuple(robots))
+
+
+def _checked(name: str, path: str) -> str:
+    try:
+        return check_path(path)
+    except ProfileError as exc:
+        raise ProfileError(f"override {name!r}: {exc}") from None
+
+
+def _changed(spec: RobotSpec, changes: Mapping[str, Any]) -> RobotSpec:
+    try:
+        profile = apply_overrides(get_profile(spec.profile), changes, source=SET_SOURCE)
+        actual = (
+            None
+            if spec.actual is None
+            else apply_overrides(spec.actual, changes, source=SET_SOURCE)
+        )
+    except ProfileError as exc:
+        raise ProfileError(f"profile.{exc} (robot {spec.name!r})") from None
+    return dataclasses.replace(spec, profile=profile, actual=actual)
