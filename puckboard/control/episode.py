@@ -19,7 +19,9 @@ run is the same with or without them.
 ``overrides`` change a scene or the controllers without editing files, by dotted name:
 ``robot.profile`` (every robot's profile), ``noise.wheel_speed``, ``noise.proximity``, ``noise.ground``, ``noise.start_jitter``,
 ``noise.gyro``, ``noise.gyro_bias``, ``dt``, ``duration`` and ``layer.<LayerName>.<attribute>`` (set on that layer of every
-robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``); ``profile.<path>``
+robot's controller, e.g. ``layer.FrontObstacleLeftTurn.turn_speed``);
+``controller.<keyword>`` is handed to every robot's controller factory (``controller.speed``
+builds ``improved(speed=...)``); ``profile.<path>``
 and ``robot.<name>.profile.<path>`` set a number of every robot's or one robot's profile
 (:mod:`puckboard.scenario.robot_profiles`); ``variation`` = ``plausible`` (also the
 ``variation`` argument) builds each robot from numbers drawn within its profile's
@@ -59,6 +61,7 @@ __all__ = [
     "Episode",
     "apply_scene_overrides",
     "check_steps",
+    "factory_keywords",
     "run_episode",
 ]
 
@@ -82,6 +85,7 @@ OVERRIDE_NAMES = (
     "dt",
     "duration",
     "layer.<LayerName>.<attribute>",
+    "controller.<keyword>",
     "profile.<path>",
     "robot.<name>.profile.<path>",
     "variation",
@@ -114,14 +118,14 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
 
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
-    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
-    controllers and ``variation`` (checked here) for the episode, which knows the seed.
+    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` and ``controller.*``
+    names are left for the controllers and ``variation`` (checked here) for the episode, which knows the seed.
     Unknown names raise ``ValueError``."""
     noise_changes: dict[str, float] = {}
     scene_changes: dict[str, Any] = {}
     noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
     for name, value in overrides.items():
-        if name.startswith("layer."):
+        if name.startswith(("layer.", CONTROLLER_PREFIX)):
             continue
         if name.startswith("noise."):
             key = name.split(".", 1)[1]
@@ -203,6 +207,21 @@ def apply_layer_overrides(
             )
 
 
+#: Prefix of the overrides handed to the controller factory as keywords.
+CONTROLLER_PREFIX = "controller."
+
+
+def factory_keywords(overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``controller.<keyword>`` overrides as the factory's keyword arguments
+    (``{"controller.speed": 0.1}`` → ``{"speed": 0.1}``): a preset's speed is an argument
+    of its factory, not an attribute of one layer."""
+    return {
+        name[len(CONTROLLER_PREFIX) :]: value
+        for name, value in overrides.items()
+        if name.startswith(CONTROLLER_PREFIX)
+    }
+
+
 _TRUE = frozenset({"true", "yes", "on", "1"})
 _FALSE = frozenset({"false", "no", "off", "0"})
 
@@ -272,8 +291,9 @@ class Episode:
             for r in self.scene.robots
         }
         # build the controllers first: a bad spec must fail before a backend is opened
+        keywords = factory_keywords(overrides)
         self.controllers: dict[str, Controller] = {
-            name: load_controller(spec) for name, spec in specs.items()
+            name: load_controller(spec, **keywords) for name, spec in specs.items()
         }
         apply_layer_overrides(self.controllers, overrides)
         self.controller_label = _label(specs)

@@ -47,10 +47,12 @@ PARAMETERS: dict[str, str] = {
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
     "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
+    "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
 
 _LAYER_PARAM = re.compile(r"^layer\.([A-Za-z_][\w-]*)\.([A-Za-z_]\w*)$")
+_CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
 _POSITIVE = {"dt", "duration"}
 
 
@@ -148,6 +150,8 @@ def check_parameter(name: str) -> str:
         return name
     if (name in PARAMETERS and "<" not in name) or _LAYER_PARAM.match(name):
         return name
+    if _CONTROLLER_PARAM.match(name):
+        return name
     known = ", ".join(PARAMETERS)
     raise PlanError(
         f"unknown parameter {name!r}; use one of {known}, or layer.<LayerName>.<attribute> "
@@ -181,7 +185,7 @@ def _profile_value(name: str, value: Any) -> Any:
 
 
 def _check_value(name: str, value: Any) -> None:
-    if name.startswith("layer."):
+    if name.startswith(("layer.", "controller.")):
         return
     if _is_profile_param(name):
         _profile_value(name, value)
