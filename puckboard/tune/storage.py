@@ -50,23 +50,23 @@ def open_study(path: Path | None, command: Mapping[str, Any], *, sampler: Any, p
     from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock
 
     storage: Any = None
-    if path is not None:
-        try:
+    try:
+        if path is not None:
             backend = JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path)))
             storage = optuna.storages.JournalStorage(backend)
-        except Exception as exc:  # a file of something else: optuna's own error types vary
-            raise StudyMismatch(
-                f"--study {str(path)!r} is not a study file ({type(exc).__name__}: {exc}); "
-                "give a new file name or the file an earlier tune wrote"
-            ) from None
-    study = optuna.create_study(
-        study_name=STUDY_NAME,
-        storage=storage,
-        direction="maximize",
-        sampler=sampler,
-        pruner=pruner,
-        load_if_exists=True,
-    )
+        study = optuna.create_study(
+            study_name=STUDY_NAME,
+            storage=storage,
+            direction="maximize",
+            sampler=sampler,
+            pruner=pruner,
+            load_if_exists=True,
+        )
+    except Exception as exc:  # a file of something else: the journal's errors vary
+        raise StudyMismatch(
+            f"--study {str(path)!r} is not a study file ({type(exc).__name__}); give a new "
+            "file name or the file an earlier puckboard tune wrote"
+        ) from None
     wanted = json.loads(json.dumps(dict(command)))  # as it reads back from the file
     made_by = study.user_attrs.get(COMMAND_ATTR)
     if made_by is None:
