@@ -22,12 +22,12 @@ from puckboard.tune import (
     TuneSpec,
     check_space,
     format_result,
+    objective,
     parse_param,
     plot_tune,
     result_dict,
     run_tune,
 )
-from puckboard.tune import objective
 from puckboard.tune.objective import cell_rates, rounds
 
 INNER = "layer.LineFollow.inner_factor"
