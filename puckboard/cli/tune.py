@@ -38,7 +38,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "median pruner). Every trial runs the design seeds on each scene × profile (a "
             "cell) and is scored by its worst cell's success rate, ties broken by the mean "
             "rate and then by progress. The best parameters are then run on the validation "
-            "seeds, which no trial used, and reported per cell with 95 %% Wilson intervals. "
+            "seeds, which no trial used, and reported per cell with 95 % Wilson intervals. "
             "--study FILE keeps every finished trial; the same command resumes it."
         ),
         epilog=(
