@@ -243,3 +243,19 @@ def test_validation_below_design_beyond_both_intervals_is_overfitting(short_pass
     assert "validation is below design beyond both intervals" in format_result(result)
     result.validation = [CellRate(cell, 40, 38)]  # lower, within the intervals
     assert result.overfit() == []
+
+
+def test_a_factory_keyword_is_an_episode_parameter_checked_before_any_run(short_pass):
+    from puckboard.control.episode import Episode
+    from puckboard.sweep import PlanError, SweepPlan, check_plan
+
+    episode = Episode(short_pass, controller="improved", overrides={"controller.speed": 1.25})
+    try:
+        assert {c.find("Cruise").speed for c in episode.controllers.values()} == {1.25}
+    finally:
+        episode.connection.close()
+    plan = SweepPlan("two-robot-pass", ("improved",), range(1), {"controller.speed": (1.0, 2.0)})
+    assert check_plan(plan, short_pass) == []
+    typo = SweepPlan("two-robot-pass", ("improved",), range(1), {"controller.sped": (1.0,)})
+    with pytest.raises(PlanError, match="unexpected keyword argument 'sped'"):
+        check_plan(typo, short_pass)
