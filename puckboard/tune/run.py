@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from .objective import Cell, CellRate, Score, cell_rates, rounds, run_cells
-from .space import Param
+from .space import Param, own_values
 from .storage import finished_trials, open_study
 
 __all__ = ["DEFAULT_ROUNDS", "TrialEvent", "TuneResult", "TuneSpec", "run_tune", "seeds_text"]
@@ -154,21 +154,8 @@ def _pruner() -> Any:
 
 
 def _defaults(spec: TuneSpec) -> dict[str, Any]:
-    """The controller's own values of the tuned parameters that lie in their ranges."""
-    import inspect
-
-    from ..behaviours import load_controller
-    from ..behaviours.presets import resolve_factory
-
-    built = load_controller(spec.controller)
-    own: dict[str, Any] = {
-        f"layer.{layer.name}.{attr}": value
-        for layer in built.every_layer
-        for attr, value in layer.parameters().items()
-    }
-    for p in inspect.signature(resolve_factory(spec.controller)).parameters.values():
-        if p.default is not inspect.Parameter.empty:
-            own[f"controller.{p.name}"] = p.default
+    """The controller's own values of the tuned parameters, when all lie in their ranges."""
+    own = own_values(spec.controller)
     values = {}
     for param in spec.params:
         value = own.get(param.name)

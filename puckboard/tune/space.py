@@ -22,7 +22,15 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["KINDS", "Param", "SpaceError", "check_space", "parse_param", "tunable_names"]
+__all__ = [
+    "KINDS",
+    "Param",
+    "SpaceError",
+    "check_space",
+    "own_values",
+    "parse_param",
+    "tunable_names",
+]
 
 #: The kinds a range may name after ``LOW:HIGH``.
 KINDS = ("int", "log")
@@ -154,15 +162,25 @@ def check_space(params: Sequence[Param], controller: str) -> None:
     _check_whole_numbers(params, controller)
 
 
-def _check_whole_numbers(params: Sequence[Param], controller: str) -> None:
+def own_values(controller: str) -> dict[str, Any]:
+    """``controller``'s own value of every name there is to tune: its layers' attributes
+    as built, its factory's keywords' defaults (``controller.<keyword>``)."""
     from ..behaviours import load_controller
+    from ..behaviours.presets import resolve_factory
 
-    built = load_controller(controller)
-    current: Mapping[str, Any] = {
+    values: dict[str, Any] = {
         f"layer.{layer.name}.{attr}": value
-        for layer in built.every_layer
+        for layer in load_controller(controller).every_layer
         for attr, value in layer.parameters().items()
     }
+    for p in inspect.signature(resolve_factory(controller)).parameters.values():
+        if p.default is not inspect.Parameter.empty:
+            values[_CONTROLLER + p.name] = p.default
+    return values
+
+
+def _check_whole_numbers(params: Sequence[Param], controller: str) -> None:
+    current: Mapping[str, Any] = own_values(controller)
     for param in params:
         value = current.get(param.name)
         if isinstance(value, int) and not isinstance(value, bool) and not param.integer:
