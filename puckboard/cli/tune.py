@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .common import CliError, add_variation_argument, missing_extra
+from .common import CliError, add_variation_argument, missing_extra, user_code_error
 from .sweep import (
     add_duration,
     add_where_to_run,
@@ -139,14 +139,14 @@ def _spec(args: argparse.Namespace) -> Any:
     from ..errors import PuckboardError
     from ..sweep import PlanError, SweepPlan, check_plan
     from ..sweep.plan import parse_seeds, parse_set
-    from ..tune import SpaceError, TuneSpec, check_space, parse_param
+    from ..tune import SpaceError, TuneSpec, parse_param
 
     scenes = tuple(scene_or_error(ref) for ref in args.scenes)
     if len({s.name for s in scenes}) != len(scenes):
         raise CliError("a scene is named twice; give each scene once")
     try:
         params = tuple(parse_param(text) for text in args.params)
-        check_space(params, args.controller)
+        _check_space(params, args.controller)
         fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
         if args.variation != "none":
             fixed["variation"] = args.variation
@@ -185,6 +185,22 @@ def _spec(args: argparse.Namespace) -> Any:
     except (SpaceError, PlanError, PuckboardError, ValueError) as exc:
         raise CliError(str(exc)) from None
     return spec
+
+
+def _check_space(params: Any, controller: str) -> None:
+    """:func:`~puckboard.tune.check_space`; an error in the user's own controller file
+    shown as Python shows it, as ``run`` does."""
+    from ..tune import SpaceError, check_space
+
+    try:
+        check_space(params, controller)
+    except (SpaceError, ValueError):
+        raise
+    except Exception as exc:  # the user's factory may raise anything
+        error = user_code_error(exc, f"the controller {controller!r}")
+        if error is None:
+            raise
+        raise error from None
 
 
 def _validate_seeds(text: str) -> range:
