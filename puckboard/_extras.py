@@ -29,6 +29,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "dask": "dask",
     "distributed": "dask",
     "pyarrow": "dask",
+    "optuna": "tune",
     "mkdocs": "docs",
     "mkdocstrings": "docs",
 }

@@ -15,7 +15,22 @@ from typing import Any
 from .controller import Controller
 from .layer import Layer
 
-__all__ = ["apply_layer_overrides", "layer_target"]
+__all__ = ["CONTROLLER_PREFIX", "apply_layer_overrides", "factory_keywords", "layer_target"]
+
+#: Prefix of the overrides handed to the controller factory as keywords.
+CONTROLLER_PREFIX = "controller."
+
+
+def factory_keywords(overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``controller.<keyword>`` overrides as the factory's keyword arguments
+    (``{"controller.speed": 0.1}`` → ``{"speed": 0.1}``): a preset's speed is an argument
+    of its factory, not an attribute of one layer."""
+    return {
+        name[len(CONTROLLER_PREFIX) :]: value
+        for name, value in overrides.items()
+        if name.startswith(CONTROLLER_PREFIX)
+    }
+
 
 _TRUE = frozenset({"true", "yes", "on", "1"})
 _FALSE = frozenset({"false", "no", "off", "0"})

@@ -28,6 +28,7 @@ COMMANDS: tuple[str, ...] = (
     "emulate",
     "sweep",
     "sensitivity",
+    "tune",
     "plot",
     "replay",
     "monitor",

@@ -20,7 +20,8 @@ run is the same with or without them.
 (``noise.proximity``, ``dt``, ``layer.<LayerName>.<attribute>``, ``profile.<path>``, ...;
 the dialect and every name are in :mod:`puckboard.scenario.overrides`): the scene's are
 applied before the backend opens, the layers' (:mod:`puckboard.behaviours.overrides`) on
-each robot's controller; ``variation`` = ``plausible`` (also the ``variation`` argument)
+each robot's controller, and ``controller.<keyword>`` is handed to every robot's
+controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` = ``plausible`` (also the ``variation`` argument)
 builds each robot from numbers drawn within its profile's plausible ranges.
 """
 
@@ -39,7 +40,7 @@ import numpy as np
 
 from ..backends.registry import default_backend, open_backend
 from ..behaviours.controller import Controller
-from ..behaviours.overrides import apply_layer_overrides
+from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
@@ -111,8 +112,9 @@ class Episode:
             for r in self.scene.robots
         }
         # build the controllers first: a bad spec must fail before a backend is opened
+        keywords = factory_keywords(overrides)
         self.controllers: dict[str, Controller] = {
-            name: load_controller(spec) for name, spec in specs.items()
+            name: load_controller(spec, **keywords) for name, spec in specs.items()
         }
         apply_layer_overrides(self.controllers, overrides)
         self.controller_label = _label(specs)

@@ -11,7 +11,8 @@ One dialect for every place a user writes them: ``puckboard run --set NAME=VALUE
   (:func:`apply_profile_overrides`, which :func:`apply_scene_overrides` calls);
 * ``layer.<LayerName>.<attribute>``: the controllers', applied by
   :func:`puckboard.behaviours.overrides.apply_layer_overrides` (a scene holds no
-  controller, so they are left alone here);
+  controller, so they are left alone here); ``controller.<keyword>`` likewise, handed to
+  the controller factory (:func:`puckboard.behaviours.overrides.factory_keywords`);
 * ``variation`` (``none`` or ``plausible``): checked here, drawn by the episode, which
   knows the seed.
 
@@ -57,6 +58,7 @@ OVERRIDE_NAMES = (
     "dt",
     "duration",
     "layer.<LayerName>.<attribute>",
+    "controller.<keyword>",
     "profile.<path>",
     "robot.<name>.profile.<path>",
     "variation",
@@ -122,14 +124,14 @@ def profile_target(name: str) -> tuple[str | None, str] | None:
 # -- the scene ---------------------------------------------------------------------------
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
-    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
-    controllers and ``variation`` (checked here) for the episode, which knows the seed.
+    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` and ``controller.*`` names
+    are left for the controllers and ``variation`` (checked here) for the episode, which knows the seed.
     Unknown names raise ``ValueError``."""
     noise_changes: dict[str, float] = {}
     scene_changes: dict[str, Any] = {}
     noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
     for name, value in overrides.items():
-        if name.startswith("layer."):
+        if name.startswith(("layer.", "controller.")):
             continue
         if name.startswith("noise."):
             key = name.split(".", 1)[1]

@@ -102,19 +102,21 @@ def _check_layer_names(plan: SweepPlan, scene: Any, tolerate: Collection[str]) -
 def _controller_problem(spec: str, scene: Any, combos: list[dict[str, Any]]) -> str | None:
     """Why episodes of controller ``spec`` would fail on their inputs, or None.
 
-    Built afresh for each combination with layer parameters (their values are checked
+    Built afresh for each combination with layer or factory parameters (their values are checked
     on the layers themselves), once otherwise.
     """
     from ..behaviours import load_controller
-    from ..behaviours.overrides import apply_layer_overrides
+    from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 
     specs = _robot_specs(spec, scene)
-    layered = [{k: v for k, v in c.items() if k.startswith("layer.")} for c in combos]
+    layered = [
+        {k: v for k, v in c.items() if k.startswith(("layer.", "controller."))} for c in combos
+    ]
     for layers in [p for p in layered if p] or [{}]:
         controllers = {}
         for robot, one in specs.items():
             try:
-                controllers[robot] = load_controller(one)
+                controllers[robot] = load_controller(one, **factory_keywords(layers))
             except (Exception, SystemExit) as exc:  # its own code may raise anything
                 whose = f" (robot {robot}'s, from the scene)" if spec == SCENE_CONTROLLERS else ""
                 return f"controller {one!r}{whose} cannot be built: {exc}"

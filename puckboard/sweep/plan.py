@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -45,9 +46,11 @@ PARAMETERS: dict[str, str] = {
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
     "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
+    "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
 
+_CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
 _POSITIVE = {"dt", "duration"}
 
 
@@ -124,6 +127,8 @@ def check_parameter(name: str) -> str:
         return name
     if (name in PARAMETERS and "<" not in name) or _is_layer_param(name):
         return name
+    if _CONTROLLER_PARAM.match(name):
+        return name
     known = ", ".join(PARAMETERS)
     raise PlanError(
         f"unknown parameter {name!r}; use one of {known}, or layer.<LayerName>.<attribute> "
@@ -168,7 +173,7 @@ def _profile_value(name: str, value: Any) -> Any:
 
 
 def _check_value(name: str, value: Any) -> None:
-    if name.startswith("layer."):
+    if name.startswith(("layer.", "controller.")):
         return
     if _is_profile_param(name):
         _profile_value(name, value)

@@ -1,0 +1,99 @@
+"""Where a study lives between runs: an Optuna journal file.
+
+``--study FILE`` keeps every finished trial in an append-only journal file
+(:class:`optuna.storages.JournalStorage` with a file backend). A journal, not SQLite
+through Optuna's RDB storage, because it needs nothing beyond Optuna itself (the RDB
+storage needs SQLAlchemy and, for SQLite, a database driver on every system), no server,
+and its lock is a plain file created exclusively (:class:`JournalFileOpenLock`), which
+works alike on Windows, macOS and Linux, where symbolic links (the other lock) may need
+rights a student lacks. Every trial is one line appended when it ends, so a Ctrl-C loses
+at most the trial that was running.
+
+The study remembers the command that made it (:data:`COMMAND_ATTR`): scenes, controller,
+parameters, profiles, seeds and fixed settings. Resuming with another command would mix
+trials scored on different episodes, so it is refused (:class:`StudyMismatch`) with the
+field that differs.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+__all__ = ["COMMAND_ATTR", "STUDY_NAME", "StudyMismatch", "finished_trials", "open_study"]
+
+#: The study's name inside its file (one study per file).
+STUDY_NAME = "puckboard-tune"
+#: User attribute holding the command that made the study.
+COMMAND_ATTR = "puckboard.command"
+
+
+class StudyMismatch(ValueError):
+    """A study file made by another command (or not a study file at all)."""
+
+
+def _quiet_optuna() -> Any:
+    import optuna
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)  # no line per trial: ours say more
+    warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
+    return optuna
+
+
+def open_study(path: Path | None, command: Mapping[str, Any], *, sampler: Any, pruner: Any) -> Any:
+    """The study in ``path`` (created when missing; in memory without ``path``), checked
+    to have been made by ``command``."""
+    optuna = _quiet_optuna()
+    from optuna.storages.journal import JournalFileBackend, JournalFileOpenLock
+
+    storage: Any = None
+    try:
+        if path is not None:
+            backend = JournalFileBackend(str(path), lock_obj=JournalFileOpenLock(str(path)))
+            storage = optuna.storages.JournalStorage(backend)
+        study = optuna.create_study(
+            study_name=STUDY_NAME,
+            storage=storage,
+            direction="maximize",
+            sampler=sampler,
+            pruner=pruner,
+            load_if_exists=True,
+        )
+    except Exception as exc:  # a file of something else: the journal's errors vary
+        raise StudyMismatch(
+            f"--study {str(path)!r} is not a study file ({type(exc).__name__}); give a new "
+            "file name or the file an earlier puckboard tune wrote"
+        ) from None
+    wanted = json.loads(json.dumps(dict(command)))  # as it reads back from the file
+    made_by = study.user_attrs.get(COMMAND_ATTR)
+    if made_by is None:
+        if study.trials:
+            raise StudyMismatch(
+                f"--study {str(path)!r} holds a study that puckboard tune did not make; "
+                "give a new file name"
+            )
+        study.set_user_attr(COMMAND_ATTR, wanted)
+    elif made_by != wanted:
+        raise StudyMismatch(_difference(path, made_by, wanted))
+    return study
+
+
+def _difference(path: Path | None, made_by: Mapping[str, Any], wanted: Mapping[str, Any]) -> str:
+    differ = [k for k in sorted(set(made_by) | set(wanted)) if made_by.get(k) != wanted.get(k)]
+    field = differ[0] if differ else "?"
+    return (
+        f"--study {str(path)!r} was made by another command ({field}: "
+        f"{json.dumps(made_by.get(field))} there, {json.dumps(wanted.get(field))} now); "
+        "give a new file name, or the command that made it to resume"
+    )
+
+
+def finished_trials(study: Any) -> list[Any]:
+    """Trials that ended (complete or pruned), in the order they ran: what a resumed
+    study skips."""
+    from optuna.trial import TrialState
+
+    return [t for t in study.trials if t.state in (TrialState.COMPLETE, TrialState.PRUNED)]
