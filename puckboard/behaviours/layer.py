@@ -174,8 +174,8 @@ def as_behaviour(part: object) -> py_trees.behaviour.Behaviour:
     if isinstance(part, Layer):
         return layer_node(part)
     if isinstance(part, type) and issubclass(part, (Layer, py_trees.behaviour.Behaviour)):
-        name = part.__name__
-        raise TypeError(f"got the class {name}; did you mean {name}()?")
+        name = part.__name__  # Controller([LineFollow, Cruise]): the objects were meant
+        raise LayerError(f"got the class {name}; did you mean {name}()?")
     raise TypeError(
         f"expected a Layer (or a py_trees behaviour built from layers), got "
         f"{type(part).__name__} {part!r:.60}"

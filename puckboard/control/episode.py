@@ -112,6 +112,18 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
     return load_scene(scene)
 
 
+def _robot_controller(spec: Any, robot: str, scene: Scene, *, from_scene: bool) -> Controller:
+    """Robot ``robot``'s controller; a bad spec the scene gave names the scene's file and
+    the robot, since the spec is not on the command line that ran it."""
+    if not from_scene:
+        return load_controller(spec)
+    try:
+        return load_controller(spec)
+    except ValueError as exc:
+        where = scene.source or f"scene {scene.name!r}"
+        raise SceneError(f"{where}: robot {robot!r}: {exc}") from exc
+
+
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
     ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` names are left for the
@@ -266,7 +278,8 @@ class Episode:
         }
         # build the controllers first: a bad spec must fail before a backend is opened
         self.controllers: dict[str, Controller] = {
-            name: load_controller(spec) for name, spec in specs.items()
+            name: _robot_controller(spec, name, self.scene, from_scene=controller is None)
+            for name, spec in specs.items()
         }
         apply_layer_overrides(self.controllers, overrides)
         self.controller_label = _label(specs)

@@ -12,7 +12,7 @@ import math
 import pytest
 
 from puckboard.backends import FakeAdapter
-from puckboard.behaviours import Controller, Cruise, HoldFor, Layer
+from puckboard.behaviours import Controller, Cruise, HoldFor, Layer, LineFollow, load_controller
 from puckboard.blackboard import Blackboard
 from puckboard.errors import LayerError
 from puckboard.estimation.knowledge import KnowledgeSource
@@ -144,3 +144,98 @@ def test_a_command_that_is_no_finite_wheel_command_is_a_layer_error(value, says,
     assert str(caught.value).startswith("layer 'Returns': ")
     assert says in caught.value.problem
     assert ctl.failed_layer == "Returns"
+
+
+class Misread(Layer):
+    """Reads through ``how`` what its ``reads`` may not declare."""
+
+    def __init__(self, reads, how):
+        super().__init__()
+        self.reads = reads
+        self.how = how
+
+    def applies(self, frame):
+        return self.how(frame) is not None
+
+    def command(self, frame):
+        return WheelCommand(1.0, 1.0)
+
+
+@pytest.mark.parametrize(
+    ("reads", "how", "key", "close"),
+    [
+        (("proximity",), lambda frame: frame.value("proximty"), "proximty", "'proximity'"),
+        (("ground",), lambda frame: frame.proximity, "proximity", "'proximity'"),
+        ((), lambda frame: frame.ground, "ground", "'ground'"),
+    ],
+    ids=["misspelt", "forgotten", "nothing declared"],
+)
+def test_reading_a_key_the_layer_does_not_declare_names_layer_key_and_reads(reads, how, key, close):
+    """A key outside ``reads`` used to read as None (the snapshot holds only the keys
+    some layer declared), so the layer never applied and Cruise drove."""
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller = Controller([Misread(reads, how), Cruise()])
+    with pytest.raises(LayerError) as caught:
+        controller.tick(robot.ns)
+    message = str(caught.value)
+    assert "\n" not in message
+    assert caught.value.layer == "Misread" and controller.failed_layer == "Misread"
+    assert f"reads {key!r}, which it does not declare" in message
+    assert f"it declares reads = {tuple(sorted(reads))!r}" in message
+    assert f"(close: {close}" in message
+    robot.close()
+
+
+def test_a_layer_reads_every_key_it_declares_and_another_layer_s_only_if_declared():
+    seen = {}
+
+    class Both(Layer):
+        reads = ("ground", "proximity")
+
+        def applies(self, frame):
+            seen["both"] = (frame.ground is not None, frame.proximity is not None)
+            return False
+
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller = Controller([Both(), Misread(("ground",), lambda f: f.ground), Cruise()])
+    controller.tick(robot.ns)
+    assert seen["both"] == (True, True)
+    assert controller.active_layer == "Misread"  # its ground reading is there
+    robot.close()
+
+
+# -- what the wrong thing given to a controller says -----------------------------------------
+def classes_not_objects():
+    return Controller([LineFollow, Cruise])
+
+
+def a_list_of_classes():
+    return [LineFollow, Cruise]
+
+
+def needs_speed(speed):
+    return Controller([Cruise(speed)])
+
+
+@pytest.mark.parametrize("factory", [classes_not_objects, a_list_of_classes])
+def test_layers_given_as_classes_say_which_object_was_meant(factory):
+    """This used to read "controller ... does not accept parameters {}"."""
+    with pytest.raises(
+        LayerError, match=r"^got the class LineFollow; did you mean LineFollow\(\)\?$"
+    ):
+        load_controller(factory)
+
+
+def test_hold_for_given_a_class_says_which_object_was_meant():
+    with pytest.raises(LayerError, match=r"did you mean LineFollow\(\)\?$"):
+        HoldFor(LineFollow, 0.5)
+
+
+def test_a_factory_that_needs_an_argument_names_it():
+    with pytest.raises(LayerError) as caught:
+        load_controller(needs_speed)
+    message = str(caught.value)
+    assert "needs_speed() needs the argument 'speed'" in message
+    assert "needs_speed(speed=...)" in message
