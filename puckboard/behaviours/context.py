@@ -43,19 +43,21 @@ class Frame:
     tick's snapshot: keep the values a layer wants to remember, not the frame.
     """
 
-    __slots__ = ("_layer", "_reads", "snapshot", "time")
+    __slots__ = ("_declared", "_layer", "_reads", "snapshot", "time")
 
     def __init__(self, snapshot: Snapshot) -> None:
         self.snapshot = snapshot
         self.time: float = snapshot.now
         self._reads: frozenset[str] | None = None  # None: every key of the snapshot
+        self._declared: tuple[str, ...] = ()
         self._layer = ""
 
     @classmethod
     def for_layer(cls, layer: str, reads: Iterable[str], snapshot: Snapshot) -> Frame:
         """A frame that refuses every key but ``reads``, naming ``layer`` when it does."""
         frame = cls(snapshot)
-        frame._reads = frozenset(reads)
+        frame._declared = tuple(reads)
+        frame._reads = frozenset(frame._declared)
         frame._layer = layer
         return frame
 
@@ -69,7 +71,7 @@ class Frame:
         the layer does not declare in ``reads`` (:class:`~puckboard.errors.LayerError`)."""
         reads = self._reads
         if reads is not None and key not in reads:
-            raise LayerError(_undeclared(key, reads), self._layer)
+            raise LayerError(_undeclared(key, self._declared), self._layer)
         return self.snapshot.value(key, default)
 
     @property
@@ -81,15 +83,17 @@ class Frame:
         return self.value("ground")  # type: ignore[no-any-return]
 
 
-def _undeclared(key: str, reads: frozenset[str]) -> str:
-    """Why a layer may not read ``key``, the keys it may, and what it may have meant."""
-    declared = tuple(sorted(reads))
-    close = difflib.get_close_matches(key, sorted(reads | ROBOT_KEYS), n=3)
-    guess = f" (close: {', '.join(map(repr, close))})" if close else ""
-    return (
-        f"reads {key!r}, which it does not declare{guess}; it declares reads = {declared!r}. "
-        f"Add the key it means to the class's reads, e.g. reads = {(*declared, key)!r}"
-    )
+def _undeclared(key: str, declared: tuple[str, ...]) -> str:
+    """Why a layer may not read ``key``, what it declares, and what it may have meant."""
+    known = [*declared, *sorted(ROBOT_KEYS.difference(declared))]
+    close = difflib.get_close_matches(key, known, n=1)
+    meant = close[0] if close and key not in ROBOT_KEYS else None  # a misspelt key
+    text = f"reads {key!r}, which it does not declare in reads = {declared!r}"
+    if meant is not None:
+        text += f" (did you mean {meant!r}?)"
+    if meant is None or meant not in declared:
+        text += f"; to read it, add it: reads = {(*declared, meant or key)!r}"
+    return text
 
 
 @dataclass(eq=False)
