@@ -12,7 +12,15 @@ import math
 import pytest
 
 from puckboard.backends import FakeAdapter
-from puckboard.behaviours import Controller, Cruise, HoldFor, Layer, LineFollow, load_controller
+from puckboard.behaviours import (
+    Controller,
+    Cruise,
+    HoldFor,
+    Layer,
+    LineFollow,
+    as_behaviour,
+    load_controller,
+)
 from puckboard.blackboard import Blackboard
 from puckboard.errors import LayerError
 from puckboard.estimation.knowledge import KnowledgeSource
@@ -256,3 +264,20 @@ def test_a_factory_that_needs_an_argument_names_it():
     message = str(caught.value)
     assert "needs_speed() needs the argument 'speed'" in message
     assert "needs_speed(speed=...)" in message
+
+
+@pytest.mark.parametrize("wrap", [False, True], ids=["layer", "inside HoldFor"])
+def test_ticked_outside_a_controller_says_how_to_run_it(wrap):
+    """py_trees can tick a layer's node (or a HoldFor) in a tree of its own, where no
+    controller takes a snapshot: one check, the same line for both."""
+    import py_trees
+
+    node = HoldFor(Cruise(), 0.5) if wrap else as_behaviour(Cruise())
+    tree = py_trees.trees.BehaviourTree(node)
+    tree.setup()
+    with pytest.raises(RuntimeError) as caught:
+        tree.tick()
+    assert str(caught.value) == (  # HoldFor ticks its layer first: the layer is named
+        "'Cruise' was ticked outside a Controller; build a Controller from your layers "
+        "and call controller.tick()"
+    )
