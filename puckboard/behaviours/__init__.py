@@ -8,7 +8,7 @@ from .context import TickContext
 from .controller import NO_LAYER, Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .go_home import GoHome
-from .layer import Frame, Layer
+from .layer import Frame, Layer, as_behaviour
 from .line_follow import LineFollow
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
 from .presets import CONTROLLERS, improved, load_controller, stock
@@ -30,6 +30,7 @@ __all__ = [
     "LineFollow",
     "SideWallKeep",
     "TickContext",
+    "as_behaviour",
     "improved",
     "load_controller",
     "obstacle_in_front",
