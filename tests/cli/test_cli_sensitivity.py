@@ -130,7 +130,6 @@ JOINT = [
 
 
 def test_joint_reports_the_band_every_curve_and_from_recomputes_it(capsys, tmp_path):
-    pytest.importorskip("statsmodels")
     out = tmp_path / "joint.csv"
     assert main([*JOINT, "--out", str(out), "--json"]) == 0
     live = json.loads(capsys.readouterr().out)
@@ -161,7 +160,6 @@ def test_joint_reports_the_band_every_curve_and_from_recomputes_it(capsys, tmp_p
     ],
 )  # fmt: skip
 def test_joint_mistakes_are_one_line(capsys, args, message):
-    pytest.importorskip("statsmodels")
     changed = list(JOINT)
     if args[0] in changed:
         changed[changed.index(args[0]) + 1] = args[1]
@@ -172,7 +170,6 @@ def test_joint_mistakes_are_one_line(capsys, args, message):
 
 
 def test_from_a_file_that_cannot_be_read_is_one_line(capsys, tmp_path):
-    pytest.importorskip("statsmodels")
     missing = tmp_path / "missing.csv"
     assert main(["sensitivity", "--from", str(missing)]) == 2
     assert f"--from '{missing}': no such file" in one_error_line(capsys)

@@ -8,18 +8,16 @@ import json
 import numpy as np
 import pytest
 
-pytest.importorskip("statsmodels")
-
-from puckboard.profile import get_profile, profile_values  # noqa: E402
-from puckboard.sensitivity.estimate import (  # noqa: E402
+from puckboard.profile import get_profile, profile_values
+from puckboard.sensitivity.estimate import (
     PASS,
     PROGRESS,
     binned_curve,
     main_effect,
     ranking_outcome,
 )
-from puckboard.sensitivity.joint import analyse_rows, from_rows, joint_plan  # noqa: E402
-from puckboard.sweep import PlanError  # noqa: E402
+from puckboard.sensitivity.joint import analyse_rows, from_rows, joint_plan
+from puckboard.sweep import PlanError
 
 PATHS = ("body_radius", "ir_gain.right", "prox_heading.diagonal_right", "axle_length")
 
