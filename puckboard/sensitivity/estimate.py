@@ -166,7 +166,9 @@ def binned_curve(x: Array, success: Array, progress: Array, bins: int) -> list[B
         low, high = wilson_interval(wins, n)
         values = progress[inside]
         if n > 1 and float(np.std(values)) > 0:
-            p_low, p_high = sm.stats.DescrStatsW(values).tconfint_mean(alpha=0.05)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # two episodes: a wide interval, said as such
+                p_low, p_high = sm.stats.DescrStatsW(values).tconfint_mean(alpha=0.05)
         else:
             p_low = p_high = float(np.mean(values))
         out.append(
@@ -199,7 +201,8 @@ def _fit(design: Array, y: Array, outcome: str, alpha: float) -> Effect | None:
     sm = _statsmodels()
     exog = sm.add_constant(design, has_constant="add")
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # separation and convergence warnings: checked below
+        # separation, convergence and too-few-episodes warnings: the result is checked below
+        warnings.simplefilter("ignore")
         try:
             if outcome == PASS:
                 if np.all(y == y[0]):
@@ -209,11 +212,11 @@ def _fit(design: Array, y: Array, outcome: str, alpha: float) -> Effect | None:
                 if float(np.std(y)) == 0.0:
                     return None
                 fitted = sm.OLS(y, exog).fit()
+            estimate = float(fitted.params[-1])
+            low, high = (float(v) for v in fitted.conf_int(alpha=alpha)[-1])
+            z = float(fitted.tvalues[-1])
         except Exception:  # a model that cannot be fitted (separation, singular) says nothing
             return None
-    estimate = float(fitted.params[-1])
-    low, high = (float(v) for v in fitted.conf_int(alpha=alpha)[-1])
-    z = float(fitted.tvalues[-1])
     if not all(math.isfinite(v) for v in (estimate, low, high, z)):
         return None
     return Effect(outcome, estimate, low, high, z)
