@@ -56,12 +56,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "the rate (a tornado chart with --plot), and the rates of the shipped profile and "
             "of plausible robots (--variation plausible) on the same seeds. Runs on all local "
             "cores or a Dask cluster; --out keeps one row per episode, and the same command "
-            "resumes from it."
+            "resumes from it. --method joint instead draws every number of every robot at "
+            "once, one plausible robot pair per seed: the same episodes give the plausible "
+            "robots' rate, each drawn number's binned curve and the numbers ranked, or say "
+            "that nothing is clear at this many seeds; --from FILE recomputes that from the "
+            "rows of FILE."
         ),
         epilog=(
             "Example: puckboard sensitivity two-robot-pass --controller improved --profile "
             "epuck --seeds 0:20 --plot sensitivity.png. Every value is repeatable as one run: "
-            "puckboard run SCENE --profile P --set profile.FIELD=VALUE --seed N."
+            "puckboard run SCENE --profile P --set profile.FIELD=VALUE --seed N. Joint: "
+            "puckboard sensitivity two-robot-pass --controller improved --profile epuck "
+            "--method joint --seeds 0:300 --out joint.parquet; then puckboard sensitivity "
+            "--from joint.parquet --plot joint.png."
         ),
     )
     add_scene_and_controllers(parser)
