@@ -158,3 +158,19 @@ def test_the_one_at_a_time_legend_draws_every_mark_as_the_chart_does():
     pale = handles[labels.index("pale bar: they overlap (not clear)")]
     assert [h.get_alpha() for h in dark] == [1.0, 1.0]
     assert [h.get_alpha() for h in pale] == [0.35, 0.35]
+
+
+def test_ctrl_c_keeps_what_ran_and_analyses_it(short_scene):
+    from sweep_helpers import DURATION, CountingExecutor
+
+    from puckboard.sensitivity.joint import run_joint
+
+    plan = joint_plan(short_scene.name, profiles=["epuck"], controllers=["stock"],
+                      seeds=range(8), fixed={"duration": DURATION}, bins=2)  # fmt: skip
+    result = run_joint(
+        plan, short_scene, executor=CountingExecutor(interrupt_after=3), batch_size=1
+    )
+    assert result.sweep.interrupted and result.sweep.ran == 3
+    (analysis,) = result.analyses
+    assert analysis.band.episodes == 3
+    assert all(sum(b.episodes for b in n.bins) == 3 for n in analysis.numbers)
