@@ -29,6 +29,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "dask": "dask",
     "distributed": "dask",
     "pyarrow": "dask",
+    "statsmodels": "analysis",
     "mkdocs": "docs",
     "mkdocstrings": "docs",
 }

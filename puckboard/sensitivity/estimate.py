@@ -73,9 +73,10 @@ Array = npt.NDArray[np.float64]
 def _statsmodels() -> Any:
     try:
         import statsmodels.api as sm
-    except ImportError:
+    except ImportError as exc:
         raise ImportError(
-            "the joint sensitivity method needs statsmodels: pip install 'puckboard[analysis]'"
+            "the joint sensitivity method needs statsmodels: pip install 'puckboard[analysis]'",
+            name=exc.name,
         ) from None
     return sm
 

@@ -179,3 +179,13 @@ def test_from_a_file_that_cannot_be_read_is_one_line(capsys, tmp_path):
     assert "use a .csv or .parquet file name" in one_error_line(capsys)
     assert main(["sensitivity", "--from", str(missing), "--method", "one-at-a-time"]) == 2
     assert "--from recomputes a joint analysis" in one_error_line(capsys)
+
+
+def test_joint_without_statsmodels_names_the_analysis_extra(monkeypatch, capsys, tmp_path):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "statsmodels", None)  # as if it were not installed
+    assert main(JOINT) == 2
+    assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)
+    assert main(["sensitivity", "--from", str(tmp_path / "runs.csv")]) == 2
+    assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)
