@@ -146,9 +146,13 @@ def test_joint_reports_the_band_every_curve_and_from_recomputes_it(capsys, tmp_p
     assert "ran" not in again
     assert again["analyses"] == live["analyses"]
     assert (again["scenario"], again["seeds"]) == ("line-follow", "0:8")
-    # the same command resumes from the file: nothing runs again
-    assert main([*JOINT, "--out", str(out)]) == 0
-    assert "(0 run, 8 already in" in capsys.readouterr().out
+    # the same command resumes from the file: nothing runs again; the figure is drawn
+    figure = tmp_path / "joint.png"
+    assert main([*JOINT, "--out", str(out), "--plot", str(figure)]) == 0
+    printed = capsys.readouterr().out
+    assert "(0 run, 8 already in" in printed
+    assert printed.rstrip().endswith(f"plot written to {figure}")
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.parametrize(
