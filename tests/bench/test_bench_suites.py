@@ -14,7 +14,7 @@ from puckboard.cli import main
 def test_list_names_every_registered_suite(capsys):
     assert main(["bench", "--list"]) == 0
     out = capsys.readouterr().out
-    for name in ("core", "sim", "coppeliasim", "sweep", "estimation", "emulator"):
+    for name in ("core", "sim", "coppeliasim", "sweep", "estimation", "emulator", "sensitivity"):
         assert name in out
 
 
