@@ -112,11 +112,31 @@ def check_speed(value: float | None, flag: str = "--speed") -> None:
         raise CliError(f"{flag} must be a finite number ≥ 0 (0 = unpaced), got {value}")
 
 
-def check_port(port: int | None, flag: str = "--port") -> None:
-    """Refuse a TCP port outside 0..65535 before binding: the socket layer reports it
-    as an ``OverflowError`` that names neither the option nor the range."""
-    if port is not None and not 0 <= port <= 65535:
+def check_port(port: int | None, flag: str = "--port", *, listen_on: str | None = None) -> None:
+    """Refuse a TCP port that cannot be used, before any work: the one check of every
+    port option.
+
+    A port outside 0..65535 is refused for every use (the socket layer reports it as an
+    ``OverflowError`` that names neither the option nor the range, and a client only
+    after its connection timeout). With ``listen_on`` (the host a server of this
+    command will listen on) the port is also bound and released at once, so a port in
+    use or one that needs rights the user lacks is said now, in
+    :func:`bind_error_message`'s words, and not by a traceback from a server started
+    after the work (or from a child process, as ``docs --serve`` runs MkDocs).
+    """
+    if port is None:
+        return
+    if not 0 <= port <= 65535:
         raise CliError(f"{flag} must be 0..65535, got {port}")
+    if listen_on is None or port == 0:
+        return
+    host = "" if listen_on == "*" else listen_on  # ZeroMQ's "every interface"
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    try:
+        with socket.create_server((host, port), family=family):
+            pass
+    except OSError as exc:
+        raise CliError(bind_error_message(exc, listen_on, port, flag)) from None
 
 
 def missing_extra(exc: ImportError, what: str) -> CliError:
@@ -143,10 +163,11 @@ def require(module: str, what: str) -> None:
 
 
 def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path:
-    """Refuse an output that cannot be written, before the run that would produce it.
+    """Refuse an output that cannot be written, before the run that would produce it:
+    the one check of every output option (files and folders alike).
 
-    Without this a read-only place is found out after a long run: the run is lost and
-    the error is a logged traceback. ``path`` is a file to be written (its folder is
+    Without this a read-only place, or a path through a regular file, is found out
+    after a long run: the run is lost and the error is a traceback. ``path`` is a file to be written (its folder is
     created when missing) or, with ``folder=True``, a folder to write files in. Whether
     the folder takes files is tried by creating and removing a file in it, the one test
     that holds on every system and for every user (permission bits do not bind an

@@ -6,7 +6,7 @@ import argparse
 import math
 from pathlib import Path
 
-from .common import CliError
+from .common import CliError, check_writable
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -97,6 +97,11 @@ def main(args: argparse.Namespace) -> int:
         if w < 160 or h < 90:
             raise CliError("--size must be at least 160x90 pixels")
         size = (w, h)
+    # last of the checks (they create a missing folder), before anything is shown or written
+    if args.out is not None:
+        check_writable(args.out, "--out", folder=True)
+    if args.animate:
+        check_writable(args.animate, "--animate")
     if args.view:
         from ..viz.live import can_show, replay
 

@@ -159,7 +159,8 @@ def main(args: argparse.Namespace) -> int:
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     check_seconds(args.duration)
-    check_port(args.web_port, "--web-port")
+    check_port(args.port)  # a client port: refused now, not after its connection timeout
+    check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     if args.speed is not None and not args.web:
         raise CliError("--speed paces the run for the web view; use it with --web")
     check_speed(args.speed)

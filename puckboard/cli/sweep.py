@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .common import CliError, add_variation_argument, check_seconds
+from .common import CliError, add_variation_argument, check_seconds, check_writable
 
 DEFAULT_SCENARIO = "two-robot-pass"
 T = TypeVar("T")
@@ -275,6 +275,11 @@ def check_numbers(args: argparse.Namespace) -> None:
         raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
     if args.workers is not None and args.workers < 1:
         raise CliError(f"--workers must be at least 1, got {args.workers}")
+    # outputs of sweep and sensitivity alike: a plot refused after the whole run loses it
+    for flag in ("--out", "--plot"):
+        path = getattr(args, flag[2:], None)
+        if path is not None:
+            check_writable(path, flag)
 
 
 def _plan(args: argparse.Namespace, scene: Any) -> Any:
