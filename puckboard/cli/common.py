@@ -427,13 +427,13 @@ def web_url(view: Any, host: str) -> str:
 
 
 def serve_until_interrupted(view: Any) -> None:
-    """Keep a web view up (its page, its verdict) until Ctrl-C, then close it."""
+    """Keep a web view up (its page, its verdict) until Ctrl-C, then close it; the
+    Ctrl-C goes on to :func:`puckboard.cli.main`, which ends the command with status 130
+    as every command ends on Ctrl-C."""
     import time
 
     try:
         while True:
             time.sleep(0.5)
-    except KeyboardInterrupt:
-        pass
     finally:
         view.close()

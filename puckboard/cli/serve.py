@@ -182,9 +182,7 @@ def main(args: argparse.Namespace) -> int:
     if remote_log.getEffectiveLevel() > logging.INFO:
         remote_log.setLevel(logging.INFO)  # a lecturer wants to see who connects
     try:
-        server.serve_forever()
-    except KeyboardInterrupt:
-        pass
+        server.serve_forever()  # until Ctrl-C, which main() ends with status 130
     finally:
         server.close()
         if web is not None:
