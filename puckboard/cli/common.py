@@ -77,6 +77,15 @@ class _SubcommandParser(argparse.ArgumentParser):
     ``puckboard CMD: error: ...`` and status 2 from :func:`main`, not argparse's usage
     block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage."""
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        # A value that starts with a minus and a digit ('--seeds -5:2', '--distance
+        # -5mm') is a value, not an option: argparse alone takes only plain numbers
+        # ('-5', '-0.5') so, and refuses the rest with "expected one argument", which
+        # hides the check that would say what is wrong with the value. No option of
+        # puckboard starts with a digit.
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
     def error(self, message: str) -> NoReturn:
         flag, sep, detail = message.partition(": ")
         if sep and flag.startswith("argument ") and detail.startswith(flag[9:] + " "):
