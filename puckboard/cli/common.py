@@ -385,14 +385,15 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
     return f"{where}: {reason}{hint}"
 
 
-def add_variation_argument(parser: argparse.ArgumentParser) -> None:
-    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``."""
+def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--seed") -> None:
+    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``;
+    ``seeded_by`` is the option that seeds the draw (``sweep`` has ``--seeds``)."""
     parser.add_argument(
         "--variation",
         choices=("none", "plausible"),
         default="none",
         help="plausible: build each robot from numbers drawn within what the sources allow "
-        "(seeded by --seed, a robot each; its controller still believes the profile); "
+        f"(seeded by {seeded_by}, a robot each; its controller still believes the profile); "
         "default none: every robot exactly as its profile says",
     )
 

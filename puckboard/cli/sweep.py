@@ -98,7 +98,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         "values become fixed parameters of every episode; default: the scene's; to compare "
         "profiles, --set robot.profile=epuck,epuck-vrep)",
     )
-    add_variation_argument(parser)
+    add_variation_argument(parser, "each episode's seed from --seeds")
 
 
 def add_duration(parser: argparse.ArgumentParser) -> None:
@@ -372,6 +372,10 @@ def _profile_parameters(ref: str) -> dict[str, Any]:
 
 
 def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
+    if args.plot_param is not None and args.plot is None:
+        raise CliError(
+            "--plot-param chooses the x axis of --plot; add --plot FILE (.png, .svg, .pdf)"
+        )
     plot_param: str | None = args.plot_param or (plan.swept[0] if plan.swept else None)
     if args.plot is not None:
         if plot_param is None:
@@ -394,6 +398,7 @@ def _report(
     args: argparse.Namespace, plan: Any, result: Any, *, stored: bool, plot_param: str | None
 ) -> None:
     """The summary table (or JSON), the ranking of several controllers, and the plot."""
+    from ..sweep.plan import written_values
     from ..sweep.summary import format_groups, format_ranking
 
     groups = result.groups()
@@ -410,7 +415,7 @@ def _report(
             f"{wall_time(args, result):.1f} s"
         )
         print()
-        print(format_groups(groups))
+        print(format_groups(groups, written_values(args.sets)))
         if len(plan.controllers) > 1:
             print()
             print("ranking (all parameter values pooled):")
