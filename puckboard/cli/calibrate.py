@@ -205,7 +205,7 @@ def main(args: argparse.Namespace) -> int:
     where = f"{args.backend} {options.get('host', options.get('device', ''))}".strip()
     if "port" in options:
         where += f":{options['port']}"
-    display = _Display(enabled=not args.quiet, total_s=plan.duration())
+    display = _Display(enabled=not args.quiet, plan=plan)
     print(
         f"calibrating the IR sensors of the robot on {where}: it starts touching the wall, "
         f"facing it; about {plan.duration() / 60:.0f} min; Ctrl-C stops it",
@@ -313,11 +313,11 @@ class _Display:
     """Which stop, which sensor and how far, on stderr: one line rewritten on a terminal,
     a line per stop otherwise."""
 
-    def __init__(self, *, enabled: bool, total_s: float) -> None:
+    def __init__(self, *, enabled: bool, plan: Any) -> None:
         self.enabled = enabled
         self.tty = sys.stderr.isatty()
         self.t0 = time.monotonic()
-        self.total_s = total_s
+        self.plan = plan
         self.last_stop = -1
         self.shown = False
 
@@ -327,12 +327,7 @@ class _Display:
         if not self.tty and progress.stop == self.last_stop:
             return
         self.last_stop = progress.stop
-        elapsed = time.monotonic() - self.t0
-        left = (
-            elapsed / progress.done * (progress.total - progress.done)
-            if progress.done
-            else self.total_s
-        )
+        left = self.seconds_left(progress.stop, time.monotonic() - self.t0)
         line = (
             f"stop {progress.stop + 1}/{progress.stops}, {round(max(progress.backed, 0.0) * 1000)}"
             f" mm from touching: {progress.pose} ({progress.done + 1}/{progress.total} poses, "
@@ -343,6 +338,13 @@ class _Display:
             self.shown = True
         else:
             print(line, file=sys.stderr, flush=True)
+
+    def seconds_left(self, stop: int, elapsed: float) -> float:
+        """The plan's seconds for the stops still to come, at the pace measured over the
+        stops done: later stops drive further, so the seconds per pose so far would tell
+        "about 1 min" from the second stop to the last."""
+        done, total = self.plan.duration(stop), self.plan.duration()
+        return (total - done) * (elapsed / done if done > 0 else 1.0)
 
     def close(self) -> None:
         if self.shown:

@@ -120,3 +120,29 @@ def test_no_robot_at_the_address_is_one_line(tmp_path, capsys):
     assert main([*argv, "--port", str(port), "--out", str(out)]) == 2
     assert f"127.0.0.1:{port}" in one_error_line(capsys)
     assert not out.exists()
+
+
+def test_the_time_left_follows_the_plan_not_the_pace_of_the_first_poses(monkeypatch, capsys):
+    """Later stops drive further: told from the seconds per pose so far, the time left
+    stayed "about 1 min" from stop 2 to the last. At the plan's own pace it is what the
+    plan has left (issue 30, round 4, item 15)."""
+    from puckboard.calibration.plan import make_plan
+    from puckboard.calibration.readings import Progress
+    from puckboard.cli import calibrate
+
+    plan = make_plan(EPUCK)
+    display = calibrate._Display(enabled=True, plan=plan)
+    display.tty = False
+    shown = []
+    per_stop = 1 + len(plan.presentations)
+    for stop in range(plan.stops):
+        now = display.t0 + plan.duration(stop)  # exactly at the plan's pace
+        monkeypatch.setattr(calibrate.time, "monotonic", lambda now=now: now)
+        display.update(Progress(stop, plan.stops, 0.0, "front", ("front",), stop * per_stop, 99))
+        left = re.search(r"about (\d+) min left", capsys.readouterr().err)
+        assert left is not None
+        shown.append(int(left.group(1)))
+        assert display.seconds_left(stop, plan.duration(stop)) == pytest.approx(
+            plan.duration() - plan.duration(stop)
+        )
+    assert shown == sorted(shown, reverse=True) and shown[0] > shown[-2] > 0
