@@ -48,7 +48,12 @@ from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
 from ..scenario.judge import Judge
 from ..scenario.result import EpisodeResult
-from ..scenario.robot_profiles import apply_profile_overrides, is_profile_override, scene_profile
+from ..scenario.robot_profiles import (
+    apply_profile_overrides,
+    check_control_step,
+    is_profile_override,
+    scene_profile,
+)
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import check_variation, vary_scene
 from .loop import ControlLoop
@@ -145,7 +150,10 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     if noise_changes:
         scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
     scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
-    return apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+    scene = apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+    if "dt" in overrides:
+        check_control_step(scene, scene.dt)  # against the profiles the robots end with
+    return scene
 
 
 #: Noise fields that are offsets rather than spreads, so either sign means something.

@@ -12,6 +12,7 @@ recording rebuilds the very same robots without the files it once named.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -32,6 +33,7 @@ __all__ = [
     "PROFILE_OVERRIDE_NAMES",
     "SET_SOURCE",
     "apply_profile_overrides",
+    "check_control_step",
     "is_profile_override",
     "read_actual",
     "read_default_profile",
@@ -171,3 +173,34 @@ def _changed(spec: RobotSpec, changes: Mapping[str, Any]) -> RobotSpec:
     except ProfileError as exc:
         raise ProfileError(f"profile.{exc} (robot {spec.name!r})") from None
     return dataclasses.replace(spec, profile=profile, actual=actual)
+
+
+def check_control_step(scene: Scene, dt: float) -> None:
+    """Refuse a simulation step ``dt`` (s) longer than a robot's control can act on.
+
+    Each tick the layers read the IR sensors once and command the wheels once. At its
+    top speed a robot crosses its IR range in ``prox_range / (max_wheel_speed ×
+    wheel_radius)`` seconds (0.35 s for the physical e-puck): a longer step lets an
+    obstacle come into range and be hit between two ticks, so the run would judge the
+    step, not the controller. A ``SceneError`` names the bound and that reason.
+    """
+    from ..profile import get_profile
+
+    limits = []
+    for robot in scene.robots:
+        profile = (
+            robot.profile if isinstance(robot.profile, RobotProfile) else get_profile(robot.profile)
+        )
+        limits.append(
+            (profile.prox_range / (profile.max_wheel_speed * profile.wheel_radius), robot.name)
+        )
+    if not limits:
+        return
+    limit, name = min(limits)
+    if dt > limit:
+        shown = math.floor(limit * 100) / 100  # rounded down: a dt of the number shown passes
+        raise SceneError(
+            f"dt {dt:g} s is longer than the robots' control can act on: at top speed robot "
+            f"{name!r} crosses its IR range in {limit:.2f} s, so an obstacle could appear and "
+            f"be hit between two ticks; use dt ≤ {shown:.2f} s (the shipped scenes use 0.05)"
+        )

@@ -77,3 +77,11 @@ def test_monitor_into_a_pipe_shows_the_first_table_at_once_flushed():
     assert pipe.flushed and pipe.flushed[-1] == pipe.getvalue() != ""
     monitor()  # the next within the minute: none
     assert pipe.getvalue() == pipe.flushed[-1]
+
+
+@pytest.mark.parametrize("command", [["run"], SMALL])
+def test_a_step_longer_than_the_control_can_act_on_is_refused_with_the_reason(command, capsys):
+    assert main([*command, "--set", "dt=5"]) == 2
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "dt 5 s is longer than the robots' control can act on" in line
+    assert "crosses its IR range in 0.38 s" in line and "use dt ≤ 0.37 s" in line
