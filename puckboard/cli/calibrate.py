@@ -11,7 +11,8 @@ your robot. ``--dry-run`` prints the plan and moves nothing.
 Without a robot, try it on the emulated one, whose sensors a profile file can make
 unlike the table: ``puckboard emulate calibration-wall --profile FILE.toml``.
 
-The wheels are stopped at the end, on any error and on Ctrl-C (exit status 130). A run
+The wheels are stopped at the end, on any error and on Ctrl-C (exit status 130); after
+Ctrl-C the poses measured so far are fitted and written, when they are enough. A run
 that cannot work (no wall seen, wheels that do not turn, a robot that does not move away,
 a sensor that does not respond or reads full scale) stops with one line saying what to
 fix (exit status 1); bad input is one line and exit status 2.
@@ -214,10 +215,13 @@ def main(args: argparse.Namespace) -> int:
     )
     try:
         measurements = run_calibration(adapter, plan, model, progress=display.update)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         display.close()
         connection.close()  # the run stopped the wheels; closing stops them once more
         print("puckboard calibrate: interrupted; the wheels were stopped", file=sys.stderr)
+        partial = getattr(exc, "measurements", None)
+        if partial is not None:
+            _fit_what_was_measured(args, out, where, plan, partial, model, fit_all)
         return 130
     except CalibrationError as exc:
         raise CliError(f"{exc}; the wheels were stopped", status=1) from None
@@ -238,6 +242,41 @@ def main(args: argparse.Namespace) -> int:
     except CalibrationError as exc:
         raise CliError(str(exc), status=1) from None
     return _write_and_report(args, out, where, plan, measurements, model, fits)
+
+
+def _fit_what_was_measured(
+    args: argparse.Namespace,
+    out: Path,
+    where: str,
+    plan: Any,
+    measurements: Any,
+    model: Any,
+    fit_all: Any,
+) -> None:
+    """After Ctrl-C: fit the poses measured so far and write the profile from them, or
+    say why they are too few. The stops already measured took minutes of a robot's
+    time; thrown away, the whole run had to be done again."""
+    from ..errors import CalibrationError
+
+    poses = len(measurements.readings)
+    try:
+        fits = fit_all(measurements.readings, model)
+    except CalibrationError as exc:
+        print(
+            f"puckboard calibrate: the {poses} poses measured are too few to fit ({exc}); "
+            "nothing was written: run it again to measure more",
+            file=sys.stderr,
+        )
+        return
+    print(
+        f"puckboard calibrate: fitting the {poses} of {1 + plan.stops * len(plan.presentations)} "
+        "poses measured before Ctrl-C",
+        file=sys.stderr,
+    )
+    try:
+        _write_and_report(args, out, where, plan, measurements, model, fits)
+    except CliError as exc:
+        print(f"puckboard calibrate: error: {exc}", file=sys.stderr)
 
 
 def _write_and_report(

@@ -146,3 +146,35 @@ def test_the_time_left_follows_the_plan_not_the_pace_of_the_first_poses(monkeypa
             plan.duration() - plan.duration(stop)
         )
     assert shown == sorted(shown, reverse=True) and shown[0] > shown[-2] > 0
+
+
+@pytest.mark.parametrize(("stops", "written"), [(1, False), (6, True)])
+def test_ctrl_c_keeps_the_stops_measured(tmp_path, monkeypatch, capsys, stops, written):
+    """Ctrl-C fits the poses measured so far and writes the profile when they suffice,
+    and says why not otherwise; either way it exits 130 (issue 30, round 4, item 15)."""
+    from calibration_helpers import known_profile, wall_robot
+
+    import puckboard.calibration as calibration
+    from puckboard.cli import calibrate
+
+    monkeypatch.setattr(calibrate, "_open", lambda backend, options: wall_robot(known_profile()))
+    real = calibration.run_calibration
+
+    def interrupted(adapter, plan, model, progress=None):
+        def ctrl_c_at_the_stop(p):
+            if p.stop == stops:
+                raise KeyboardInterrupt
+
+        return real(adapter, plan, model, progress=ctrl_c_at_the_stop)
+
+    monkeypatch.setattr(calibration, "run_calibration", interrupted)
+    out = tmp_path / "mine.toml"
+    argv = ["calibrate", "ir", "--backend", "epuck2-wifi", "--host", "10.0.0.9", "--out", str(out)]
+    assert main([*argv, "-q", "--step", "6mm"]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted; the wheels were stopped" in err
+    assert out.exists() == written
+    if written:
+        assert f"fitting the {1 + stops * 8} of" in err
+    else:
+        assert "too few to fit" in err and "nothing was written" in err
