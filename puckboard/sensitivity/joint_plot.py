@@ -15,7 +15,7 @@ import math
 import os
 from typing import Any
 
-from ..profile.paths import path_unit
+from ..profile.setting_names import path_unit
 from ..sweep.summary import controller_labels
 from .joint import JointAnalysis, JointResult
 from .plan import shown_scale

@@ -8,7 +8,7 @@ read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ..profile.paths import path_unit
+from ..profile.setting_names import path_unit
 from ..sweep.summary import controller_labels, format_table
 from .estimate import PASS, Effect
 from .joint import JointAnalysis, JointResult, Number, verdict
