@@ -31,14 +31,16 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from .clearance import ClearanceGuard
 from .controller import Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .layer import Layer
 from .line_follow import LineFollow
+from .line_search import LineSearch
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn
 from .wall_keep import SideWallKeep
 
-__all__ = ["CONTROLLERS", "improved", "load_controller", "stock"]
+__all__ = ["CONTROLLERS", "improved", "load_controller", "robust", "stock"]
 
 ControllerFactory = Callable[..., "Controller | Sequence[Layer]"]
 
@@ -71,7 +73,39 @@ def improved(speed: float = DEFAULT_SPEED) -> Controller:
     )
 
 
-CONTROLLERS: dict[str, ControllerFactory] = {"stock": stock, "improved": improved}
+def robust(
+    speed: float = DEFAULT_SPEED,
+    *,
+    clearance: float = 0.4,
+    away_factor: float = 0.8,
+    search_ratio: float = 0.5,
+) -> Controller:
+    """The improved controller made to pass on plausible robots (docs/controllers.md).
+
+    Always turn left first (no Braitenberg fallback); follow the line; a
+    :class:`ClearanceGuard` that never curves towards an obstacle close on the right;
+    keep the right side's obstacle in view; search for the line towards where it was
+    last seen (:class:`LineSearch`), on a curve tight enough to find it inside a bend.
+    """
+    return Controller(
+        [
+            FrontObstacleLeftTurn(speed, close_fraction=0.0),
+            LineFollow(speed, inner_factor=0.20, recovery=True),
+            ClearanceGuard("right", clearance=clearance, speed=speed, away_factor=away_factor),
+            SideWallKeep(("right",), speed=speed),
+            LineSearch(speed, ratio=search_ratio),
+            Cruise(speed),
+        ],
+        name="robust",
+        requires=("proximity",),
+    )
+
+
+CONTROLLERS: dict[str, ControllerFactory] = {
+    "stock": stock,
+    "improved": improved,
+    "robust": robust,
+}
 
 
 def load_controller(spec: str | ControllerFactory, **params: Any) -> Controller:
