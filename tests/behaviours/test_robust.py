@@ -192,3 +192,28 @@ def test_robust_always_turns_left_first_even_when_very_close():
     cmd = ctl.tick(ns)
     assert ctl.active_layer == "FrontObstacleLeftTurn"
     assert cmd.left < 0 < cmd.right
+
+
+# -- acceptance: plausible physical robots, where every earlier controller failed --------
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("scene", "seed"),
+    [
+        ("two-robot-pass", 1),  # the tutorial's controller grazes the west cylinder here
+        ("two-robot-pass-bend", 0),  # with the tutorial's search curve a robot circles the bend
+        ("two-robot-pass", 250),  # a validation seed: the check issue 32 is done by
+    ],
+)
+def test_robust_passes_plausible_physical_robots(scene, seed):
+    from puckboard.control.episode import run_episode
+
+    result = run_episode(
+        scene,
+        controller="robust",
+        seed=seed,
+        overrides={"robot.profile": "epuck"},
+        variation="plausible",
+    )
+    assert result.success, (result.failure, result.events[-3:])
