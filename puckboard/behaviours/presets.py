@@ -17,6 +17,11 @@ The source script is one if/else cascade; its conditions are exactly these prior
 (line following runs only when no obstacle is in front; side keeping only when there is
 neither a line nor an obstacle in front), so the port is behaviour-for-behaviour.
 
+``robust`` is not from the thesis: ``improved`` made to pass on plausible robots
+(docs/controllers.md, "The robust controller"). It always turns left first, and adds a
+:class:`ClearanceGuard` below line following and a :class:`LineSearch` that curves
+towards where the line was last seen, on a circle tighter than the track's bends.
+
 A controller factory is any callable returning a :class:`Controller` (or a list of
 layers). Keyword parameters given to :func:`load_controller` are passed to the factory.
 """
