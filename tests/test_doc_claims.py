@@ -1203,3 +1203,13 @@ def test_robust_drives_line_follow_exactly_as_improved():
         assert f"{mine.robots[0].progress_laps:.1f}" == m.group(1)
         times.append(mine.sim_time_s)
     assert (f"{min(times):.1f}", f"{max(times):.1f}") == m.group(2, 3)
+
+
+def test_robust_shipped_profile_figure_is_its_wilson_interval():
+    """ "seeds 0–49: 50 of 50 in each of the four cells (93–100 %)"."""
+    m = claim(
+        CONTROLLERS, r"seeds 0–(\d+): (\d+) of (\d+) in each of the four cells \((\d+)–(\d+) %\)"
+    )
+    last, count, n, low, high = (int(x) for x in m.groups())
+    assert n == last + 1
+    assert [round(100 * x) for x in wilson_interval(count, n)] == [low, high]
