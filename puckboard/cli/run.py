@@ -62,7 +62,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--controller",
         default=None,
-        metavar="stock|improved|MODULE:FACTORY",
+        metavar="stock|improved|robust|MODULE:FACTORY",
         help="controller for every robot (default: each robot's controller in the scene, "
         "improved in the shipped scenes)",
     )

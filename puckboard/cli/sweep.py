@@ -61,7 +61,7 @@ def add_scene_and_controllers(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="SPEC",
-        help="controller for every robot: stock, improved, MODULE:FACTORY or FILE.py:FACTORY "
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY "
         "(repeatable; default: each robot's controller from the scene)",
     )
 

@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--controller",
         default="improved",
         metavar="SPEC",
-        help="stock, improved, MODULE:FACTORY or path/file.py:FACTORY (default: improved)",
+        help="stock, improved, robust, MODULE:FACTORY or path/file.py:FACTORY (default: improved)",
     )
     p.add_argument(
         "--format",

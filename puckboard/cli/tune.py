@@ -55,7 +55,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--controller", required=True, metavar="SPEC",
-        help="controller for every robot: stock, improved, MODULE:FACTORY or FILE.py:FACTORY",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY",
     )  # fmt: skip
     parser.add_argument(
         "--param", dest="params", action="append", required=True,
