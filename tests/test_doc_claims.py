@@ -1127,3 +1127,65 @@ def test_the_real_robot_page_s_gain_figure_is_the_band_s():
     m = claim("docs/real-robot.md", r"IR gain alone moves the tutorial's controller from (\d+) "
                                     r"to (\d+) seeds of 40")  # fmt: skip
     assert m.groups() == band.groups()
+
+
+# -- controllers.md: the robust controller's replayed failures and its validation bands -
+REPLAYS = table(CONTROLLERS, "| run | controller | scene | settings | seed | outcome |")
+
+
+def replay_settings(cell: str) -> dict[str, float]:
+    """``layer.X.y=0.8`` as an override; ``—`` for none."""
+    if plain(cell) == "—":
+        return {}
+    name, value = plain(cell).split("=")
+    return {name: float(value)}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("row", REPLAYS, ids=[f"{r['run']} {r['seed']}" for r in REPLAYS])
+def test_the_robust_controller_s_replayed_failures_are_what_the_episodes_give(
+    row, tutorial_controller
+):
+    controller, _ = run_settings(plain(row["controller"]), tutorial_controller)
+    overrides = {**PLAUSIBLE, **replay_settings(row["settings"])}
+    result = episode(plain(row["scene"]), controller, int(row["seed"]), "epuck", overrides)
+    outcome = plain(row["outcome"])
+    if outcome == "success":
+        assert result.success, (row, result.failure)
+        return
+    kind, _, who = outcome.partition(": robot ")
+    assert result.failure == kind, (row, result.failure)
+    if who:  # the named robot is the first to fail that way
+        first = next(e for e in result.events if e.kind == kind)
+        assert first.robot == who, (row, first)
+
+
+ROBUST_BANDS = table(CONTROLLERS, "| controller | scene | profile | validation: plausible")
+
+
+def robust_key(row: dict[str, str]) -> tuple[str, str, str]:
+    return plain(row["controller"]), plain(row["scene"]), plain(row["profile"])
+
+
+@pytest.mark.parametrize("row", ROBUST_BANDS, ids=[" ".join(robust_key(r)) for r in ROBUST_BANDS])
+def test_each_robust_validation_band_agrees_with_itself(row):
+    """Count, rate and Wilson interval of the validation seeds are one measurement, and
+    the failures named account for every seed that did not pass."""
+    (column,) = [k for k in row if k.startswith("validation: plausible")]
+    first, last, runs = (int(x) for x in re.findall(r"\d+", column))
+    assert (first, runs) == (200, last - first + 1), column  # fresh seeds, every one run
+    count, _ = count_rate_interval(row[column], runs)
+    failures = stated_failures(row["validation failures"])
+    assert sum(int(n) for n in re.findall(r"\d+", failures)) == runs - count, row
+
+
+def test_the_robust_bands_cover_four_cells_and_the_readme_shows_them():
+    cells = {(scene, profile) for _, scene, profile in map(robust_key, ROBUST_BANDS)}
+    assert cells == {
+        (scene, profile)
+        for scene in ("two-robot-pass", "two-robot-pass-bend")
+        for profile in ("epuck", "epuck-vrep")
+    }
+    readme = table("README.md", "| controller | scene | profile | validation: plausible")
+    assert readme == ROBUST_BANDS
+    claim(CONTROLLERS, r"frozen before any of the seeds 200–399 was run")

@@ -278,6 +278,8 @@ LAYER_PAGES = {
     "layers/line-follow.md": ("LineFollow",),
     "layers/front-obstacle.md": ("FrontBraitenbergAvoid", "FrontObstacleLeftTurn"),
     "layers/side-wall-keep.md": ("SideWallKeep",),
+    "layers/clearance-guard.md": ("ClearanceGuard",),
+    "layers/line-search.md": ("LineSearch",),
     "layers/cruise.md": ("Cruise",),
     "layers/hold-for.md": ("HoldFor",),
 }

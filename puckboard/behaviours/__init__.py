@@ -4,14 +4,16 @@ A layer knows the blackboard and nothing of the backend behind it: this package 
 neither :mod:`puckboard.backends` nor :mod:`puckboard.sim`.
 """
 
+from .clearance import ClearanceGuard
 from .context import TickContext
 from .controller import NO_LAYER, Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .go_home import GoHome
 from .layer import Frame, Layer
 from .line_follow import LineFollow
+from .line_search import LineSearch
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
-from .presets import CONTROLLERS, improved, load_controller, stock
+from .presets import CONTROLLERS, improved, load_controller, robust, stock
 from .suppression import HoldFor
 from .wall_keep import SideWallKeep
 
@@ -19,6 +21,7 @@ __all__ = [
     "CONTROLLERS",
     "DEFAULT_SPEED",
     "NO_LAYER",
+    "ClearanceGuard",
     "Controller",
     "Cruise",
     "Frame",
@@ -28,10 +31,12 @@ __all__ = [
     "HoldFor",
     "Layer",
     "LineFollow",
+    "LineSearch",
     "SideWallKeep",
     "TickContext",
     "improved",
     "load_controller",
     "obstacle_in_front",
+    "robust",
     "stock",
 ]

@@ -17,6 +17,11 @@ The source script is one if/else cascade; its conditions are exactly these prior
 (line following runs only when no obstacle is in front; side keeping only when there is
 neither a line nor an obstacle in front), so the port is behaviour-for-behaviour.
 
+``robust`` is not from the thesis: ``improved`` made to pass on plausible robots
+(docs/controllers.md, "The robust controller"). It always turns left first, and adds a
+:class:`ClearanceGuard` below line following and a :class:`LineSearch` that curves
+towards where the line was last seen, on a circle tighter than the track's bends.
+
 A controller factory is any callable returning a :class:`Controller` (or a list of
 layers). Keyword parameters given to :func:`load_controller` are passed to the factory.
 """
@@ -31,14 +36,16 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from .clearance import ClearanceGuard
 from .controller import Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .layer import Layer
 from .line_follow import LineFollow
+from .line_search import LineSearch
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn
 from .wall_keep import SideWallKeep
 
-__all__ = ["CONTROLLERS", "improved", "load_controller", "stock"]
+__all__ = ["CONTROLLERS", "improved", "load_controller", "robust", "stock"]
 
 ControllerFactory = Callable[..., "Controller | Sequence[Layer]"]
 
@@ -71,7 +78,39 @@ def improved(speed: float = DEFAULT_SPEED) -> Controller:
     )
 
 
-CONTROLLERS: dict[str, ControllerFactory] = {"stock": stock, "improved": improved}
+def robust(
+    speed: float = DEFAULT_SPEED,
+    *,
+    clearance: float = 0.4,
+    away_factor: float = 0.8,
+    search_ratio: float = 0.5,
+) -> Controller:
+    """The improved controller made to pass on plausible robots (docs/controllers.md).
+
+    Always turn left first (no Braitenberg fallback); follow the line; a
+    :class:`ClearanceGuard` that never curves towards an obstacle close on the right;
+    keep the right side's obstacle in view; search for the line towards where it was
+    last seen (:class:`LineSearch`), on a curve tight enough to find it inside a bend.
+    """
+    return Controller(
+        [
+            FrontObstacleLeftTurn(speed, close_fraction=0.0),
+            LineFollow(speed, inner_factor=0.20, recovery=True),
+            ClearanceGuard("right", clearance=clearance, speed=speed, away_factor=away_factor),
+            SideWallKeep(("right",), speed=speed),
+            LineSearch(speed, ratio=search_ratio),
+            Cruise(speed),
+        ],
+        name="robust",
+        requires=("proximity",),
+    )
+
+
+CONTROLLERS: dict[str, ControllerFactory] = {
+    "stock": stock,
+    "improved": improved,
+    "robust": robust,
+}
 
 
 def load_controller(spec: str | ControllerFactory, **params: Any) -> Controller:

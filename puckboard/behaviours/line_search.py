@@ -1,0 +1,76 @@
+"""Line search with a memory: curve towards the side on which the line was last seen.
+
+Off the line with nothing else to do, a robot that drives straight on may leave the
+line for good; one that always curves the same way (the tutorial's
+``FindLineOnTheRight``) finds it again only when the line happens to be on that side.
+Where the line is, the ground sensors said a moment ago: the outer sensor that saw it
+last is on the side the line went. :class:`LineSearch` keeps that in ``observe``, which
+runs on every layer at every tick, so the memory stays current while avoidance or line
+following drive and this layer is suppressed.
+
+It applies while no ground sensor sees the line, and curves towards the remembered
+side: the outer wheel at ``speed``, the inner at ``ratio * speed``. Before it has seen
+the line at all it curves towards ``default_side``.
+"""
+
+from __future__ import annotations
+
+from ..records import WheelCommand
+from .cruise import DEFAULT_SPEED
+from .layer import Frame, Layer
+
+__all__ = ["LineSearch"]
+
+
+class LineSearch(Layer):
+    """Applies while no ground sensor reads below ``threshold``; curves towards the side
+    (``"left"`` or ``"right"``) whose outer sensor saw the line last.
+
+    Parameters: ``speed`` (rad/s of the outer wheel), ``ratio`` (inner wheel's fraction
+    of ``speed``; 1 drives straight), ``threshold`` (dark below it, as
+    :class:`~puckboard.behaviours.LineFollow`), ``default_side``.
+    """
+
+    reads = ("ground",)
+
+    def __init__(
+        self,
+        speed: float = DEFAULT_SPEED,
+        *,
+        ratio: float = 0.8,
+        threshold: float = 0.5,
+        default_side: str = "right",
+        name: str | None = None,
+    ) -> None:
+        super().__init__(name)
+        if default_side not in ("left", "right"):
+            raise ValueError(f"default_side must be 'left' or 'right', got {default_side!r}")
+        self.speed = speed
+        self.ratio = ratio
+        self.threshold = threshold
+        self.default_side = default_side
+        self._last_side: str | None = None
+
+    @property
+    def last_side(self) -> str:
+        """The side the line was last seen on (``default_side`` before it was seen)."""
+        return self._last_side or self.default_side
+
+    def observe(self, frame: Frame) -> None:
+        ground = frame.ground
+        if ground is None:
+            return
+        left, _centre, right = ground.value.tolist()
+        left_dark, right_dark = left < self.threshold, right < self.threshold
+        if left_dark != right_dark:  # one outer sensor alone: the line is on its side
+            self._last_side = "left" if left_dark else "right"
+
+    def applies(self, frame: Frame) -> bool:
+        ground = frame.ground
+        return ground is not None and min(ground.value.tolist()) >= self.threshold
+
+    def command(self, frame: Frame) -> WheelCommand:
+        outer, inner = self.speed, self.ratio * self.speed
+        return (
+            WheelCommand(outer, inner) if self.last_side == "right" else WheelCommand(inner, outer)
+        )

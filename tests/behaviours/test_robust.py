@@ -1,0 +1,219 @@
+"""The robust controller's layers on constructed frames, and its tree.
+
+``ClearanceGuard`` must never turn towards a near obstacle on its side; ``LineSearch``
+must remember on which side the line was last seen while other layers drive, and curve
+that way once the line is lost.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from puckboard.behaviours import (
+    ClearanceGuard,
+    Controller,
+    Cruise,
+    LineFollow,
+    LineSearch,
+    load_controller,
+    robust,
+)
+from puckboard.behaviours.layer import Frame
+from puckboard.blackboard import Blackboard
+from puckboard.records import PROX_NAMES, Ground, Proximity
+
+MAX = math.radians(120)
+
+
+class Clock:
+    t = 0.0
+
+    def __call__(self) -> float:
+        return self.t
+
+
+def prox(**d: float) -> Proximity:
+    arr = np.full(8, 0.05)
+    for name, value in d.items():
+        arr[PROX_NAMES.index(name)] = value
+    return Proximity(arr, np.zeros(8))
+
+
+def ground(left: float = 1.0, centre: float = 1.0, right: float = 1.0) -> Ground:
+    v = np.array([left, centre, right])
+    return Ground(v, v * 1023)
+
+
+def frame(p: Proximity | None = None, g: Ground | None = None) -> Frame:
+    ns = Blackboard(clock=Clock()).namespace("r")
+    if p is not None:
+        ns.put("proximity", p)
+    if g is not None:
+        ns.put("ground", g)
+    return Frame(ns.snapshot(("proximity", "ground")))
+
+
+# -- ClearanceGuard ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("sensor", ["diagonal_right", "right", "rear_right"])
+def test_guard_turns_away_from_a_near_obstacle_on_the_right(sensor):
+    guard = ClearanceGuard("right", clearance=0.4, speed=MAX, away_factor=0.8)
+    f = frame(prox(**{sensor: 0.01}))  # 1 cm: inside 0.4 * 5 cm
+    assert guard.applies(f)
+    cmd = guard.command(f)
+    assert (cmd.left, cmd.right) == (pytest.approx(0.8 * MAX), pytest.approx(MAX))
+    assert cmd.left <= cmd.right  # never a right turn
+
+
+def test_guard_mirrors_for_the_left_side():
+    guard = ClearanceGuard("left", speed=MAX, away_factor=0.8)
+    f = frame(prox(left=0.01))
+    assert guard.applies(f)
+    cmd = guard.command(f)
+    assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(0.8 * MAX))
+
+
+@pytest.mark.parametrize(
+    "reading",
+    [
+        {},  # nothing in range
+        {"right": 0.03},  # seen, but farther than the clearance (2 cm)
+        {"left": 0.005},  # near, but on the other side
+        {"front_right": 0.005},  # in front: the avoidance layer's business
+    ],
+)
+def test_guard_lets_go_outside_its_near_band_and_side(reading):
+    assert not ClearanceGuard("right", clearance=0.4).applies(frame(prox(**reading)))
+
+
+def test_guard_without_a_reading_does_not_apply():
+    assert not ClearanceGuard().applies(frame(g=ground()))
+
+
+def test_guard_watches_only_the_sensors_it_is_given():
+    guard = ClearanceGuard("right", sensors=("right",))
+    assert guard.applies(frame(prox(right=0.01)))
+    assert not guard.applies(frame(prox(rear_right=0.01)))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [({"side": "up"}, "side must be"), ({"sensors": ("nose",)}, "sensors must be")],
+)
+def test_guard_refuses_bad_sides_and_sensors(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        ClearanceGuard(**kwargs)
+
+
+# -- LineSearch -------------------------------------------------------------------------
+
+
+def test_line_search_curves_right_before_it_has_seen_the_line():
+    search = LineSearch(MAX, ratio=0.5)
+    f = frame(g=ground())
+    assert search.applies(f)
+    cmd = search.command(f)
+    assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(0.5 * MAX))
+
+
+def test_line_search_does_not_apply_on_the_line_or_without_a_reading():
+    search = LineSearch()
+    assert not search.applies(frame(g=ground(centre=0.1)))
+    assert not search.applies(frame(prox()))
+
+
+@pytest.mark.parametrize(
+    ("readings", "side"),
+    [
+        ([ground(left=0.1)], "left"),
+        ([ground(right=0.1)], "right"),
+        ([ground(left=0.1), ground(centre=0.1)], "left"),  # centred: nothing new
+        ([ground(left=0.1), ground(left=0.1, centre=0.1, right=0.1)], "left"),  # all dark
+        ([ground(right=0.1), ground(left=0.1)], "left"),  # the latest one counts
+    ],
+)
+def test_line_search_remembers_the_outer_sensor_that_saw_the_line_last(readings, side):
+    search = LineSearch(default_side="right")
+    for g in readings:
+        search.observe(frame(g=g))
+    assert search.last_side == side
+
+
+def test_line_search_learns_while_line_follow_drives_and_then_curves_that_way():
+    search = LineSearch(MAX, ratio=0.5)
+    ctl = Controller([LineFollow(MAX), search, Cruise(MAX)])
+    ns = Blackboard(clock=Clock()).namespace("r")
+    ns.put("ground", ground(left=0.1))  # the line under the left sensor: LineFollow drives
+    ctl.tick(ns)
+    assert ctl.active_layer == "LineFollow"
+    ns.put("ground", ground())  # lost
+    cmd = ctl.tick(ns)
+    assert ctl.active_layer == "LineSearch"
+    assert (cmd.left, cmd.right) == (pytest.approx(0.5 * MAX), pytest.approx(MAX))
+
+
+def test_line_search_refuses_a_bad_default_side():
+    with pytest.raises(ValueError, match="default_side"):
+        LineSearch(default_side="up")
+
+
+# -- the preset ---------------------------------------------------------------------------
+
+
+def test_robust_tree_in_priority_order():
+    ctl = robust()
+    assert [layer.name for layer in ctl.layers] == [
+        "FrontObstacleLeftTurn",
+        "LineFollow",
+        "ClearanceGuard",
+        "SideWallKeep",
+        "LineSearch",
+        "Cruise",
+    ]
+    assert "robust" in ctl.ascii_tree()
+
+
+def test_robust_factory_keywords_reach_its_layers():
+    ctl = load_controller("robust", clearance=0.3, away_factor=0.9, search_ratio=0.6)
+    assert ctl.find("ClearanceGuard").parameters()["clearance"] == 0.3
+    assert ctl.find("ClearanceGuard").parameters()["away_factor"] == 0.9
+    assert ctl.find("LineSearch").parameters()["ratio"] == 0.6
+
+
+def test_robust_always_turns_left_first_even_when_very_close():
+    ns = Blackboard(clock=Clock()).namespace("r")
+    ns.put("proximity", prox(front_left=0.004, front_right=0.004))
+    ns.put("ground", ground())
+    ctl = robust(MAX)
+    cmd = ctl.tick(ns)
+    assert ctl.active_layer == "FrontObstacleLeftTurn"
+    assert cmd.left < 0 < cmd.right
+
+
+# -- acceptance: plausible physical robots, where every earlier controller failed --------
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("scene", "seed"),
+    [
+        ("two-robot-pass", 1),  # the tutorial's controller grazes the west cylinder here
+        ("two-robot-pass-bend", 0),  # with the tutorial's search curve a robot circles the bend
+        ("two-robot-pass", 250),  # a validation seed: the check issue 32 is done by
+    ],
+)
+def test_robust_passes_plausible_physical_robots(scene, seed):
+    from puckboard.control.episode import run_episode
+
+    result = run_episode(
+        scene,
+        controller="robust",
+        seed=seed,
+        overrides={"robot.profile": "epuck"},
+        variation="plausible",
+    )
+    assert result.success, (result.failure, result.events[-3:])
