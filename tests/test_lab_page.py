@@ -244,3 +244,91 @@ def test_the_sensitivity_s_best_value_is_what_the_episodes_give():
     overrides = {"profile.prox_heading.front": low}
     runs = [episode("two-robot-pass", "improved", s, "epuck", overrides) for s in range(10)]
     assert sum(r.success for r in runs) == int(row[2])
+
+
+# -- the tuning study ---------------------------------------------------------------------
+TRIAL = re.compile(r"^\| (\d+) \| ([\d.]+) \| ([\d.]+) \| (\d+) of (\d+) \| (\d+) of (\d+) \| ([^|]*)\|$",
+                   re.MULTILINE)  # fmt: skip
+
+
+def tune_in(folder: Path, *extra: str) -> str:
+    """The page's tune command, resumed from the study the docs ship: nothing is run."""
+    argv, _ = shown_after("puckboard tune")
+    study = argv[argv.index("--study") + 1]
+    (folder / study).write_bytes((PAGE.parent / study).read_bytes())
+    return run_cli([*argv, *extra], folder)
+
+
+@pytest.mark.slow
+def test_the_tuning_output_and_trials_are_the_stored_study_s(student_folder, tmp_path):
+    """The page's output is the study's report; its trials table is the study's trials."""
+    folder = tmp_path / "resumed"
+    folder.mkdir()
+    (folder / "my_controller.py").write_bytes((student_folder / "my_controller.py").read_bytes())
+    _, shown = shown_after("puckboard tune")
+    printed = tune_in(folder)
+    first_shown, rest_shown = shown.strip().split("\n", 1)
+    first_printed, rest_printed = printed.strip().split("\n", 1)
+    doc_pages.assert_shown(rest_shown, rest_printed, "lab page: the tuning study")
+    # "6 trials (6 run now, 0 from lab.journal; 2 pruned)": all were run when measured
+    counts = r"^(\d+) trials \((\d+) run now, (\d+) from \S+; (\d+) pruned\)"
+    ran, resumed = re.match(counts, first_shown), re.match(counts, first_printed)
+    assert ran and resumed
+    assert ran.group(1) == ran.group(2) == resumed.group(1) == resumed.group(3), first_shown
+    assert ran.group(4) == resumed.group(4)
+
+    report = json.loads(tune_in(folder, "--json"))
+    rows = TRIAL.findall(page())
+    assert [int(r[0]) for r in rows] == [t["number"] for t in report["trials"]]
+    for row, trial in zip(rows, report["trials"]):
+        params = list(trial["params"].values())
+        assert [float(row[1]), float(row[2])] == [float(f"{v:g}") for v in params], row
+        cells = [f"{c['successes']} of {c['episodes']}" for c in trial["cells"]]
+        assert [f"{row[3]} of {row[4]}", f"{row[5]} of {row[6]}"] == cells, row
+        pruned = f"pruned after {trial['rounds']} of {report['rounds']} rounds"
+        assert (trial["state"] == "pruned") == (row[7].strip() == pruned), row
+    assert rows[report["best"]["trial"]][7].strip() == "best"
+    # trial 0 is the controller as written: the layers' own values
+    from puckboard.behaviours import load_controller
+
+    shipped = load_controller(f"{folder / 'my_controller.py'}:guarded_controller")
+    own = {f"layer.{layer.name}.{attr}": getattr(layer, attr)
+           for layer in shipped.layers for attr in ("clearance", "ratio") if hasattr(layer, attr)}  # fmt: skip
+    assert report["trials"][0]["params"] == own
+    # "trial 1's robots got further (0.86 laps against 0.81)"
+    m = stated(r"trials (\d+) and (\d+) passed every\s+design episode, and trial \d+'s robots "
+               r"got further \((\S+) laps against (\S+)\)")  # fmt: skip
+    progress = []
+    for number in (int(m.group(1)), int(m.group(2))):
+        cells = report["trials"][number]["cells"]
+        assert all(c["successes"] == c["episodes"] for c in cells)
+        progress.append(f"{sum(c['mean_progress_laps'] for c in cells) / len(cells):.2f}")
+    assert progress == [m.group(3), m.group(4)]
+    m = stated(r"(\d+) of the (\d+) design episodes were never run")
+    spared = report["episodes_spared_by_pruning"]
+    assert (int(m.group(1)), int(m.group(2))) == (spared, report["design_episodes"] + spared)
+
+
+def test_the_validation_intervals_the_page_reads_are_wilson_s():
+    m = stated(r"(\d+) of (\d+) is\s+(\d+)–(\d+) %\. It says")
+    count, n, low, high = (int(x) for x in m.groups())
+    lo, hi = wilson_interval(count, n)
+    assert (low, high) == (round(100 * lo), round(100 * hi))
+    m = stated(r"a controller must pass (\d+) seeds of (\d+), without one\s+failure")
+    needed = int(m.group(1))
+    assert m.group(1) == m.group(2)
+    assert wilson_interval(needed, needed)[0] >= 0.95 > wilson_interval(needed - 1, needed - 1)[0]
+
+
+@pytest.mark.slow
+def test_the_trials_bends_end_as_the_page_says(student_folder):
+    """Trial 0 (the numbers as written) loses the line in the bend on seed 0, robot
+    ``right`` first; the best trial's numbers pass the same seed."""
+    spec = f"{student_folder / 'my_controller.py'}:guarded_controller"
+    seed = int(stated(r"on seed (\d+) robot `right` loses the line").group(1))
+    circling = episode("two-robot-pass-bend", spec, seed, "epuck", PLAUSIBLE)
+    assert circling.failure == "lost_line"
+    assert next(e for e in circling.events if e.kind == "lost_line").robot == "right"
+    (best,) = [r for r in TRIAL.findall(page()) if r[7].strip() == "best"]
+    tuned = {"layer.KeepClear.clearance": float(best[1]), "layer.FindLineOnTheRight.ratio": float(best[2])}  # fmt: skip
+    assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
