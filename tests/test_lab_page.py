@@ -11,6 +11,7 @@ row's episodes re-run. Every 200-seed figure the page quotes is the controllers 
 
 from __future__ import annotations
 
+import itertools
 import json
 import re
 import shlex
@@ -58,7 +59,7 @@ def shown_commands() -> list[tuple[str, str]]:
     text (what the page says it prints)."""
     blocks = doc_pages.fences(page())
     pairs = []
-    for (language, body), (next_language, shown) in zip(blocks, blocks[1:]):
+    for (language, body), (next_language, shown) in itertools.pairwise(blocks):
         if language == "bash" and next_language == "text":
             (command,) = body.strip().splitlines()
             pairs.append((command, shown))
@@ -96,7 +97,9 @@ def run_cli(argv: list[str], folder: Path) -> str:
 @pytest.mark.slow
 def test_the_runs_and_the_replay_print_what_the_page_shows(student_folder):
     """The failing robot, its replay file, the graze and the guard's answer to it."""
-    runs = [(c, s) for c, s in shown_commands() if c.startswith(("puckboard run", "puckboard replay"))]
+    runs = [
+        (c, s) for c, s in shown_commands() if c.startswith(("puckboard run", "puckboard replay"))
+    ]
     assert len(runs) == 4, [c for c, _ in runs]
     for command, shown in runs:  # in page order: a replay needs its recording
         printed = run_cli(shlex.split(command)[1:], student_folder)
@@ -176,7 +179,9 @@ def test_the_numbers_the_failures_hang_on_are_the_band_s():
     m = stated(r"across the (\d+)–(\d+)° the sources give, the front sensors' heading moves\s+"
                r"the improved controller from (\d+) to (\d+) of 40 seeds")  # fmt: skip
     assert f"heading**, {m.group(1)}–{m.group(2)}°: {m.group(3)} to {m.group(4)} of 40" in edge
-    graze = band("my_controller (the tutorial's)", "epuck")["what moves it most (40 seeds per value)"]
+    graze = band("my_controller (the tutorial's)", "epuck")[
+        "what moves it most (40 seeds per value)"
+    ]
     m = stated(r"the side sensors' inset, (\S+) mm, moves the tutorial's controller\s+from "
                r"(\d+) to (\d+) of 40 seeds, and IR gain from (\d+) to (\d+) of 40")  # fmt: skip
     inset, low, high, gain_low, gain_high = m.groups()
@@ -332,3 +337,55 @@ def test_the_trials_bends_end_as_the_page_says(student_folder):
     (best,) = [r for r in TRIAL.findall(page()) if r[7].strip() == "best"]
     tuned = {"layer.KeepClear.clearance": float(best[1]), "layer.FindLineOnTheRight.ratio": float(best[2])}  # fmt: skip
     assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
+
+
+WORDS = {"six": 6, "eight": 8, "twelve": 12}
+
+
+def span(seeds: str) -> int:
+    first, last = (int(x) for x in seeds.split(":"))
+    return last - first
+
+
+def test_the_words_around_the_commands_are_their_arguments():
+    """ "Eight design seeds, six trials, ... twelve validation seeds per cell", and the
+    lecturer notes' "runs 50 episodes" and "a study of six trials"."""
+    argv, _ = shown_after("puckboard tune")
+    m = stated(r"(\w+) design seeds, (\w+) trials, the best then run on (\w+) validation seeds")
+    design, trials, validation = (WORDS[w.lower()] for w in m.groups())
+    assert design == span(argv[argv.index("--seeds") + 1])
+    assert trials == int(argv[argv.index("--trials") + 1])
+    assert validation == span(argv[argv.index("--validate") + 1])
+    notes = (ROOT / "docs" / "lecturer-notes.md").read_text(encoding="utf-8")
+    _, shown = sensitivity_shown()
+    episodes = re.search(r"(\d+) of \d+ episodes", shown)
+    assert episodes is not None
+    assert f"The sensitivity step runs {episodes.group(1)} episodes" in notes
+    assert f"a study of {next(w for w, n in WORDS.items() if n == trials)} trials" in notes.replace(
+        "\n", " "
+    ).replace("  ", " ")
+
+
+SWEPT = re.compile(r"^\S+\s+-\s+(\d+)\s+(\d+)\s+(\d+) %\s+\[(\d+), (\d+)\] %\s+\S+\s+\S+\s+(.*)$",
+                   re.MULTILINE)  # fmt: skip
+
+
+def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
+    """The sweeps run the study's "use it" line on seeds no trial saw; each row's rate
+    and interval are its counts'."""
+    tune_argv, tune_shown = shown_after("puckboard tune")
+    use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
+    assert use is not None
+    design = range(*(int(x) for x in tune_argv[tune_argv.index("--seeds") + 1].split(":")))
+    for scene in ("two-robot-pass", "two-robot-pass-bend"):
+        argv, shown = shown_after(f"puckboard sweep {scene} ")
+        assert use.group(1) in " ".join(argv), argv
+        seeds = range(*(int(x) for x in argv[argv.index("--seeds") + 1].split(":")))
+        assert not set(seeds) & set(design)
+        ((n, ok, rate, low, high, failures),) = SWEPT.findall(shown)
+        assert int(n) == len(seeds)
+        lo, hi = wilson_interval(int(ok), int(n))
+        assert (int(low), int(high)) == (round(100 * lo), round(100 * hi))
+        assert int(rate) == round(100 * int(ok) / int(n))
+        failed = sum(int(x) for x in re.findall(r"\d+", failures))
+        assert failed == int(n) - int(ok), failures
