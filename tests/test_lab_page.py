@@ -270,7 +270,8 @@ def test_the_tuning_output_and_trials_are_the_stored_study_s(student_folder, tmp
     folder = tmp_path / "resumed"
     folder.mkdir()
     (folder / "my_controller.py").write_bytes((student_folder / "my_controller.py").read_bytes())
-    _, shown = shown_after("puckboard tune")
+    argv, shown = shown_after("puckboard tune")
+    first, last = (int(x) for x in argv[argv.index("--validate") + 1].split(":"))
     printed = tune_in(folder)
     first_shown, rest_shown = shown.strip().split("\n", 1)
     first_printed, rest_printed = printed.strip().split("\n", 1)
@@ -319,6 +320,16 @@ def test_the_validation_intervals_the_page_reads_are_wilson_s():
     count, n, low, high = (int(x) for x in m.groups())
     lo, hi = wilson_interval(count, n)
     assert (low, high) == (round(100 * lo), round(100 * hi))
+    # "12 of 12 on both cells": the tuning's validation column
+    _, shown = shown_after("puckboard tune")
+    validation = re.findall(
+        r"^two-robot-pass\S*, epuck .*\((\d+)–(\d+) %, (\d+)/(\d+)\)$", shown, re.MULTILINE
+    )
+    assert validation == [(str(low), str(high), str(count), str(n))] * 2, validation
+    stated(
+        rf"seeds {first}–{last - 1}, which no trial saw:\s+{count} of {n} on both cells, and no warning"
+    )
+    assert "warning" not in shown
     m = stated(r"a controller must pass (\d+) seeds of (\d+), without one\s+failure")
     needed = int(m.group(1))
     assert m.group(1) == m.group(2)
@@ -377,6 +388,7 @@ def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
     use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
     assert use is not None
     design = range(*(int(x) for x in tune_argv[tune_argv.index("--seeds") + 1].split(":")))
+    read = {}
     for scene in ("two-robot-pass", "two-robot-pass-bend"):
         argv, shown = shown_after(f"puckboard sweep {scene} ")
         assert use.group(1) in " ".join(argv), argv
@@ -389,3 +401,12 @@ def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
         assert int(rate) == round(100 * int(ok) / int(n))
         failed = sum(int(x) for x in re.findall(r"\d+", failures))
         assert failed == int(n) - int(ok), failures
+        read[scene] = (int(ok), int(n), int(low), int(high), failures.strip())
+    m = stated(r"On the straight meeting, (\d+) of (\d+): the interval's lower end just reaches "
+               r"(\d+) %\. In the\s+bend, (\d+) of (\d+) \((\d+)–(\d+) %\), and (\d+) runs "
+               r"ended in `(\w+)`")  # fmt: skip
+    ok, n, low, *_ = read["two-robot-pass"]
+    assert m.groups()[:3] == (str(ok), str(n), str(low))
+    ok, n, low, high, failures = read["two-robot-pass-bend"]
+    kind, count = failures.split()
+    assert m.groups()[3:] == (str(ok), str(n), str(low), str(high), count, kind)
