@@ -270,8 +270,7 @@ def test_the_tuning_output_and_trials_are_the_stored_study_s(student_folder, tmp
     folder = tmp_path / "resumed"
     folder.mkdir()
     (folder / "my_controller.py").write_bytes((student_folder / "my_controller.py").read_bytes())
-    argv, shown = shown_after("puckboard tune")
-    first, last = (int(x) for x in argv[argv.index("--validate") + 1].split(":"))
+    _, shown = shown_after("puckboard tune")
     printed = tune_in(folder)
     first_shown, rest_shown = shown.strip().split("\n", 1)
     first_printed, rest_printed = printed.strip().split("\n", 1)
@@ -321,7 +320,8 @@ def test_the_validation_intervals_the_page_reads_are_wilson_s():
     lo, hi = wilson_interval(count, n)
     assert (low, high) == (round(100 * lo), round(100 * hi))
     # "12 of 12 on both cells": the tuning's validation column
-    _, shown = shown_after("puckboard tune")
+    argv, shown = shown_after("puckboard tune")
+    first, last = (int(x) for x in argv[argv.index("--validate") + 1].split(":"))
     validation = re.findall(
         r"^two-robot-pass\S*, epuck .*\((\d+)–(\d+) %, (\d+)/(\d+)\)$", shown, re.MULTILINE
     )
