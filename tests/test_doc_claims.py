@@ -1189,3 +1189,27 @@ def test_the_robust_bands_cover_four_cells_and_the_readme_shows_them():
     readme = table("README.md", "| controller | scene | profile | validation: plausible")
     assert readme == ROBUST_BANDS
     claim(CONTROLLERS, r"frozen before any of the seeds 200–399 was run")
+
+
+@pytest.mark.slow
+def test_robust_drives_line_follow_exactly_as_improved():
+    """ "on seeds 0–4 both make the same 2.5 laps in the same 175.8–176.4 s"."""
+    m = claim(CONTROLLERS, r"on seeds 0–4 both make the same (\S+) laps in the same (\S+)–(\S+) s")
+    times = []
+    for seed in range(5):
+        mine, theirs = (episode("line-follow", c, seed) for c in ("robust", "improved"))
+        same = ("sim_time_s", "steps", "success", "robots", "events")
+        assert [mine.to_dict()[k] for k in same] == [theirs.to_dict()[k] for k in same], seed
+        assert f"{mine.robots[0].progress_laps:.1f}" == m.group(1)
+        times.append(mine.sim_time_s)
+    assert (f"{min(times):.1f}", f"{max(times):.1f}") == m.group(2, 3)
+
+
+def test_robust_shipped_profile_figure_is_its_wilson_interval():
+    """ "seeds 0–49: 50 of 50 in each of the four cells (93–100 %)"."""
+    m = claim(
+        CONTROLLERS, r"seeds 0–(\d+): (\d+) of (\d+) in each of the four cells \((\d+)–(\d+) %\)"
+    )
+    last, count, n, low, high = (int(x) for x in m.groups())
+    assert n == last + 1
+    assert [round(100 * x) for x in wilson_interval(count, n)] == [low, high]
