@@ -32,7 +32,6 @@ from test_doc_claims import (
     cell_key,
     count_rate_interval,
     plain,
-    robust_key,
     stated_failures,
 )
 
@@ -190,17 +189,30 @@ def test_the_numbers_the_failures_hang_on_are_the_band_s():
 
 
 def test_the_robust_band_the_page_quotes_is_the_controllers_page_s():
-    (row,) = [r for r in ROBUST_BANDS if robust_key(r)[1:] == ("two-robot-pass", "epuck")]
-    (column,) = [k for k in row if k.startswith("validation: plausible")]
-    first, last, runs = (int(x) for x in re.findall(r"\d+", column))
-    count, numbers = count_rate_interval(row[column], runs)
-    m = stated(r"physical e-pucks it passed (\d+) of (\d+) validation seeds \((\S+) %, (\S+) %\)")
-    assert m.groups() == (
-        str(count), str(runs), f"{numbers[0]:g}", f"{numbers[1]:g}–{numbers[2]:g}"
-    )  # fmt: skip
+    """ "200 of 200 validation seeds (...) in each of the four cells": every row's."""
+    m = stated(
+        r"robots it passed (\d+) of (\d+) validation seeds \((\S+) %, (\S+) %\) in each of "
+        r"the four\s+cells"
+    )
+    assert len(ROBUST_BANDS) == 4
+    for row in ROBUST_BANDS:
+        (column,) = [k for k in row if k.startswith("validation: plausible")]
+        runs = int(re.findall(r"\d+", column)[-1])
+        count, numbers = count_rate_interval(row[column], runs)
+        low_high = f"{numbers[1]:g}–{numbers[2]:g}"
+        assert m.groups() == (str(count), str(runs), f"{numbers[0]:g}", low_high), row
     improved = plain(band("improved", "epuck")["plausible robots, of 200"])
-    m = stated(r"where `improved` passes\s+(\S+) %")
+    m = stated(r"where `improved` passes (\S+) % on the straight\s+meeting with the physical")
     assert f"({m.group(1)} %," in improved, improved
+
+
+def test_the_robust_numbers_the_page_names_are_the_preset_s():
+    from puckboard.behaviours import ClearanceGuard, LineSearch, load_controller
+
+    layers = {type(layer): layer for layer in load_controller("robust").layers}
+    m = stated(r"at the same clearance, (\S+); its search, `LineSearch`, .* at `ratio` (\S+)\.")
+    assert float(m.group(1)) == layers[ClearanceGuard].clearance
+    assert float(m.group(2)) == layers[LineSearch].ratio
 
 
 # -- the sensitivity analysis -------------------------------------------------------------
