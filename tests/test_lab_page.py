@@ -384,9 +384,21 @@ def test_the_words_around_the_commands_are_their_arguments():
     episodes = re.search(r"(\d+) of \d+ episodes", shown)
     assert episodes is not None
     assert f"The sensitivity step runs {episodes.group(1)} episodes" in notes
-    assert f"a study of {next(w for w, n in WORDS.items() if n == trials)} trials" in notes.replace(
-        "\n", " "
-    ).replace("  ", " ")
+    # the wall clock the notes quote is what the page's outputs printed, in order
+    seconds = [
+        f"{float(re.search(r', ([0-9.]+) s', text).group(1)):.0f} s"  # type: ignore[union-attr]
+        for text in (
+            shown,
+            shown_after("puckboard tune")[1],
+            shown_after("puckboard sweep two-robot-pass ")[1],
+            shown_after("puckboard sweep two-robot-pass-bend ")[1],
+        )
+    ]
+    flat = " ".join(notes.split())
+    assert "they took {}, {}, and {} and {} of wall clock".format(*seconds) in flat, seconds
+    assert f"a study of {next(w for w, n in WORDS.items() if n == trials)} trials" in " ".join(
+        notes.split()
+    )
 
 
 SWEPT = re.compile(r"^\S+\s+-\s+(\d+)\s+(\d+)\s+(\d+) %\s+\[(\d+), (\d+)\] %\s+\S+\s+\S+\s+(.*)$",
