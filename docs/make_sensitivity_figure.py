@@ -1,8 +1,13 @@
-"""Measure the flagship sensitivity analysis and draw docs/img/sensitivity-two-robot-pass.png.
+"""Measure the flagship sensitivity analysis and draw docs/img/sensitivity-two-robot-pass.png
+(or, with ``--joint``, the joint method's docs/img/sensitivity-joint-two-robot-pass.png).
 
 ::
 
     python docs/make_sensitivity_figure.py [WORKDIR]      # default WORKDIR: ./sensitivity-work
+    python docs/make_sensitivity_figure.py --joint [WORKDIR]
+
+``--joint`` runs the same controllers and profiles by ``--method joint --seeds 0:300``
+(1,200 episodes, ``flagship-joint.parquet``); docs/sweeps.md compares the two figures.
 
 It runs, in WORKDIR, exactly the command docs/controllers.md gives::
 
@@ -39,6 +44,12 @@ COMMAND = [
     "--seeds", "0:40", "--out", "flagship.csv", "--plot", FIGURE,
 ]  # fmt: skip
 
+JOINT_FIGURE = "sensitivity-joint-two-robot-pass.png"
+JOINT_COMMAND = [
+    *COMMAND[:10], "--method", "joint", "--seeds", "0:300", "--out", "flagship-joint.parquet",
+    "--workers", "2", "--plot", JOINT_FIGURE,
+]  # fmt: skip
+
 
 def save_tutorial_controller(folder: Path) -> None:
     """``my_controller.py`` as the tutorial has the reader save it (step 6)."""
@@ -48,19 +59,24 @@ def save_tutorial_controller(folder: Path) -> None:
 
 
 def main(argv: list[str]) -> int:
+    joint = "--joint" in argv
+    argv = [a for a in argv if a != "--joint"]
+    command, figure = (JOINT_COMMAND, JOINT_FIGURE) if joint else (COMMAND, FIGURE)
     work = Path(argv[0] if argv else "sensitivity-work").resolve()
     work.mkdir(parents=True, exist_ok=True)
     save_tutorial_controller(work)
     os.chdir(work)  # the controller spec is relative, as in the page's command
     report = io.StringIO()
     with contextlib.redirect_stdout(report):
-        status = puckboard(COMMAND)
-    (work / "report.txt").write_text(report.getvalue(), encoding="utf-8")
+        status = puckboard(command)
+    (work / ("report-joint.txt" if joint else "report.txt")).write_text(
+        report.getvalue(), encoding="utf-8"
+    )
     print(report.getvalue())
     if status != 0:
         return status
-    shutil.copyfile(work / FIGURE, DOCS / "img" / FIGURE)
-    print(f"wrote docs/img/{FIGURE}")
+    shutil.copyfile(work / figure, DOCS / "img" / figure)
+    print(f"wrote docs/img/{figure}")
     return 0
 
 

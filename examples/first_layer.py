@@ -2,7 +2,8 @@
 
 A layer is a small class with three parts:
 
-* ``reads``: the blackboard keys it looks at (here only ``proximity``);
+* ``reads``: the blackboard keys it looks at (here only ``proximity``); reading any
+  other key raises an error that names it, so a misspelt key cannot go unnoticed;
 * ``applies(frame)``: *whether* it wants the wheels now;
 * ``command(frame)``: *what* it does with them, a ``WheelCommand(left, right)`` in rad/s.
 
@@ -28,10 +29,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from puckboard.backends import FakeAdapter
-from puckboard.behaviours import Controller, Cruise, Frame, Layer
-from puckboard.control.episode import run_episode
-from puckboard.records import WheelCommand
+from puckboard import Controller, Cruise, FakeAdapter, Frame, Layer, WheelCommand, run_episode
 
 
 class TurnLeftWhenBlocked(Layer):

@@ -2,8 +2,10 @@
 
 In the task control architecture (thesis §2.1.1, Figures 2.2–2.3) a mission is a *task
 tree*: a parent task starts its child tasks, and temporal constraints say which runs
-after which. Behaviour trees are the modern form of task trees, and puckboard's layers
-are py_trees behaviours, so a task tree is built from the same parts:
+after which. Behaviour trees are the modern form of task trees, and each of puckboard's
+layers runs in its controller's tree as a py_trees behaviour (``as_behaviour(layer)``
+hands it to a py_trees composite of your own), so a task tree is built from the same
+parts:
 
 * a ``Sequence`` (with memory) runs its children one after another: the next task starts
   when the previous one *succeeds*;
@@ -38,7 +40,15 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from puckboard.behaviours import Controller, Cruise, Frame, Layer, LineFollow, TickContext
+from puckboard.behaviours import (
+    Controller,
+    Cruise,
+    Frame,
+    Layer,
+    LineFollow,
+    TickContext,
+    as_behaviour,
+)
 from puckboard.control.episode import Episode
 from puckboard.profile import EPUCK2
 from puckboard.records import WheelCommand, WheelEncoders
@@ -128,8 +138,8 @@ def follow_line(metres: float) -> Task:
         f"line or cruise ({metres:g} m)",
         memory=False,
         children=[
-            LineFollow(recovery=True, name=f"LineFollow ({metres:g} m)"),
-            Cruise(name=f"Cruise ({metres:g} m)"),
+            as_behaviour(LineFollow(recovery=True, name=f"LineFollow ({metres:g} m)")),
+            as_behaviour(Cruise(name=f"Cruise ({metres:g} m)")),
         ],
     )
     return Task(f"follow the line for {metres:g} m", drive, distance_driven, metres)
@@ -141,9 +151,9 @@ def mission() -> Controller:
         memory=True,
         children=[
             follow_line(1.0),
-            Task("turn around", Spin(), angle_turned, 3.1),
+            Task("turn around", as_behaviour(Spin()), angle_turned, 3.1),
             follow_line(0.5),
-            Stop(),
+            as_behaviour(Stop()),
         ],
     )
     return Controller([tasks], name="task-control")

@@ -11,6 +11,9 @@ A first session needs nothing deeper than this package::
     with puckboard.open_embedded(scene) as robots:      # or open_backend("fake", scene)
         ...
 
+A first layer neither: ``from puckboard import Layer, Controller, Frame, WheelCommand,
+Cruise, LineFollow, FrontObstacleLeftTurn, SideWallKeep, run_episode`` is all the
+tutorial imports.
 
 A thread-safe blackboard holds timestamped sensor records written by a robot adapter;
 subsumption layers on py_trees read them and are arbitrated by priority into wheel
@@ -31,9 +34,14 @@ __all__ = [
     "Blackboard",
     "ControlLoop",
     "Controller",
+    "Cruise",
     "FakeAdapter",
+    "Frame",
+    "FrontObstacleLeftTurn",
     "Layer",
+    "LineFollow",
     "RobotAdapter",
+    "SideWallKeep",
     "WheelCommand",
     "__version__",
     "improved",
@@ -49,7 +57,12 @@ _LAZY = {
     "Blackboard": "puckboard.blackboard",
     "ControlLoop": "puckboard.control",
     "Controller": "puckboard.behaviours",
+    "Cruise": "puckboard.behaviours",
+    "Frame": "puckboard.behaviours",
+    "FrontObstacleLeftTurn": "puckboard.behaviours",
     "Layer": "puckboard.behaviours",
+    "LineFollow": "puckboard.behaviours",
+    "SideWallKeep": "puckboard.behaviours",
     "improved": "puckboard.behaviours",
     "stock": "puckboard.behaviours",
     "load_controller": "puckboard.behaviours",
@@ -66,7 +79,18 @@ if TYPE_CHECKING:  # pragma: no cover
     from .backends import FakeAdapter, RobotAdapter
     from .backends.embedded import open_embedded
     from .backends.registry import open_backend
-    from .behaviours import Controller, Layer, improved, load_controller, stock
+    from .behaviours import (
+        Controller,
+        Cruise,
+        Frame,
+        FrontObstacleLeftTurn,
+        Layer,
+        LineFollow,
+        SideWallKeep,
+        improved,
+        load_controller,
+        stock,
+    )
     from .blackboard import Blackboard
     from .control import ControlLoop
     from .control.episode import run_episode

@@ -30,6 +30,7 @@ EXTRA_OF_MODULE: dict[str, str] = {
     "distributed": "dask",
     "pyarrow": "dask",
     "optuna": "tune",
+    "statsmodels": "analysis",
     "mkdocs": "docs",
     "mkdocstrings": "docs",
 }

@@ -253,6 +253,31 @@ def test_import_puckboard_loads_no_heavy_or_optional_package():
     assert out.stdout.strip() == ""
 
 
+TEACHING = [
+    "Layer",
+    "Controller",
+    "Frame",
+    "WheelCommand",
+    "Cruise",
+    "LineFollow",
+    "FrontObstacleLeftTurn",
+    "SideWallKeep",
+    "run_episode",
+]
+
+
+def test_a_first_layer_imports_everything_from_puckboard_and_only_then_loads_it():
+    """The tutorial's one import line: each name the object of its own module, loaded on
+    first use (``import puckboard`` alone stays light, above)."""
+    from puckboard import behaviours, records
+    from puckboard.control import episode
+
+    homes = {"WheelCommand": records, "run_episode": episode}
+    for name in TEACHING:
+        assert getattr(puckboard, name) is getattr(homes.get(name, behaviours), name), name
+        assert name in puckboard.__all__ and name in dir(puckboard)
+
+
 def test_library_code_never_prints():
     offenders = []
     for p in PKG.rglob("*.py"):

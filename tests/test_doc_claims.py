@@ -1039,7 +1039,7 @@ def test_the_readme_s_bands_are_the_controllers_page_s():
 def test_the_pages_knife_edge_figures_are_the_band_s():
     row = {band_key(r): r for r in BANDS}[("improved", "epuck")]
     count, numbers = count_rate_interval(row["plausible robots, of 200"], 200)
-    edge = row["what moves it most (40 seeds per value)"]
+    edge = row["what moves it most"]
     heading = re.search(r"heading\*\*, (\d+)–(\d+)°: (\d+) to (\d+) of 40", edge)
     assert heading, edge
     m = claim("README.md", r"on plausible physical e-pucks it passes (\S+) % \((\S+) %\)")
@@ -1108,7 +1108,7 @@ def test_the_scenarios_page_s_bands_are_the_controllers_page_s():
         r"it from (\d+) to (\d+) seeds of 40",
     )
     edge = re.search(r"(\d+) to (\d+) of 40", bands[("improved", "epuck")][
-        "what moves it most (40 seeds per value)"])  # fmt: skip
+        "what moves it most"])  # fmt: skip
     assert edge
     assert [" ".join(g.split()) for g in m.groups()] == [
         shown("improved", "epuck-vrep", "shipped, of 200"),
@@ -1122,7 +1122,7 @@ def test_the_scenarios_page_s_bands_are_the_controllers_page_s():
 def test_the_real_robot_page_s_gain_figure_is_the_band_s():
     row = {band_key(r): r for r in BANDS}[("my_controller (the tutorial's)", "epuck")]
     band = re.search(r"IR gain, [\d.]+–[\d.]+: (\d+) to (\d+) of 40", row[
-        "what moves it most (40 seeds per value)"])  # fmt: skip
+        "what moves it most"])  # fmt: skip
     assert band, row
     m = claim("docs/real-robot.md", r"IR gain alone moves the tutorial's controller from (\d+) "
                                     r"to (\d+) seeds of 40")  # fmt: skip

@@ -114,3 +114,38 @@ def test_the_readme_example_layer_takes_control(in_student_folder):
 def test_the_readme_names_no_test_count():
     """A count of tests drifts with every test added; the README gives the command."""
     assert not re.search(r"\b\d[\d,]* tests\b", readme()), "the README states a test count"
+
+
+def test_the_readme_names_every_extra():
+    """Each optional part of pyproject.toml is named, so a reader learns it exists."""
+    import tomllib
+
+    pyproject = README.parent / "pyproject.toml"
+    extras = tomllib.loads(pyproject.read_text(encoding="utf-8"))["project"][
+        "optional-dependencies"
+    ]
+    missing = [name for name in extras if f'".[{name}]"' not in readme()]
+    assert not missing, f"extras the README does not name: {missing}"
+
+
+def test_the_readme_says_what_the_stock_run_warns(caplog):
+    """The stock transcript shows stdout; the warning the command prints on stderr is
+    quoted word for word in the note under it."""
+    import logging
+
+    from puckboard.cli import main
+
+    (quoted,) = re.findall(r"`WARNING (.+?)`", readme(), re.S)
+    with caplog.at_level(logging.WARNING):
+        assert main(["run", "--controller", "stock"]) == 0
+    logged = [f"{r.name}: {r.getMessage()}" for r in caplog.records if r.levelno == logging.WARNING]
+    assert " ".join(quoted.split()) in logged
+
+
+def test_the_readme_gives_the_picture_before_the_commands_and_the_test_time():
+    """A newcomer reads what puckboard is for before a command, and how long the test
+    command takes before running it."""
+    text = readme()
+    opening = text[: text.index("```bash")]
+    assert "e-puck" in opening and "layers" in opening and "%" not in opening
+    assert text.count("about 8 minutes on 2 cores") == 2

@@ -9,7 +9,7 @@ from .context import TickContext
 from .controller import NO_LAYER, Controller
 from .cruise import DEFAULT_SPEED, Cruise
 from .go_home import GoHome
-from .layer import Frame, Layer
+from .layer import Frame, Layer, as_behaviour
 from .line_follow import LineFollow
 from .line_search import LineSearch
 from .obstacle import FrontBraitenbergAvoid, FrontObstacleLeftTurn, obstacle_in_front
@@ -34,6 +34,7 @@ __all__ = [
     "LineSearch",
     "SideWallKeep",
     "TickContext",
+    "as_behaviour",
     "improved",
     "load_controller",
     "obstacle_in_front",

@@ -9,7 +9,10 @@ The Selector stops asking at the first layer that applies, so a tick alone would
 the layers below the driver unaware of the world. In Brooks' subsumption every layer
 runs all the time and suppression acts only on outputs; so before the arbiter asks
 anyone, the controller lets every :class:`~puckboard.behaviours.Layer` of the tree
-(inside decorators and composites too) ``observe`` the tick's frame.
+(inside decorators and composites too) ``observe`` the tick's frame. A controller with
+``requires=`` asks nobody, ``observe`` included, while a required key is missing or
+stale: the robot stops, and no layer has to handle a required reading that has not
+arrived.
 
 Each tick writes two keys to the robot's namespace: ``command/wheels`` (the
 :class:`~puckboard.records.WheelCommand`) and ``command/layer`` (the name of the layer in
@@ -31,35 +34,34 @@ from py_trees.common import Status
 
 from ..blackboard import Namespace
 from ..errors import LayerError
-from ..records import Sensor, WheelCommand
-from .context import Frame, TickContext
-from .layer import Layer, require_initialised
+from ..records import WheelCommand
+from .context import ROBOT_KEYS, TickContext
+from .layer import Layer, LayerNode, as_behaviour, layer_of
 
 __all__ = ["NO_LAYER", "Controller"]
 
 NO_LAYER = "(none)"
 """``command/layer`` when no layer applied (the robot then stops)."""
 
-#: Keys every robot may have whatever its backend: its sensors and its commands.
-ROBOT_KEYS = frozenset([*(sensor.key for sensor in Sensor), "command/wheels", "command/layer"])
-
 
 class Controller:
     """Arbitrates ``layers`` (highest priority first) into one wheel command per tick.
 
     ``layers`` may contain :class:`Layer` objects or any py_trees behaviour built from
-    them (a :class:`~puckboard.behaviours.HoldFor` decorator, a Sequence, ...).
+    them (a :class:`~puckboard.behaviours.HoldFor` decorator, a Sequence of
+    :func:`~puckboard.behaviours.as_behaviour` nodes, ...).
 
     ``requires`` names keys that must be fresh: when one is missing or stale the robot is
     commanded to stop instead of acting on old data.
 
     Each tick, every :class:`Layer` of the tree first observes the frame
-    (:meth:`Layer.observe`), then the arbiter asks the layers in priority order.
+    (:meth:`Layer.observe`), then the arbiter asks the layers in priority order; with
+    ``requires``, only once every required key is fresh.
     """
 
     def __init__(
         self,
-        layers: Sequence[py_trees.behaviour.Behaviour],
+        layers: Sequence[Layer | py_trees.behaviour.Behaviour],
         *,
         name: str = "Arbiter",
         requires: Iterable[str] = (),
@@ -70,29 +72,28 @@ class Controller:
             raise TypeError(
                 f"requires={requires!r} is one string; write a tuple: requires=({requires!r},)"
             )
-        for layer in layers:
-            if not isinstance(layer, py_trees.behaviour.Behaviour):
-                raise TypeError(
-                    f"controller layers must be Layer (py_trees behaviour) objects, got "
-                    f"{type(layer).__name__}"
-                )
-            require_initialised(layer)
+        if isinstance(layers, (Layer, type)):
+            raise TypeError(f"a Controller takes a list of layers: Controller([{layers!r:.40}])")
+        children = [as_behaviour(layer) for layer in layers]
         self.name = name
-        self.root = py_trees.composites.Selector(name, memory=False, children=list(layers))
+        self.root = py_trees.composites.Selector(name, memory=False, children=children)
         self.tree = py_trees.trees.BehaviourTree(self.root)
         self.requires = tuple(requires)
         reads: set[str] = set(self.requires)
         for node in self.root.iterate():
             reads.update(keys_read(node))
         self.reads = tuple(sorted(reads))
+        nodes = [node for node in self.root.iterate() if isinstance(node, LayerNode)]
         #: Every layer of the tree, in tree order: each observes every tick's frame.
-        self.every_layer = [node for node in self.root.iterate() if isinstance(node, Layer)]
+        self.every_layer = [node.layer for node in nodes]
         #: What the behaviours of the tree are handed for each tick (see TickContext).
         self.context = TickContext()
         self.active_layer: str = NO_LAYER
         self.last_command = WheelCommand.stop()
         self._checked: Namespace | None = None  # the namespace whose keys were checked
         self.tree.setup(context=self.context)
+        #: Each layer with the frame it reads through (made at setup, see LayerNode).
+        self._frames = [(node.layer, node.frame) for node in nodes]
 
     @property
     def failed_layer(self) -> str | None:
@@ -101,16 +102,17 @@ class Controller:
         return self.context.failed_layer
 
     @property
-    def layers(self) -> list[py_trees.behaviour.Behaviour]:
-        """The top-level layers, highest priority first."""
-        return list(self.root.children)
+    def layers(self) -> list[Layer | py_trees.behaviour.Behaviour]:
+        """The top-level layers (or the behaviours built from them), highest priority
+        first."""
+        return [layer_of(child) or child for child in self.root.children]
 
     def find(self, name: str) -> Layer:
         """The layer called ``name`` (to tune a parameter, for instance)."""
-        for node in self.root.iterate():
-            if node.name == name and isinstance(node, Layer):
-                return node
-        names = [n.name for n in self.root.iterate() if isinstance(n, Layer)]
+        for layer in self.every_layer:
+            if layer.name == name:
+                return layer
+        names = [layer.name for layer in self.every_layer]
         raise KeyError(f"no layer named {name!r}; layers: {', '.join(names)}")
 
     def tick(self, ns: Namespace) -> WheelCommand:
@@ -119,24 +121,24 @@ class Controller:
         if ns is not self._checked:
             self.check_keys(ns)
         snapshot = ns.snapshot(self.reads)
-        frame = Frame(snapshot)
         context = self.context
-        context.begin(frame)
-        for layer in self.every_layer:  # every layer sees every tick, whoever drives
-            try:
-                layer.observe(frame)
-            except Exception as exc:
-                error = context.blame(layer.name, exc)
-                if error is None:
-                    raise
-                raise error from exc
+        context.begin(snapshot)
         status = snapshot.status
         for key in self.requires:
-            if status(key) != "fresh":
+            if status(key) != "fresh":  # no layer acts, or learns, on missing or old data
                 self.root.stop(Status.INVALID)
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
+            for layer, frame in self._frames:  # every layer sees every tick, whoever drives
+                frame.point_at(snapshot)
+                try:
+                    layer.observe(frame)
+                except Exception as exc:
+                    error = context.blame(layer.name, exc)
+                    if error is None:
+                        raise
+                    raise error from exc
             self.tree.tick()
             proposal = context.proposal
             if proposal is None:

@@ -74,14 +74,7 @@ def apply_layer_overrides(
             setattr(layer, attr, _as_type_of(params[attr], name, value))
             found = True
         if not found:
-            layers = sorted(
-                {
-                    n.name
-                    for c in controllers.values()
-                    for n in c.root.iterate()
-                    if isinstance(n, Layer)
-                }
-            )
+            layers = sorted({n.name for c in controllers.values() for n in c.every_layer})
             raise ValueError(
                 f"override {name!r}: no controller has a layer {layer_name!r}; "
                 f"layers: {', '.join(layers)}"

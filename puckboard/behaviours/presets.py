@@ -30,12 +30,14 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import inspect
 import pkgutil
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..errors import LayerError
 from .clearance import ClearanceGuard
 from .controller import Controller
 from .cruise import DEFAULT_SPEED, Cruise
@@ -121,18 +123,49 @@ def load_controller(spec: str | ControllerFactory, **params: Any) -> Controller:
     so each robot gets its own controller state.
     """
     factory = resolve_factory(spec)
-    try:
-        result = factory(**params)
-    except TypeError as exc:
-        raise ValueError(f"controller {spec!r} does not accept parameters {params}: {exc}") from exc
+    _check_arguments(factory, spec, params)
+    result = factory(**params)  # what it raises is the factory's own code's: shown as such
     if isinstance(result, Controller):
         return result
-    if isinstance(result, Sequence) and result and all(isinstance(x, Layer) for x in result):
+    if isinstance(result, Sequence) and not isinstance(result, str) and result:
+        # Controller names what is not a layer (a class where an object belongs ...)
         return Controller(list(result), name=str(getattr(factory, "__name__", spec)))
     raise TypeError(
         f"controller factory {spec!r} returned {type(result).__name__}; it must return a "
         "Controller or a list of Layer objects"
     )
+
+
+def _check_arguments(factory: ControllerFactory, spec: object, params: dict[str, Any]) -> None:
+    """Refuse a factory that cannot be called with ``params``, naming the argument.
+
+    Checked on the signature before the call, so that a ``TypeError`` raised inside the
+    factory (a layer class given where an object belongs) is not mistaken for this.
+    """
+    try:
+        signature = inspect.signature(factory)
+    except (TypeError, ValueError):  # no signature to read (a builtin): the call will say
+        return
+    try:
+        signature.bind(**params)
+    except TypeError as exc:
+        needed = [
+            name
+            for name, p in signature.parameters.items()
+            if p.default is p.empty
+            and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+            and name not in params
+        ]
+        name = getattr(factory, "__name__", "factory")
+        if needed:
+            first = needed[0]
+            raise LayerError(
+                f"controller {spec!r}: {name}() needs the argument {first!r}, which nothing "
+                f"passes; give it a default in the factory ({name}({first}=...)) or make "
+                f"a factory without it"
+            ) from None
+        given = ", ".join(sorted(params)) or "none"
+        raise LayerError(f"controller {spec!r}: {name}() does not take {given}: {exc}") from None
 
 
 def split_file_spec(spec: str) -> tuple[Path, str] | None:

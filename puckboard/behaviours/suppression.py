@@ -18,8 +18,8 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from .context import TickContext
-from .layer import Layer, require_initialised
+from .context import TickContext, current_frame
+from .layer import Layer, LayerNode, as_behaviour
 
 __all__ = ["HoldFor"]
 
@@ -37,11 +37,12 @@ class HoldFor(py_trees.decorators.Decorator):
     ) -> None:
         if duration < 0:
             raise ValueError(f"HoldFor duration must be >= 0 seconds, got {duration}")
-        if not isinstance(layer, Layer):
+        node = as_behaviour(layer)  # refuses a class or a layer that skipped its __init__
+        if not isinstance(node, LayerNode):
             raise TypeError(f"HoldFor wraps a Layer, got {type(layer).__name__}")
-        require_initialised(layer)
-        super().__init__(name=name or f"HoldFor({layer.name}, {duration:g}s)", child=layer)
+        super().__init__(name=name or f"HoldFor({layer.name}, {duration:g}s)", child=node)
         self.layer = layer
+        self._node = node
         self.duration = duration
         self.clock = clock
         self.reads = layer.reads
@@ -53,12 +54,8 @@ class HoldFor(py_trees.decorators.Decorator):
 
     def update(self) -> Status:
         context = self.context
-        frame = context.frame if context is not None else None
-        if context is None or frame is None:
-            raise RuntimeError(
-                f"{self.name!r} was ticked outside a Controller; build a Controller from "
-                "your layers and call controller.tick()"
-            )
+        frame = current_frame(context, self.name)
+        assert context is not None
         now = self.clock() if self.clock is not None else frame.time
         if self.decorated.status == Status.RUNNING:
             self._last_active = now
@@ -66,7 +63,7 @@ class HoldFor(py_trees.decorators.Decorator):
         if self._last_active is not None and now - self._last_active < self.duration:
             layer = self.layer
             try:
-                command = layer.command(frame)
+                command = layer.command(self._node.frame)  # the layer's own frame
             except Exception as exc:
                 error = context.blame(layer.name, exc)
                 if error is None:

@@ -26,6 +26,8 @@ import numpy.typing as npt
 import py_trees
 from py_trees.common import Status
 
+from .layer import LayerNode
+
 __all__ = ["NOT_TICKED", "STATUS_NAMES", "TreeTrace", "trace", "tree_nodes"]
 
 #: Status codes: index into this tuple. 0: the node was not ticked ("not asked").
@@ -43,7 +45,7 @@ def _kind(node: py_trees.behaviour.Behaviour) -> str:
         return "parallel"
     if isinstance(node, py_trees.decorators.Decorator):
         return "decorator"
-    if callable(getattr(node, "applies", None)) and callable(getattr(node, "command", None)):
+    if isinstance(node, LayerNode):
         return "layer"
     return "behaviour"
 
@@ -60,7 +62,7 @@ def _preorder(root: py_trees.behaviour.Behaviour) -> list[py_trees.behaviour.Beh
 def tree_nodes(root: py_trees.behaviour.Behaviour) -> list[dict[str, Any]]:
     """The tree under ``root`` as plain data, parents before children in priority order.
 
-    Each node: ``name``, ``type`` (its class), ``kind`` (``selector``, ``sequence``,
+    Each node: ``name``, ``type`` (its class; a layer's node gives its layer's), ``kind`` (``selector``, ``sequence``,
     ``parallel``, ``decorator``, ``layer`` or ``behaviour``), ``parent`` (index, -1 for
     the root) and ``depth``; composites also say whether they have ``memory``.
     """
@@ -70,7 +72,9 @@ def tree_nodes(root: py_trees.behaviour.Behaviour) -> list[dict[str, Any]]:
     for node in nodes:
         parent = -1 if node is root or node.parent is None else index[id(node.parent)]
         entry: dict[str, Any] = {
-            "name": node.name, "type": type(node).__name__, "kind": _kind(node),
+            "name": node.name,
+            "type": type(node.layer if isinstance(node, LayerNode) else node).__name__,
+            "kind": _kind(node),
             "parent": parent, "depth": 0 if parent < 0 else out[parent]["depth"] + 1,
         }  # fmt: skip
         if isinstance(node, py_trees.composites.Composite) and hasattr(node, "memory"):

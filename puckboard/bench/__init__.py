@@ -41,6 +41,7 @@ SUITES: dict[str, str] = {
     "scale": "puckboard.bench.scale:run_suite",
     "web": "puckboard.bench.web:run_suite",
     "compare": "puckboard.bench.compare:run_suite",
+    "sensitivity": "puckboard.bench.sensitivity:run_suite",
 }
 
 #: Suites run when none is named.

@@ -3,7 +3,14 @@
 puckboard's blackboard and its subsumption arbiter replace py_trees' blackboard clients
 and a ``Selector`` of four behaviours; a reader deciding whether that is worth it needs
 both sides measured the same way on the same machine: a put+get, and one tick of four
-layers reading sensors and writing a wheel command.
+layers reading sensors and writing a wheel command. Absolute times move with the
+machine and its load; ``arbiter_over_selector``, the arbiter's tick divided by py_trees'
+own Selector's from the same run, is the figure to quote.
+
+Two parts of the arbiter's tick are measured on their own: ``observe_pass_us``, every
+layer's ``observe`` (each layer's frame pointed at the snapshot, then the call), and
+``tracing_adds_us``, what a :class:`~puckboard.behaviours.tracing.TreeTrace` (a
+recording's or a live view's) adds to a tick.
 """
 
 from __future__ import annotations
@@ -27,6 +34,8 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
 
     from ..backends.base import declare_robot_keys
     from ..behaviours import load_controller
+    from ..behaviours.layer import layer_node
+    from ..behaviours.tracing import trace
     from ..blackboard import Blackboard
     from ..records import Ground, Pose, Proximity, Sensor
 
@@ -69,6 +78,19 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     out["arbiter_tick_us"] = _median_us(lambda: controller.tick(ns), calls)
     out["arbiter_layers"] = len(controller.layers)
     out["arbiter_active_layer"] = controller.active_layer
+    traced = load_controller("improved")
+    trace(traced)
+    out["arbiter_tick_traced_us"] = _median_us(lambda: traced.tick(ns), calls)
+    out["tracing_adds_us"] = out["arbiter_tick_traced_us"] - out["arbiter_tick_us"]
+    snapshot = ns.snapshot(controller.reads)
+    frames = [(layer, layer_node(layer).frame) for layer in controller.every_layer]
+
+    def observe_pass() -> None:  # the controller's own loop, on the same snapshot
+        for layer, frame in frames:
+            frame.point_at(snapshot)
+            layer.observe(frame)
+
+    out["observe_pass_us"] = _median_us(observe_pass, calls)
 
     # the same shape in plain py_trees: 4 children reading via a Client, writing a command
     py_trees.blackboard.Blackboard.clear()
@@ -104,5 +126,8 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     tree = py_trees.trees.BehaviourTree(root)
     tree.setup()
     out["py_trees_selector_tick_us"] = _median_us(tree.tick, calls)
+    out["arbiter_over_selector"] = round(
+        out["arbiter_tick_us"] / out["py_trees_selector_tick_us"], 2
+    )
     py_trees.blackboard.Blackboard.clear()
     return out

@@ -129,19 +129,25 @@ class CalibrationPlan:
         """Seconds spent reading at one pose (settling included)."""
         return self.settle + self.samples * self.sample_period
 
-    def duration(self) -> float:
-        """Estimated seconds for the whole run (moves at full speed, no link latency)."""
-        reading = 1 + self.stops * len(self.presentations)  # the first, facing the wall
-        turning = self.stops * math.tau - (math.tau - self.presentations[-1].heading)
+    def duration(self, stops: int | None = None) -> float:
+        """Estimated seconds for the whole run, or for its first ``stops`` stops (moves at
+        full speed, no link latency). Later stops take longer than earlier ones (each
+        drives back to the wall and out further), which is why the time left is told
+        from this model and not from the seconds per pose so far."""
+        k = self.stops if stops is None else max(0, min(stops, self.stops))
+        if k == 0:
+            return 0.0
+        reading = 1 + k * len(self.presentations)  # the first, facing the wall
+        turning = k * math.tau - (math.tau - self.presentations[-1].heading) * (k == self.stops)
         driving = sum(
-            2 * self.push(before) + before + back if k else back
-            for k, (before, back) in enumerate(zip((0.0, *self.backs), self.backs))
+            2 * self.push(before) + before + back if j else back
+            for j, (before, back) in enumerate(zip((0.0, *self.backs[:k]), self.backs[:k]))
         )
         return (
             reading * self.pose_seconds()
             + turning / self.turn_rate
             + driving / self.drive_rate
-            + (self.stops - 1) * self.settle  # after each touch
+            + (k - 1) * self.settle  # after each touch
         )
 
     def targets(self, stop: int) -> tuple[list[tuple[float, Presentation]], float]:

@@ -46,7 +46,7 @@ from .plan import CalibrationPlan, Presentation
 from .readings import Measurements, PoseReading, Progress
 from .response import WallModel
 
-__all__ = ["Odometry", "run_calibration"]
+__all__ = ["CalibrationInterrupted", "Odometry", "run_calibration"]
 
 log = logging.getLogger(__name__)
 
@@ -340,6 +340,15 @@ class _Run:
             )
 
 
+class CalibrationInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a run, carrying what was measured until then (``measurements``):
+    every stop measured is kept, for a fit of what there is, instead of thrown away."""
+
+    def __init__(self, measurements: Measurements) -> None:
+        super().__init__("interrupted")
+        self.measurements = measurements
+
+
 def run_calibration(
     adapter: RobotAdapter,
     plan: CalibrationPlan,
@@ -357,16 +366,23 @@ def run_calibration(
     stepper = adapter.stepper
     clock: _Clock = _SteppedClock(stepper) if stepper is not None else _WallClock()
     run = _Run(adapter, plan, model, clock, progress)
+
+    def measured() -> Measurements:
+        return Measurements(
+            plan=plan,
+            readings=tuple(run.readings),
+            seconds=clock.now() - run.t0,
+            backend=adapter.backend_name,
+        )
+
     try:
         run.run()
+    except KeyboardInterrupt as exc:
+        _stop_wheels(adapter)
+        raise CalibrationInterrupted(measured()) from exc
     finally:
         _stop_wheels(adapter)
-    return Measurements(
-        plan=plan,
-        readings=tuple(run.readings),
-        seconds=clock.now() - run.t0,
-        backend=adapter.backend_name,
-    )
+    return measured()
 
 
 def _stop_wheels(adapter: Any) -> None:

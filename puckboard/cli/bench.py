@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .common import CliError
+from .common import CliError, check_writable
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -89,6 +89,8 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(f"unknown suite {unknown[0]!r}; suites: {', '.join(SUITES)} (see --list)")
     if args.steps is not None and args.steps < 1:
         raise CliError(f"--steps must be a positive number, got {args.steps}")
+    if args.out is not None:
+        check_writable(args.out, "--out")
     options = {k: getattr(args, k) for k in SUITE_OPTIONS if getattr(args, k) is not None}
     taken = set().union(*(suite_options(n) for n in names))
     for key in options:

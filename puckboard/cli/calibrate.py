@@ -11,7 +11,8 @@ your robot. ``--dry-run`` prints the plan and moves nothing.
 Without a robot, try it on the emulated one, whose sensors a profile file can make
 unlike the table: ``puckboard emulate calibration-wall --profile FILE.toml``.
 
-The wheels are stopped at the end, on any error and on Ctrl-C (exit status 130). A run
+The wheels are stopped at the end, on any error and on Ctrl-C (exit status 130); after
+Ctrl-C the poses measured so far are fitted and written, when they are enough. A run
 that cannot work (no wall seen, wheels that do not turn, a robot that does not move away,
 a sensor that does not respond or reads full scale) stops with one line saying what to
 fix (exit status 1); bad input is one line and exit status 2.
@@ -205,7 +206,7 @@ def main(args: argparse.Namespace) -> int:
     where = f"{args.backend} {options.get('host', options.get('device', ''))}".strip()
     if "port" in options:
         where += f":{options['port']}"
-    display = _Display(enabled=not args.quiet, total_s=plan.duration())
+    display = _Display(enabled=not args.quiet, plan=plan)
     print(
         f"calibrating the IR sensors of the robot on {where}: it starts touching the wall, "
         f"facing it; about {plan.duration() / 60:.0f} min; Ctrl-C stops it",
@@ -214,10 +215,13 @@ def main(args: argparse.Namespace) -> int:
     )
     try:
         measurements = run_calibration(adapter, plan, model, progress=display.update)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         display.close()
         connection.close()  # the run stopped the wheels; closing stops them once more
         print("puckboard calibrate: interrupted; the wheels were stopped", file=sys.stderr)
+        partial = getattr(exc, "measurements", None)
+        if partial is not None:
+            _fit_what_was_measured(args, out, where, plan, partial, model, fit_all)
         return 130
     except CalibrationError as exc:
         raise CliError(f"{exc}; the wheels were stopped", status=1) from None
@@ -238,6 +242,41 @@ def main(args: argparse.Namespace) -> int:
     except CalibrationError as exc:
         raise CliError(str(exc), status=1) from None
     return _write_and_report(args, out, where, plan, measurements, model, fits)
+
+
+def _fit_what_was_measured(
+    args: argparse.Namespace,
+    out: Path,
+    where: str,
+    plan: Any,
+    measurements: Any,
+    model: Any,
+    fit_all: Any,
+) -> None:
+    """After Ctrl-C: fit the poses measured so far and write the profile from them, or
+    say why they are too few. The stops already measured took minutes of a robot's
+    time; thrown away, the whole run had to be done again."""
+    from ..errors import CalibrationError
+
+    poses = len(measurements.readings)
+    try:
+        fits = fit_all(measurements.readings, model)
+    except CalibrationError as exc:
+        print(
+            f"puckboard calibrate: the {poses} poses measured are too few to fit ({exc}); "
+            "nothing was written: run it again to measure more",
+            file=sys.stderr,
+        )
+        return
+    print(
+        f"puckboard calibrate: fitting the {poses} of {1 + plan.stops * len(plan.presentations)} "
+        "poses measured before Ctrl-C",
+        file=sys.stderr,
+    )
+    try:
+        _write_and_report(args, out, where, plan, measurements, model, fits)
+    except CliError as exc:
+        print(f"puckboard calibrate: error: {exc}", file=sys.stderr)
 
 
 def _write_and_report(
@@ -313,11 +352,11 @@ class _Display:
     """Which stop, which sensor and how far, on stderr: one line rewritten on a terminal,
     a line per stop otherwise."""
 
-    def __init__(self, *, enabled: bool, total_s: float) -> None:
+    def __init__(self, *, enabled: bool, plan: Any) -> None:
         self.enabled = enabled
         self.tty = sys.stderr.isatty()
         self.t0 = time.monotonic()
-        self.total_s = total_s
+        self.plan = plan
         self.last_stop = -1
         self.shown = False
 
@@ -327,12 +366,7 @@ class _Display:
         if not self.tty and progress.stop == self.last_stop:
             return
         self.last_stop = progress.stop
-        elapsed = time.monotonic() - self.t0
-        left = (
-            elapsed / progress.done * (progress.total - progress.done)
-            if progress.done
-            else self.total_s
-        )
+        left = self.seconds_left(progress.stop, time.monotonic() - self.t0)
         line = (
             f"stop {progress.stop + 1}/{progress.stops}, {round(max(progress.backed, 0.0) * 1000)}"
             f" mm from touching: {progress.pose} ({progress.done + 1}/{progress.total} poses, "
@@ -343,6 +377,13 @@ class _Display:
             self.shown = True
         else:
             print(line, file=sys.stderr, flush=True)
+
+    def seconds_left(self, stop: int, elapsed: float) -> float:
+        """The plan's seconds for the stops still to come, at the pace measured over the
+        stops done: later stops drive further, so the seconds per pose so far would tell
+        "about 1 min" from the second stop to the last."""
+        done, total = self.plan.duration(stop), self.plan.duration()
+        return (total - done) * (elapsed / done if done > 0 else 1.0)
 
     def close(self) -> None:
         if self.shown:

@@ -77,6 +77,15 @@ class _SubcommandParser(argparse.ArgumentParser):
     ``puckboard CMD: error: ...`` and status 2 from :func:`main`, not argparse's usage
     block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage."""
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        # A value that starts with a minus and a digit ('--seeds -5:2', '--distance
+        # -5mm') is a value, not an option: argparse alone takes only plain numbers
+        # ('-5', '-0.5') so, and refuses the rest with "expected one argument", which
+        # hides the check that would say what is wrong with the value. No option of
+        # puckboard starts with a digit.
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
     def error(self, message: str) -> NoReturn:
         flag, sep, detail = message.partition(": ")
         if sep and flag.startswith("argument ") and detail.startswith(flag[9:] + " "):
@@ -112,11 +121,31 @@ def check_speed(value: float | None, flag: str = "--speed") -> None:
         raise CliError(f"{flag} must be a finite number ≥ 0 (0 = unpaced), got {value}")
 
 
-def check_port(port: int | None, flag: str = "--port") -> None:
-    """Refuse a TCP port outside 0..65535 before binding: the socket layer reports it
-    as an ``OverflowError`` that names neither the option nor the range."""
-    if port is not None and not 0 <= port <= 65535:
+def check_port(port: int | None, flag: str = "--port", *, listen_on: str | None = None) -> None:
+    """Refuse a TCP port that cannot be used, before any work: the one check of every
+    port option.
+
+    A port outside 0..65535 is refused for every use (the socket layer reports it as an
+    ``OverflowError`` that names neither the option nor the range, and a client only
+    after its connection timeout). With ``listen_on`` (the host a server of this
+    command will listen on) the port is also bound and released at once, so a port in
+    use or one that needs rights the user lacks is said now, in
+    :func:`bind_error_message`'s words, and not by a traceback from a server started
+    after the work (or from a child process, as ``docs --serve`` runs MkDocs).
+    """
+    if port is None:
+        return
+    if not 0 <= port <= 65535:
         raise CliError(f"{flag} must be 0..65535, got {port}")
+    if listen_on is None or port == 0:
+        return
+    host = "" if listen_on == "*" else listen_on  # ZeroMQ's "every interface"
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    try:
+        with socket.create_server((host, port), family=family):
+            pass
+    except OSError as exc:
+        raise CliError(bind_error_message(exc, listen_on, port, flag)) from None
 
 
 def missing_extra(exc: ImportError, what: str) -> CliError:
@@ -143,10 +172,11 @@ def require(module: str, what: str) -> None:
 
 
 def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path:
-    """Refuse an output that cannot be written, before the run that would produce it.
+    """Refuse an output that cannot be written, before the run that would produce it:
+    the one check of every output option (files and folders alike).
 
-    Without this a read-only place is found out after a long run: the run is lost and
-    the error is a logged traceback. ``path`` is a file to be written (its folder is
+    Without this a read-only place, or a path through a regular file, is found out
+    after a long run: the run is lost and the error is a traceback. ``path`` is a file to be written (its folder is
     created when missing) or, with ``folder=True``, a folder to write files in. Whether
     the folder takes files is tried by creating and removing a file in it, the one test
     that holds on every system and for every user (permission bits do not bind an
@@ -355,14 +385,15 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
     return f"{where}: {reason}{hint}"
 
 
-def add_variation_argument(parser: argparse.ArgumentParser) -> None:
-    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``."""
+def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--seed") -> None:
+    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``;
+    ``seeded_by`` is the option that seeds the draw (``sweep`` has ``--seeds``)."""
     parser.add_argument(
         "--variation",
         choices=("none", "plausible"),
         default="none",
         help="plausible: build each robot from numbers drawn within what the sources allow "
-        "(seeded by --seed, a robot each; its controller still believes the profile); "
+        f"(seeded by {seeded_by}, a robot each; its controller still believes the profile); "
         "default none: every robot exactly as its profile says",
     )
 
@@ -406,13 +437,13 @@ def web_url(view: Any, host: str) -> str:
 
 
 def serve_until_interrupted(view: Any) -> None:
-    """Keep a web view up (its page, its verdict) until Ctrl-C, then close it."""
+    """Keep a web view up (its page, its verdict) until Ctrl-C, then close it; the
+    Ctrl-C goes on to :func:`puckboard.cli.main`, which ends the command with status 130
+    as every command ends on Ctrl-C."""
     import time
 
     try:
         while True:
             time.sleep(0.5)
-    except KeyboardInterrupt:
-        pass
     finally:
         view.close()

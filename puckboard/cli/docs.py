@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .common import CliError
+from .common import CliError, check_port, check_writable
 
 #: Python modules the build needs, with the distribution that provides each.
 REQUIRED_MODULES: dict[str, str] = {
@@ -97,6 +97,10 @@ def main(args: argparse.Namespace) -> int:
     import subprocess
     import sys
 
+    if args.serve:
+        check_port(args.port, listen_on=args.host)
+    elif args.output is not None:
+        check_writable(args.output, "--output", folder=True)
     missing = missing_modules()
     if missing:
         raise CliError(

@@ -101,7 +101,7 @@ def main(args: argparse.Namespace) -> int:
     from ..errors import SceneError
 
     check_seconds(args.duration)
-    check_port(args.port)
+    check_port(args.port, listen_on=args.host)
     if not (math.isfinite(args.speed) and args.speed > 0):
         raise CliError(f"--speed must be a finite number > 0 (times real time), got {args.speed}")
     if args.idle_timeout < 0:

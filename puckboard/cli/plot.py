@@ -6,7 +6,7 @@ import argparse
 import math
 from pathlib import Path
 
-from .common import CliError
+from .common import CliError, check_writable
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -16,14 +16,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description=(
             "Plot a run recorded with 'puckboard run --record run.npz': trajectories, "
             "the arbitration timeline (which layer had control when), sensor traces and "
-            "wheel commands. --animate also renders a GIF or MP4 from the recording."
+            "wheel commands. --animate renders a GIF or MP4 from the recording instead "
+            "(the plots too when --out is given)."
         ),
     )
     p.add_argument("recording", metavar="RECORDING", help="a .npz recording")
-    p.add_argument("--out", default=None, metavar="DIR", help="output directory (default: .)")
+    p.add_argument(
+        "--out", default=None, metavar="DIR",
+        help="folder for the plots (default: .; with --animate, plots only when --out is given)",
+    )  # fmt: skip
     p.add_argument("--format", choices=("png", "svg"), default="png", help="image format")
     p.add_argument(
-        "--animate", metavar="FILE", default=None, help="also write an animation (.gif or .mp4)"
+        "--animate", metavar="FILE", default=None, help="write an animation (.gif or .mp4)"
     )
     p.add_argument(
         "--speed",
@@ -97,6 +101,11 @@ def main(args: argparse.Namespace) -> int:
         if w < 160 or h < 90:
             raise CliError("--size must be at least 160x90 pixels")
         size = (w, h)
+    # last of the checks (they create a missing folder), before anything is shown or written
+    if args.out is not None:
+        check_writable(args.out, "--out", folder=True)
+    if args.animate:
+        check_writable(args.animate, "--animate")
     if args.view:
         from ..viz.live import can_show, replay
 
@@ -105,13 +114,16 @@ def main(args: argparse.Namespace) -> int:
         replay(rec, speed=args.speed or 1.0)
         if not (args.out or args.animate):
             return 0
-    out = Path(args.out) if args.out else Path(".")
-    try:
-        paths = save_plots(rec, out, args.format)
-    except ValueError as exc:
-        raise CliError(str(exc)) from exc
-    for path in paths:
-        print(f"wrote {path}")
+    # an animation alone writes only itself: the plots it used to write besides went
+    # into the current folder unasked, over any plots already there
+    if args.out or not args.animate:
+        out = Path(args.out) if args.out else Path(".")
+        try:
+            paths = save_plots(rec, out, args.format)
+        except ValueError as exc:
+            raise CliError(str(exc)) from exc
+        for path in paths:
+            print(f"wrote {path}")
     if args.animate:
         try:
             info = render_animation(

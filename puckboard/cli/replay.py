@@ -17,6 +17,7 @@ from .common import (
     CliError,
     add_web_arguments,
     check_port,
+    check_writable,
     help_text,
     serve_until_interrupted,
     start_web_view,
@@ -48,12 +49,13 @@ def main(args: argparse.Namespace) -> int:
             "say how to replay it: --web (serve the player in the browser) or --html FILE "
             "(write it as one file that opens offline)"
         )
-    check_port(args.web_port, "--web-port")
+    check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     if args.html:
         from ..web.export import HTML_SUFFIXES
 
         if not args.html.lower().endswith(HTML_SUFFIXES):
             raise CliError(f"--html {args.html!r}: the player is written as a .html file")
+        check_writable(args.html, "--html")
     try:
         rec = load_recording(args.recording)
     except (FileNotFoundError, ValueError) as exc:
@@ -63,10 +65,7 @@ def main(args: argparse.Namespace) -> int:
     if args.html:
         from ..web.export import write_replay_html
 
-        try:
-            path = write_replay_html(rec, args.html)
-        except OSError as exc:
-            raise CliError(f"cannot write {args.html!r}: {exc.strerror or exc}") from None
+        path = write_replay_html(rec, args.html)
         size = path.stat().st_size
         print(f"wrote {path} ({size / 1e6:.2f} MB): open it in a browser, offline")
     if args.web:

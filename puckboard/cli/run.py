@@ -137,7 +137,8 @@ def main(args: argparse.Namespace) -> int:
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     check_seconds(args.duration)
-    check_port(args.web_port, "--web-port")
+    check_port(args.port)  # a client port: refused now, not after its connection timeout
+    check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     if args.speed is not None and not args.web:
         raise CliError("--speed paces the run for the web view; use it with --web")
     check_speed(args.speed)
@@ -301,13 +302,21 @@ def _first_line(exc: BaseException) -> str:
     return text.splitlines()[0]
 
 
+def realtime_text(factor: float | None) -> str:
+    """``185x``, ``1.9x``, ``0.12x``: whole numbers from 10 up, two significant figures
+    below, so a run slower than real time does not read "0x"."""
+    if not factor:
+        return "0x"
+    return f"{factor:.0f}x" if factor >= 10 else f"{float(f'{factor:.2g}'):g}x"
+
+
 def format_summary(result: Any) -> str:
     """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
     d = result.to_dict()
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
-        f"({d['realtime_factor'] or 0:.0f}x real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
+        f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
         f"of {d['dt_s'] * 1000:g} ms)",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"

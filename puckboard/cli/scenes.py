@@ -24,13 +24,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def main(args: argparse.Namespace) -> int:
     from ..errors import SceneError
-    from ..scenario.scenefile import load_scene, scene_names, scene_path
+    from ..scenario.scenefile import load_scene, scene_names
 
     if args.action == "show":
         if not args.name:
             raise CliError(f"which scene? puckboard scenes show NAME ({', '.join(scene_names())})")
         try:
-            text = scene_path(args.name).read_text(encoding="utf-8")
+            text = _scene_text(args.name)
         except SceneError as exc:
             raise CliError(str(exc)) from None
         print(text, end="" if text.endswith("\n") else "\n")
@@ -49,3 +49,21 @@ def main(args: argparse.Namespace) -> int:
             f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, goal {scene.goal.resolve(scene)}: {first}"
         )
     return 0
+
+
+def _scene_text(name: str) -> str:
+    """The text of shipped scene ``name``, or of the scene file at ``name`` (checked by
+    loading it first, so that 'show' says what 'run' would say of a broken file): the
+    refusal of an unknown name suggests giving a file, so a file is accepted."""
+    from pathlib import Path
+
+    from ..errors import SceneError
+    from ..scenario.scenefile import load_scene, scene_path
+
+    try:
+        return str(scene_path(name).read_text(encoding="utf-8"))
+    except SceneError:
+        if not Path(name).is_file():
+            raise
+    load_scene(name)
+    return Path(name).read_text(encoding="utf-8")

@@ -1,10 +1,14 @@
 """``puckboard sensitivity``: which uncertain numbers of the robot move the success rate.
 
-Each uncertain field of each profile is set to evenly spaced values across its
-plausible range, one field at a time, on every robot; every value runs the same seeds,
-beside the shipped profile and plausible robots. Runs on the sweep machinery: all local
-cores or a Dask cluster, ``--out`` rows to resume from, Ctrl-C keeps what ran.
-See ``docs/sweeps.md`` (sensitivity) and ``docs/profiles.md`` (the ranges).
+Two methods. ``one-at-a-time`` (the default): each uncertain field of each profile is set
+to evenly spaced values across its plausible range, one field at a time, on every robot;
+every value runs the same seeds, beside the shipped profile and plausible robots.
+``joint``: plausible robots with every number drawn at once, one per seed; the same
+episodes give the band and, binned by each drawn number, its curve and a ranking
+(:mod:`puckboard.sensitivity.joint`). ``--from FILE`` recomputes a joint analysis from
+stored rows. Runs on the sweep machinery: all local cores or a Dask cluster, ``--out``
+rows to resume from, Ctrl-C keeps what ran. See ``docs/sweeps.md`` (sensitivity) and
+``docs/profiles.md`` (the ranges).
 """
 
 from __future__ import annotations
@@ -31,6 +35,11 @@ from .sweep import (
 #: fields × 7 values, about 2,000 episodes) of one controller in about six minutes on two
 #: cores, at the two-robot pass's measured 6 episodes/s (docs/simulator.md).
 DEFAULT_SEEDS = "0:20"
+#: Seeds (plausible robots) per controller and profile for ``--method joint``: enough that
+#: a number moving the tutorial controller's rate is clear (docs/sweeps.md says what N
+#: buys), the whole flagship analysis in about five minutes on two cores.
+JOINT_SEEDS = "0:300"
+METHODS = ("one-at-a-time", "joint")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -47,15 +56,47 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "the rate (a tornado chart with --plot), and the rates of the shipped profile and "
             "of plausible robots (--variation plausible) on the same seeds. Runs on all local "
             "cores or a Dask cluster; --out keeps one row per episode, and the same command "
-            "resumes from it."
+            "resumes from it. --method joint instead draws every number of every robot at "
+            "once, one plausible robot pair per seed: the same episodes give the plausible "
+            "robots' rate, each drawn number's binned curve and the numbers ranked, or say "
+            "that nothing is clear at this many seeds; --from FILE recomputes that from the "
+            "rows of FILE."
         ),
         epilog=(
             "Example: puckboard sensitivity two-robot-pass --controller improved --profile "
             "epuck --seeds 0:20 --plot sensitivity.png. Every value is repeatable as one run: "
-            "puckboard run SCENE --profile P --set profile.FIELD=VALUE --seed N."
+            "puckboard run SCENE --profile P --set profile.FIELD=VALUE --seed N. Joint: "
+            "puckboard sensitivity two-robot-pass --controller improved --profile epuck "
+            "--method joint --seeds 0:300 --out joint.parquet; then puckboard sensitivity "
+            "--from joint.parquet --plot joint.png."
         ),
     )
     add_scene_and_controllers(parser)
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="one-at-a-time (default): each field across its range, the others as shipped; "
+        "joint: plausible robots with every number drawn at once, each number's binned "
+        "curve and a ranking from the same episodes (seeds default to "
+        f"{JOINT_SEEDS})",
+    )
+    parser.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        metavar="FILE",
+        help="recompute a joint analysis from the rows of FILE (.csv or .parquet, written by "
+        "--method joint --out, or sweep --variation plausible --out) without running an "
+        "episode",
+    )
+    parser.add_argument(
+        "--bins",
+        type=int,
+        default=4,
+        metavar="N",
+        help="joint method: equal-count bins per number (default: 4, quarters)",
+    )
     parser.add_argument(
         "--profile",
         action="append",
@@ -72,9 +113,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--seeds",
-        default=DEFAULT_SEEDS,
+        default=None,
         metavar="A:B",
-        help=f"seeds run at every value, a Python range (default: {DEFAULT_SEEDS})",
+        help=f"seeds run at every value, a Python range (default: {DEFAULT_SEEDS}; with "
+        f"--method joint, one plausible robot each, default {JOINT_SEEDS})",
     )
     parser.add_argument(
         "--values",
@@ -124,9 +166,21 @@ def _sensitivity(args: argparse.Namespace) -> int:
     check_numbers(args)
     if args.values < 1:
         raise CliError(f"--values must be at least 1, got {args.values}")
+    if args.bins < 2:
+        raise CliError(f"--bins must be at least 2, got {args.bins}")
     if args.plot is not None:
         _check_plot(args.plot)
-    return with_executor(args, _run)
+    if args.source is not None:
+        if args.method == "one-at-a-time":
+            raise CliError(
+                "--from recomputes a joint analysis; drop --method one-at-a-time (a "
+                "one-at-a-time analysis resumes from its --out file by running it again)"
+            )
+        return _from_file(args)
+    args.method = args.method or "one-at-a-time"
+    if args.seeds is None:
+        args.seeds = JOINT_SEEDS if args.method == "joint" else DEFAULT_SEEDS
+    return with_executor(args, _run_joint if args.method == "joint" else _run)
 
 
 def _check_plot(path: Path) -> None:
@@ -228,3 +282,93 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
     except (PlanError, PuckboardError) as exc:
         raise CliError(str(exc)) from exc
     return plan
+
+
+def _run_joint(args: argparse.Namespace, executor: Any) -> int:
+    from ..errors import PuckboardError
+    from ..sensitivity.joint import joint_plan, run_joint
+    from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan, make_progress
+    from ..sweep.plan import parse_seeds
+    from ..sweep.signals import interrupts_deferred
+
+    if args.fields is not None:
+        raise CliError(
+            "--fields is for --method one-at-a-time; the joint method draws every number"
+        )
+    with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
+        _needs_statsmodels()
+        scene = scene_or_error(args.scenario)
+        try:
+            plan = joint_plan(
+                scene.name,
+                profiles=_profiles(args, scene),
+                controllers=args.controller or [SCENE_CONTROLLERS],
+                seeds=parse_seeds(args.seeds),
+                fixed={} if args.duration is None else {"duration": args.duration},
+                bins=args.bins,
+            )
+            check_plan(plan.sweep, scene)
+        except (PlanError, PuckboardError) as exc:
+            raise CliError(str(exc)) from exc
+        store = open_out(args)
+    result = execute(
+        args,
+        executor,
+        store,
+        "sensitivity",
+        lambda on: run_joint(
+            plan,
+            scene,
+            executor=on,
+            store=store,
+            batch_size=args.batch_size,
+            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
+            episode_timeout=args.episode_timeout,
+        ),
+    )
+    if result is None:
+        return 1
+    _show_joint(args, result, stored=str(args.out) if store is not None else None)
+    return exit_status(args, result.sweep, stored=store is not None, command="sensitivity")
+
+
+def _needs_statsmodels() -> None:
+    try:
+        import statsmodels  # noqa: F401
+    except ImportError:
+        raise CliError(
+            "--method joint needs statsmodels: pip install 'puckboard[analysis]'"
+        ) from None
+
+
+def _from_file(args: argparse.Namespace) -> int:
+    """``--from FILE``: the joint analysis of the plausible robots' rows in FILE."""
+    from ..sensitivity.joint import from_rows
+    from ..sweep import PlanError, open_store
+
+    _needs_statsmodels()
+    if not args.source.is_file():
+        raise CliError(f"--from {str(args.source)!r}: no such file")
+    try:
+        with open_store(args.source) as store:
+            rows = store.rows()
+        result = from_rows(rows, args.bins)
+    except (PlanError, ValueError, KeyError, OSError, ImportError) as exc:
+        raise CliError(f"--from {str(args.source)!r}: {exc}") from None
+    _show_joint(args, result, stored=None)
+    return 0
+
+
+def _show_joint(args: argparse.Namespace, result: Any, stored: str | None) -> None:
+    from ..sensitivity.joint_report import format_joint
+
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2))
+    else:
+        print(format_joint(result, stored=stored))
+    if args.plot is not None and result.analyses:
+        from ..sensitivity.joint_plot import plot_joint
+
+        plot_joint(result, args.plot)
+        if not args.json:
+            print(f"\nplot written to {args.plot}")

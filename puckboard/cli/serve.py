@@ -113,8 +113,8 @@ def main(args: argparse.Namespace) -> int:
 
     if args.functions:
         return _list_functions()
-    check_port(args.port)
-    check_port(args.web_port, "--web-port")
+    check_port(args.port, listen_on=args.host)
+    check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     check_seconds(args.stepping_timeout, "--stepping-timeout")
     check_seconds(args.idle_timeout, "--idle-timeout")
     try:
@@ -182,9 +182,7 @@ def main(args: argparse.Namespace) -> int:
     if remote_log.getEffectiveLevel() > logging.INFO:
         remote_log.setLevel(logging.INFO)  # a lecturer wants to see who connects
     try:
-        server.serve_forever()
-    except KeyboardInterrupt:
-        pass
+        server.serve_forever()  # until Ctrl-C, which main() ends with status 130
     finally:
         server.close()
         if web is not None:

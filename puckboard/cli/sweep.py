@@ -9,11 +9,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .common import CliError, add_variation_argument, check_seconds
+from .common import CliError, add_variation_argument, check_seconds, check_writable
 
 DEFAULT_SCENARIO = "two-robot-pass"
 T = TypeVar("T")
@@ -97,7 +98,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
         "values become fixed parameters of every episode; default: the scene's; to compare "
         "profiles, --set robot.profile=epuck,epuck-vrep)",
     )
-    add_variation_argument(parser)
+    add_variation_argument(parser, "each episode's seed from --seeds")
 
 
 def add_duration(parser: argparse.ArgumentParser) -> None:
@@ -179,19 +180,59 @@ def main(args: argparse.Namespace) -> int:
 
 def _sweep(args: argparse.Namespace) -> int:
     check_numbers(args)
-    return with_executor(args, _run)
+    return with_executor(args, _run, episodes=_episode_count(args))
 
 
-def with_executor(args: argparse.Namespace, run: Callable[[argparse.Namespace, Any], int]) -> int:
+def _episode_count(args: argparse.Namespace) -> int | None:
+    """How many episodes the sweep plans, known from the options alone (``None`` where
+    it needs more: a folder of controllers, or options the plan will refuse)."""
+    from ..sweep import PlanError, SweepPlan
+
+    if args.controllers_dir is not None:
+        return None
+    try:
+        plan = SweepPlan.from_specs(
+            "count", controllers=args.controller, seeds=args.seeds, sets=args.sets
+        )
+    except (PlanError, ValueError):
+        return None
+    return len(plan)
+
+
+def with_executor(
+    args: argparse.Namespace,
+    run: Callable[[argparse.Namespace, Any], int],
+    *,
+    episodes: int | None = None,
+) -> int:
     """``run(args, executor)`` with local workers, or with ``None`` for ``--scheduler``
-    (``run`` connects to the cluster only once its plan is known to be good)."""
-    from ..sweep import LocalExecutor
+    (``run`` connects to the cluster only once its plan is known to be good).
 
+    No more workers start than there are ``episodes`` (when known): each is a process
+    with its own interpreter and imports, and one with no episode only costs start-up.
+    ``--workers`` above the CPUs is allowed (a machine may be shared) with a warning.
+    """
+    from ..sweep import LocalExecutor
+    from ..sweep.executors import available_cpus
+
+    args.started = time.perf_counter()  # the wall time reported counts the start-up too
     if args.scheduler:
         return run(args, None)
+    workers = args.workers
+    if workers is not None:
+        cpus = available_cpus()
+        if episodes is not None:
+            workers = max(1, min(workers, episodes))
+        if workers > cpus:
+            print(
+                f"puckboard {args.command}: warning: --workers {workers} is more than this "
+                f"machine's {cpus} CPUs; the workers share them, which starts slower and runs "
+                "no faster",
+                file=sys.stderr,
+            )
     # Local workers start up (an interpreter and the imports each) while this process
     # loads the scene, checks the plan and reads --out; on bad input they are ended.
-    local = LocalExecutor(args.workers)
+    local = LocalExecutor(workers)
     try:
         local.start()
         return run(args, local)
@@ -275,6 +316,11 @@ def check_numbers(args: argparse.Namespace) -> None:
         raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
     if args.workers is not None and args.workers < 1:
         raise CliError(f"--workers must be at least 1, got {args.workers}")
+    # outputs of sweep and sensitivity alike: a plot refused after the whole run loses it
+    for flag in ("--out", "--plot"):
+        path = getattr(args, flag[2:], None)
+        if path is not None:
+            check_writable(path, flag)
 
 
 def _plan(args: argparse.Namespace, scene: Any) -> Any:
@@ -326,6 +372,10 @@ def _profile_parameters(ref: str) -> dict[str, Any]:
 
 
 def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
+    if args.plot_param is not None and args.plot is None:
+        raise CliError(
+            "--plot-param chooses the x axis of --plot; add --plot FILE (.png, .svg, .pdf)"
+        )
     plot_param: str | None = args.plot_param or (plan.swept[0] if plan.swept else None)
     if args.plot is not None:
         if plot_param is None:
@@ -348,6 +398,7 @@ def _report(
     args: argparse.Namespace, plan: Any, result: Any, *, stored: bool, plot_param: str | None
 ) -> None:
     """The summary table (or JSON), the ranking of several controllers, and the plot."""
+    from ..sweep.plan import written_values
     from ..sweep.summary import format_groups, format_ranking
 
     groups = result.groups()
@@ -361,10 +412,10 @@ def _report(
         )
         print(
             f"{plan.scenario}: {len(result.outcomes)} of {len(plan)} episodes ({counts}), "
-            f"{result.wall_s:.1f} s"
+            f"{wall_time(args, result):.1f} s"
         )
         print()
-        print(format_groups(groups))
+        print(format_groups(groups, written_values(args.sets)))
         if len(plan.controllers) > 1:
             print()
             print("ranking (all parameter values pooled):")
@@ -375,6 +426,13 @@ def _report(
         plot_success(groups, plot_param, args.plot, title=plan.scenario)
         if not args.json:
             print(f"\nplot written to {args.plot}")
+
+
+def wall_time(args: argparse.Namespace, result: Any) -> float:
+    """Seconds since the command began (workers' start-up and the plan included), which
+    is what the user waited; the sweep's own ``wall_s`` where no start was noted."""
+    started = getattr(args, "started", None)
+    return result.wall_s if started is None else time.perf_counter() - started
 
 
 def exit_status(

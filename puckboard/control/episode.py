@@ -87,6 +87,21 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
     return load_scene(scene)
 
 
+def _robot_controller(
+    spec: Any, robot: str, scene: Scene, keywords: Mapping[str, Any], *, from_scene: bool
+) -> Controller:
+    """Robot ``robot``'s controller, its factory handed ``keywords``; a bad spec the scene
+    gave names the scene's file and the robot, since the spec is not on the command line
+    that ran it."""
+    if not from_scene:
+        return load_controller(spec, **keywords)
+    try:
+        return load_controller(spec, **keywords)
+    except ValueError as exc:
+        where = scene.source or f"scene {scene.name!r}"
+        raise SceneError(f"{where}: robot {robot!r}: {exc}") from exc
+
+
 class Episode:
     """One judged run; see the module docstring. Use it once: build, observe, :meth:`run`."""
 
@@ -114,7 +129,8 @@ class Episode:
         # build the controllers first: a bad spec must fail before a backend is opened
         keywords = factory_keywords(overrides)
         self.controllers: dict[str, Controller] = {
-            name: load_controller(spec, **keywords) for name, spec in specs.items()
+            name: _robot_controller(spec, name, self.scene, keywords, from_scene=controller is None)
+            for name, spec in specs.items()
         }
         apply_layer_overrides(self.controllers, overrides)
         self.controller_label = _label(specs)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from ..backends.base import RobotAdapter, Stepper
 from ..behaviours.controller import Controller
 from ..records import Sensor
+from .tick_timing import TickTimer
 
 __all__ = ["Binding", "ControlLoop", "ControllerFailure"]
 
@@ -106,6 +107,7 @@ class ControlLoop:
         #: the run was stopped by Ctrl-C (close observers may want to say what they keep)
         self.interrupted = False
         self.overruns = 0
+        self._timers: dict[str, TickTimer] = {}  # per robot: a controller slower than the period
         self.observers: list[CycleObserver] = []
         self.before_tick: list[CycleObserver] = []
         self.close_observers: list[CycleObserver] = []
@@ -160,8 +162,14 @@ class ControlLoop:
         for callback in self.before_tick:
             callback(self)
         for b in self.bindings:
+            timer = self._timers.get(b.adapter.name)
+            if timer is None:
+                timer = self._timers[b.adapter.name] = TickTimer(
+                    b.adapter.name, b.controller, self.period
+                )
             try:
-                cmd = b.controller.tick(b.adapter.ns)
+                with timer.tick():
+                    cmd = b.controller.tick(b.adapter.ns)
             except Exception:
                 # the exception goes on unchanged; this says where it happened, for the
                 # one-line summary a command prints after the traceback

@@ -92,6 +92,7 @@ def scene_from_dict(
         camera_size=camera_size,
         goal=goal,
         dummies=dummies,
+        source=source,
     )
 
 

@@ -24,14 +24,15 @@ its unit (``31mm``, ``17deg``), read by the setting's own check.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
-from ..errors import ProfileError
-from ..profile import apply_overrides, check_path, get_profile
+from ..errors import ProfileError, SceneError
+from ..profile import RobotProfile, apply_overrides, check_path, get_profile
 from .robot_profiles import scene_profile
 from .scene import RobotSpec, Scene
 from .variation import check_variation
@@ -41,6 +42,7 @@ __all__ = [
     "SET_SOURCE",
     "apply_profile_overrides",
     "apply_scene_overrides",
+    "check_control_step",
     "parse_override",
     "parse_overrides",
     "parse_value",
@@ -155,7 +157,39 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     if noise_changes:
         scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
     scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
-    return apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+    scene = apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+    if "dt" in overrides:
+        check_control_step(scene, scene.dt)  # against the profiles the robots end with
+    return scene
+
+
+def check_control_step(scene: Scene, dt: float) -> None:
+    """Refuse a simulation step ``dt`` (s) longer than a robot's control can act on.
+
+    Each tick the layers read the IR sensors once and command the wheels once. At its
+    top speed a robot crosses its IR range in ``prox_range / (max_wheel_speed ×
+    wheel_radius)`` seconds (0.35 s for the physical e-puck): a longer step lets an
+    obstacle come into range and be hit between two ticks, so the run would judge the
+    step, not the controller. A ``SceneError`` names the bound and that reason.
+    """
+    limits = []
+    for robot in scene.robots:
+        profile = (
+            robot.profile if isinstance(robot.profile, RobotProfile) else get_profile(robot.profile)
+        )
+        limits.append(
+            (profile.prox_range / (profile.max_wheel_speed * profile.wheel_radius), robot.name)
+        )
+    if not limits:
+        return
+    limit, name = min(limits)
+    if dt > limit:
+        shown = math.floor(limit * 100) / 100  # rounded down: a dt of the number shown passes
+        raise SceneError(
+            f"dt {dt:g} s is longer than the robots' control can act on: at top speed robot "
+            f"{name!r} crosses its IR range in {limit:.2f} s, so an obstacle could appear and "
+            f"be hit between two ticks; use dt ≤ {shown:.2f} s (the shipped scenes use 0.05)"
+        )
 
 
 def _number(name: str, value: Any, *, signed: bool = False) -> float:

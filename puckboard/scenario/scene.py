@@ -241,6 +241,9 @@ class Scene:
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
     goal: Goal = field(default_factory=Goal)
     dummies: tuple[Dummy, ...] = ()
+    #: Where the scene was read from (a file's path, a shipped scene's file name), so a
+    #: message about one of its robots can name the file; not part of what it describes.
+    source: str = field(default="", compare=False)
 
     def with_profile(self, profile: str | RobotProfile) -> Scene:
         """This scene with every robot given robot profile ``profile`` (a shipped one by

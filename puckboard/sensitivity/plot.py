@@ -104,6 +104,34 @@ def _panel(ax: Any, path: str, analyses: list[Analysis]) -> None:
     ax.grid(True, alpha=0.3)
 
 
+def legend_entries(analyses: list[Analysis], names: dict[str, str]) -> tuple[list[Any], list[str]]:
+    """The legend's (handles, labels): every mark the figure draws, drawn as it is drawn
+    (the plausible rate's dotted line in each analysis's own colour, as in the chart)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    colours = [COLOURS[i % len(COLOURS)] for i in range(len(analyses))]
+    handles: list[Any] = [Line2D([], [], color=c, lw=4) for c in colours]
+    labels = [_label(a, names) for a in analyses]
+    handles += [
+        tuple(Line2D([], [], color=c, ls=":", lw=2.5) for c in colours),
+        Line2D([], [], color="black", lw=3),
+        tuple(Patch(color=c, alpha=1.0) for c in colours),
+        tuple(Patch(color=c, alpha=0.35) for c in colours),
+        Line2D([], [], color="black", marker="*", ms=16, lw=0),
+        Line2D([], [], color="grey", ls="--", lw=1.5),
+    ]
+    labels += [
+        "dotted line: plausible robots' rate",
+        "black tick: the shipped profile's rate",
+        "dark bar: lowest and highest rates' 95 % intervals apart (clear)",
+        "pale bar: they overlap (not clear)",
+        "star: the shipped profile's rate at the shipped value",
+        "dashed grey line: the shipped value",
+    ]
+    return handles, labels
+
+
 def plot_sensitivity(
     result: SensitivityResult, path: str | os.PathLike[str], *, title: str | None = None
 ) -> None:
@@ -130,21 +158,16 @@ def plot_sensitivity(
             _panel(ax, field_path, analyses)
             if i % columns == 0:
                 ax.set_ylabel("success (%)", fontsize=FONT - 1)
-        handles = [
-            plt.Line2D([], [], color=COLOURS[i % len(COLOURS)], lw=4, label=_label(a, names))
-            for i, a in enumerate(analyses)
-        ]
-        handles += [
-            plt.Line2D([], [], color="black", marker="*", ms=16, lw=0, label="shipped value"),
-            plt.Line2D([], [], color="grey", ls=":", lw=2.5, label="plausible robots' rate"),
-        ]
+        handles, labels = legend_entries(analyses, names)
         seeds = result.to_dict()["seeds"]
         heading = title or f"{result.plan.scenario}: success rate, one number at a time"
         fig.suptitle(f"{heading} (seeds {seeds}, 95 % Wilson intervals)",
                      fontsize=FONT + 4, fontweight="bold")  # fmt: skip
+        from matplotlib.legend_handler import HandlerTuple
+
         ncol = min(3 if columns > 2 else 2, len(handles))
-        fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=FONT - 1,
-                   frameon=False)  # fmt: skip
+        fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=FONT - 1,
+                   frameon=False, handler_map={tuple: HandlerTuple(ndivide=None)})  # fmt: skip
         legend_rows = math.ceil(len(handles) / ncol)
         legend_height = legend_rows * 0.32 / fig.get_figheight() * 1.3
         fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))

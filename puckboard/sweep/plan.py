@@ -95,6 +95,11 @@ def episode_key(scenario: str, controller: str, seed: int, params: Mapping[str, 
     )
 
 
+def value_key(value: Any) -> str:
+    """One value as a canonical string (``2`` and ``2.0`` alike), for looking it up."""
+    return json.dumps(_canonical(value))
+
+
 def params_key(params: Mapping[str, Any]) -> str:
     """A parameter combination as one canonical string: equal for equal settings, however
     spelt (``2`` or ``2.0``) and whether read back from a CSV row or built in Python."""
@@ -227,6 +232,23 @@ def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
             raise PlanError(f"--set {spec!r}: value {value!r} is listed twice")
         seen.add(canon)
     return name, values
+
+
+def written_values(sets: Iterable[str]) -> dict[str, dict[str, str]]:
+    """How the user wrote each value of ``--set`` specs: per parameter, the canonical
+    JSON of a value (as :func:`parse_set` gives it, in SI) → its text (``12.7deg``), so
+    that tables show the values the user asked for, not their SI conversion
+    (``0.22165681500327983``). Specs that do not parse are left out (the plan refuses
+    them with its own message)."""
+    written: dict[str, dict[str, str]] = {}
+    for spec in sets:
+        try:
+            name, values = parse_set(spec)
+        except PlanError:
+            continue
+        parts = [p for p in (v.strip() for v in spec.partition("=")[2].split(",")) if p]
+        written[name] = {value_key(v): text for v, text in zip(values, parts)}
+    return written
 
 
 def parse_seeds(spec: str) -> range:

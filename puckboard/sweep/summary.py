@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from .plan import value_key
 from .rows import Outcome
 from .stats import wilson_interval
 
@@ -127,9 +128,21 @@ def rank_controllers(outcomes: Iterable[Outcome]) -> list[GroupSummary]:
     return ranking
 
 
-def params_label(params: dict[str, Any], only: Iterable[str] | None = None) -> str:
+def params_label(
+    params: dict[str, Any],
+    only: Iterable[str] | None = None,
+    written: Mapping[str, Mapping[str, str]] | None = None,
+) -> str:
+    """``name=value ...``; a value in ``written`` (see :func:`.plan.written_values`) is
+    shown as the user wrote it."""
     names = sorted(params) if only is None else [n for n in sorted(params) if n in set(only)]
-    return " ".join(f"{n}={params[n]}" for n in names) or "-"
+    texts = written or {}
+
+    def shown(name: str) -> str:
+        value = params[name]
+        return texts.get(name, {}).get(value_key(value), str(value))
+
+    return " ".join(f"{n}={shown(n)}" for n in names) or "-"
 
 
 def controller_labels(specs: Iterable[str]) -> dict[str, str]:
@@ -192,8 +205,11 @@ def _stats_cells(g: GroupSummary) -> list[str]:
 _STATS_HEADERS = ["n", "ok", "rate", "95% CI (Wilson)", "progress", "collisions", "failures"]
 
 
-def format_groups(groups: Sequence[GroupSummary]) -> str:
-    """A plain-text table of groups; only parameters that vary between groups are shown."""
+def format_groups(
+    groups: Sequence[GroupSummary], written: Mapping[str, Mapping[str, str]] | None = None
+) -> str:
+    """A plain-text table of groups; only parameters that vary between groups are shown,
+    each value as the user wrote it where ``written`` has it (:func:`.plan.written_values`)."""
     varying = {
         name
         for name in {n for g in groups for n in g.params}
@@ -201,7 +217,8 @@ def format_groups(groups: Sequence[GroupSummary]) -> str:
     }
     names = controller_labels(g.controller for g in groups)
     rows = [
-        [names[g.controller], params_label(g.params, varying), *_stats_cells(g)] for g in groups
+        [names[g.controller], params_label(g.params, varying, written), *_stats_cells(g)]
+        for g in groups
     ]
     headers = ["controller", "parameters", *_STATS_HEADERS]
     return format_table(headers, rows, right=set(range(2, 8)))

@@ -165,8 +165,10 @@ class SensorMonitor:
                     self._live.start()
                 self._live.update(self.table(), refresh=True)
         elif wall - self._last_render >= self.plain_every:
-            if self._last_render > -1e9:
-                self.console.print(self.table())
+            # into a pipe or a file: the first table at once, so a reader ('| tee log')
+            # sees the run has started, then one every plain_every seconds, each flushed
+            self.console.print(self.table())
+            self._flush()
             self._last_render = wall
 
     def close(self, _episode: Any = None) -> None:
@@ -180,6 +182,12 @@ class SensorMonitor:
             self._live.stop()
         else:
             self.console.print(self.table())
+            self._flush()
+
+    def _flush(self) -> None:
+        flush = getattr(self.console.file, "flush", None)
+        if flush is not None:
+            flush()
 
     # -- rendering -------------------------------------------------------------------------
     def table(self) -> Any:

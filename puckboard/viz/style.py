@@ -24,6 +24,7 @@ __all__ = [
     "layer_colour",
     "layer_colours",
     "robot_colours",
+    "text_colour",
 ]
 
 FONT = {"title": 17, "label": 14, "tick": 12, "legend": 12, "annotation": 13}
@@ -143,3 +144,20 @@ def hex_colour(rgb: Sequence[int]) -> str:
     """A 0..255 RGB triple (as scenes store colours) as ``#rrggbb``, clamped to the range."""
     r, g, b = (max(0, min(255, int(c))) for c in rgb[:3])
     return f"#{r:02x}{g:02x}{b:02x}"
+
+
+def text_colour(background: str) -> str:
+    """Black or white text for a ``#rrggbb`` background: whichever contrasts more by
+    WCAG's relative luminance. White on every colour washes out on a projector on the
+    light ones (orange ``#E69F00``: 2.1 : 1 against 9.8 : 1 for black). The web page
+    applies the same rule (``textOn`` in ``web/static/view.js``)."""
+
+    def linear(channel: int) -> float:
+        c = channel / 255.0
+        return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+    text = background.lstrip("#")
+    r, g, b = (int(text[i : i + 2], 16) for i in (0, 2, 4))
+    luminance = 0.2126 * linear(r) + 0.7152 * linear(g) + 0.0722 * linear(b)
+    # contrast with black (L + 0.05) / 0.05 against white 1.05 / (L + 0.05)
+    return "#000000" if (luminance + 0.05) ** 2 > 0.0525 else "#ffffff"

@@ -88,7 +88,7 @@ def tree_dot(controller: Any) -> str:
     import py_trees
 
     graph = py_trees.display.dot_tree(controller.root)
-    from .style import layer_colour
+    from .style import layer_colour, text_colour
 
     graph.set_name("controller")
     priority = {child.name: k for k, child in enumerate(controller.root.children, start=1)}
@@ -112,7 +112,7 @@ def tree_dot(controller: Any) -> str:
         node.set("fontname", "Helvetica")
         if not behaviour.children:  # a layer: its colour in every other view
             node.set("fillcolor", f'"{layer_colour(name)}"')
-            node.set("fontcolor", "white")
+            node.set("fontcolor", f'"{text_colour(layer_colour(name))}"')
             node.set("shape", "box")
             node.set("style", '"filled,rounded"')
     return graph.to_string()  # type: ignore[no-any-return]

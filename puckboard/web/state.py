@@ -376,13 +376,21 @@ class EpisodeFollower(_Follower):
         return {"nodes": nodes, "status": status, "active": active, "note": note, "t": t}
 
     def _detail(self, i: int, snap: Any, active: str | None, t: float) -> dict[str, Any]:
+        from ..records import Sensor
         from ..viz.monitor import format_value
 
+        # a sensor the robot does not read (a camera that is off) is "off", shown plain:
+        # in red, as a sensor that should report and does not, it sent users looking
+        # for a fault
+        enabled = self.adapters[i].enabled_sensors
+        off = {s.key for s in Sensor if s not in enabled}
         keys = []
         for key in sorted(snap):
             rec = snap.record(key)
             if rec is None:
-                keys.append({"key": key, "value": "—", "age": None, "status": "missing"})
+                status = "off" if key in off else "missing"
+                keys.append({"key": key, "value": status if key in off else "—", "age": None,
+                             "status": status})  # fmt: skip
                 continue
             keys.append({
                 "key": key, "value": format_value(rec.value), "age": round(snap.now - rec.stamp, 3),

@@ -18,10 +18,12 @@ from puckboard.behaviours import (
     Layer,
     LineFollow,
     SideWallKeep,
+    as_behaviour,
     improved,
     load_controller,
     stock,
 )
+from puckboard.behaviours.tracing import trace
 from puckboard.blackboard import Blackboard
 from puckboard.records import PROX_NAMES, Ground, Proximity, WheelCommand
 
@@ -68,16 +70,12 @@ class Flag(Layer):
     def __init__(self, name, speed):
         super().__init__(name)
         self.speed = speed
-        self.terminated: list[Status] = []
 
     def applies(self, frame):
         return bool(frame.value(f"flag/{self.name}", False))
 
     def command(self, frame):
         return WheelCommand(self.speed, self.speed)
-
-    def terminate(self, new_status):
-        self.terminated.append(new_status)
 
 
 def flags_controller():
@@ -98,7 +96,7 @@ def test_arbiter_picks_highest_active_layer_and_stops_preempted_one():
     ns.put("flag/high", True)
     assert ctl.tick(ns) == WheelCommand(1.0, 1.0)
     assert ctl.active_layer == "high"
-    assert Status.INVALID in low.terminated  # pre-empted layer was stopped
+    assert as_behaviour(low).status == Status.INVALID  # pre-empted layer was stopped
     # the decision is on the blackboard for traces and plots
     assert ns.value("command/layer") == "high"
     assert ns.value("command/wheels") == WheelCommand(1.0, 1.0)
@@ -321,7 +319,7 @@ def test_tree_visitors_and_handlers_still_see_every_tick():
     ctl.tick(ns)
     assert seen == [1]
     assert ctl.tree.count == 2
-    assert low.id in visitor.visited and high.id in visitor.visited
+    assert as_behaviour(low).id in visitor.visited and as_behaviour(high).id in visitor.visited
     assert ctl.active_layer == "low"
 
 
@@ -336,7 +334,7 @@ def test_layers_tick_the_same_with_py_trees_debug_logging_on():
             for name, on in flags.items():
                 ns.put(f"flag/{name}", on)
             out.append((ctl.tick(ns), ctl.active_layer, [n.status for n in ctl.root.iterate()]))
-        return out, high.terminated, low.terminated
+        return out
 
     quiet = decisions()
     old = py_trees.logging.level
@@ -346,18 +344,76 @@ def test_layers_tick_the_same_with_py_trees_debug_logging_on():
     finally:
         py_trees.logging.level = old
     assert debug == quiet
-    assert Status.INVALID in quiet[2]  # the pre-empted layer was stopped on both paths
+    assert quiet[2][2][1] == Status.INVALID  # the pre-empted layer (low) was stopped
 
 
-def test_a_layer_returning_a_non_status_is_invalid():
-    class Broken(Layer):
-        def update(self):
-            return "RUNNING"
+class Helpers(Layer):
+    """A student's layer whose helper methods carry the names py_trees gives its own
+    hooks (stop, setup, update, status, parent, ...): they must stay the student's."""
 
-    broken = Broken()
-    ctl = Controller([broken, Cruise(0.1)])
-    assert ctl.tick(make_ns()) == WheelCommand(0.1, 0.1)
-    assert broken.status == Status.INVALID
+    reads = ("flag/only",)
+
+    def __init__(self):
+        super().__init__()
+        self.calls: list[str] = []
+
+    def stop(self):
+        return WheelCommand(0.0, 0.0)
+
+    def setup(self, speed):
+        return WheelCommand(speed, speed)
+
+    def update(self, seen):
+        self.calls.append(seen)
+
+    def status(self):
+        return "mine"
+
+    def parent(self):
+        return "mine"
+
+    def id(self):
+        return "mine"
+
+    def initialise(self, x):
+        return x
+
+    def terminate(self, x):
+        return x
+
+    def tick(self, x):
+        return x
+
+    def iterate(self, x):
+        return x
+
+    def applies(self, frame):
+        flag = bool(frame.value("flag/only", False))
+        self.update("flag" if flag else "no flag")
+        return flag
+
+    def command(self, frame):
+        return self.setup(1.0)
+
+
+def test_a_layer_may_name_its_helpers_stop_setup_update_status_parent():
+    helpers = Helpers()
+    ctl = Controller([helpers, Cruise(0.1)])
+    ns = make_ns()
+    ns.put("flag/only", True)
+    assert ctl.tick(ns) == WheelCommand(1.0, 1.0)
+    ns.put("flag/only", False)
+    assert ctl.tick(ns) == WheelCommand(0.1, 0.1)  # pre-empting it calls none of them
+    ns.put("flag/only", True)
+    assert ctl.tick(ns) == WheelCommand(1.0, 1.0)
+    ctl.reset()
+    assert helpers.calls == ["flag", "no flag", "flag"]
+    assert (helpers.stop(), helpers.status(), helpers.parent()) == (
+        WheelCommand(0.0, 0.0), "mine", "mine",
+    )  # fmt: skip
+    assert ctl.find("Helpers") is helpers
+    assert helpers.parameters() == {}
+    assert [n["type"] for n in trace(ctl).nodes] == ["Selector", "Helpers", "Cruise"]
 
 
 def test_the_arbiter_is_py_trees_own_selector_and_layers_tick_as_py_trees_does():
@@ -369,5 +425,7 @@ def test_the_arbiter_is_py_trees_own_selector_and_layers_tick_as_py_trees_does()
     controller = improved()
     assert type(controller.root) is py_trees.composites.Selector
     assert controller.root.memory is False
-    assert Layer.tick is py_trees.behaviour.Behaviour.tick
-    assert Layer.stop is py_trees.behaviour.Behaviour.stop
+    (node,) = {type(as_behaviour(layer)) for layer in controller.every_layer}
+    assert node.tick is py_trees.behaviour.Behaviour.tick
+    assert node.stop is py_trees.behaviour.Behaviour.stop
+    assert not issubclass(Layer, py_trees.behaviour.Behaviour)  # its namespace is its own

@@ -12,7 +12,15 @@ import math
 import pytest
 
 from puckboard.backends import FakeAdapter
-from puckboard.behaviours import Controller, Cruise, HoldFor, Layer
+from puckboard.behaviours import (
+    Controller,
+    Cruise,
+    HoldFor,
+    Layer,
+    LineFollow,
+    as_behaviour,
+    load_controller,
+)
 from puckboard.blackboard import Blackboard
 from puckboard.errors import LayerError
 from puckboard.estimation.knowledge import KnowledgeSource
@@ -144,3 +152,132 @@ def test_a_command_that_is_no_finite_wheel_command_is_a_layer_error(value, says,
     assert str(caught.value).startswith("layer 'Returns': ")
     assert says in caught.value.problem
     assert ctl.failed_layer == "Returns"
+
+
+class Misread(Layer):
+    """Reads through ``how`` what its ``reads`` may not declare."""
+
+    def __init__(self, reads, how):
+        super().__init__()
+        self.reads = reads
+        self.how = how
+
+    def applies(self, frame):
+        return self.how(frame) is not None
+
+    def command(self, frame):
+        return WheelCommand(1.0, 1.0)
+
+
+@pytest.mark.parametrize(
+    ("reads", "how", "says"),
+    [
+        (
+            ("proximity",),
+            lambda frame: frame.value("proximty"),
+            "reads 'proximty', which it does not declare in reads = ('proximity',) "
+            "(did you mean 'proximity'?)",
+        ),
+        (
+            ("ground",),
+            lambda frame: frame.proximity,
+            "reads 'proximity', which it does not declare in reads = ('ground',); "
+            "to read it, add it: reads = ('ground', 'proximity')",
+        ),
+        (
+            ("ground",),
+            lambda frame: frame.value("proximty"),
+            "reads 'proximty', which it does not declare in reads = ('ground',) "
+            "(did you mean 'proximity'?); to read it, add it: reads = ('ground', 'proximity')",
+        ),
+        (
+            (),
+            lambda frame: frame.value("my/flag"),
+            "reads 'my/flag', which it does not declare in reads = (); "
+            "to read it, add it: reads = ('my/flag',)",
+        ),
+    ],
+    ids=["misspelt", "forgotten", "misspelt and forgotten", "nothing declared"],
+)
+def test_reading_a_key_the_layer_does_not_declare_names_layer_key_and_reads(reads, how, says):
+    """A key outside ``reads`` used to read as None (the snapshot holds only the keys
+    some layer declared), so the layer never applied and Cruise drove."""
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller = Controller([Misread(reads, how), Cruise()])
+    with pytest.raises(LayerError) as caught:
+        controller.tick(robot.ns)
+    assert str(caught.value) == f"layer 'Misread': {says}"
+    assert caught.value.layer == "Misread" and controller.failed_layer == "Misread"
+    robot.close()
+
+
+def test_a_layer_reads_every_key_it_declares_and_another_layer_s_only_if_declared():
+    seen = {}
+
+    class Both(Layer):
+        reads = ("ground", "proximity")
+
+        def applies(self, frame):
+            seen["both"] = (frame.ground is not None, frame.proximity is not None)
+            return False
+
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller = Controller([Both(), Misread(("ground",), lambda f: f.ground), Cruise()])
+    controller.tick(robot.ns)
+    assert seen["both"] == (True, True)
+    assert controller.active_layer == "Misread"  # its ground reading is there
+    robot.close()
+
+
+# -- what the wrong thing given to a controller says -----------------------------------------
+def classes_not_objects():
+    return Controller([LineFollow, Cruise])
+
+
+def a_list_of_classes():
+    return [LineFollow, Cruise]
+
+
+def needs_speed(speed):
+    return Controller([Cruise(speed)])
+
+
+@pytest.mark.parametrize("factory", [classes_not_objects, a_list_of_classes])
+def test_layers_given_as_classes_say_which_object_was_meant(factory):
+    """This used to read "controller ... does not accept parameters {}"."""
+    with pytest.raises(
+        LayerError, match=r"^got the class LineFollow; did you mean LineFollow\(\)\?$"
+    ):
+        load_controller(factory)
+
+
+def test_hold_for_given_a_class_says_which_object_was_meant():
+    with pytest.raises(LayerError, match=r"did you mean LineFollow\(\)\?$"):
+        HoldFor(LineFollow, 0.5)
+
+
+def test_a_factory_that_needs_an_argument_names_it():
+    with pytest.raises(LayerError) as caught:
+        load_controller(needs_speed)
+    message = str(caught.value)
+    assert "needs_speed() needs the argument 'speed'" in message
+    assert "needs_speed(speed=...)" in message
+
+
+@pytest.mark.parametrize("wrap", [False, True], ids=["layer", "inside HoldFor"])
+def test_ticked_outside_a_controller_says_how_to_run_it(wrap):
+    """py_trees can tick a layer's node (or a HoldFor) in a tree of its own, where no
+    controller takes a snapshot: one check, the same line for both."""
+    import py_trees
+
+    node = HoldFor(Cruise(), 0.5) if wrap else as_behaviour(Cruise())
+    tree = py_trees.trees.BehaviourTree(node)
+    tree.setup()
+    with pytest.raises(RuntimeError) as caught:
+        tree.tick()
+    assert str(caught.value) == (  # HoldFor ticks its layer first: the layer is named
+        "'Cruise' was ticked outside a Controller; build a Controller from your layers "
+        "and call controller.tick()"
+    )

@@ -11,7 +11,7 @@ import numpy as np
 import py_trees
 import pytest
 
-from puckboard.behaviours import Controller, Cruise, HoldFor, Layer, LineFollow
+from puckboard.behaviours import Controller, Cruise, HoldFor, Layer, LineFollow, as_behaviour
 from puckboard.blackboard import Blackboard
 from puckboard.records import PROX_NAMES, Ground, Proximity, WheelCommand
 
@@ -108,6 +108,7 @@ class Counter(Layer):
 
     def observe(self, frame):
         self.frames.append(frame.time)
+        self.seen = frame.proximity
 
     def applies(self, frame):
         return False
@@ -118,7 +119,7 @@ def test_every_layer_observes_every_tick_inside_decorators_and_composites():
     held = Counter("held")
     nested = Counter("nested")
     top = Counter("top")
-    group = py_trees.composites.Selector("group", memory=False, children=[nested])
+    group = py_trees.composites.Selector("group", memory=False, children=[as_behaviour(nested)])
     ctl = Controller([top, HoldFor(held, 0.5), Cruise(1.0), group], requires=("proximity",))
     ns = Blackboard(clock=clock).namespace("r")
     ns.declare("proximity", max_age=0.1)
@@ -126,12 +127,38 @@ def test_every_layer_observes_every_tick_inside_decorators_and_composites():
         clock.t = t
         ns.put("proximity", Proximity(np.full(8, 0.05), np.zeros(8)), stamp=t)
         ctl.tick(ns)
-    clock.t = 1.0  # the reading is stale: the robot stops, and the layers still observe
-    ctl.tick(ns)
-    assert ctl.active_layer == "(stale inputs)"
     for layer in (top, held, nested):
-        assert layer.frames == [0.0, 0.05, 0.1, 1.0], layer.name
+        assert layer.frames == [0.0, 0.05, 0.1], layer.name
     assert [n.name for n in ctl.every_layer] == ["top", "held", "Cruise", "nested"]
+
+
+def test_with_requires_no_layer_observes_until_the_required_key_is_fresh():
+    """A student who writes ``requires=("proximity",)`` expects a reading in every call
+    of the layers, ``observe`` included: before the first reading (and while it is
+    stale) the robot stops and no layer is called, so none has to handle ``None``."""
+    clock = Clock()
+    layer = Counter("counter")
+    ctl = Controller([layer, Cruise(1.0)], requires=("proximity",))
+    ns = Blackboard(clock=clock).namespace("r")
+    ns.declare("proximity", max_age=0.1)
+    ctl.tick(ns)  # no reading yet
+    assert (ctl.active_layer, layer.frames) == ("(stale inputs)", [])
+    clock.t = 0.05
+    ns.put("proximity", Proximity(np.full(8, 0.05), np.zeros(8)), stamp=0.05)
+    ctl.tick(ns)
+    assert (ctl.active_layer, layer.frames) == ("Cruise", [0.05])
+    assert layer.seen is not None
+    clock.t = 1.0  # stale again: the robot stops, and nobody is called
+    ctl.tick(ns)
+    assert (ctl.active_layer, layer.frames) == ("(stale inputs)", [0.05])
+
+
+def test_without_requires_observe_sees_none_before_the_first_reading():
+    layer = Counter("counter")
+    ctl = Controller([layer, Cruise(1.0)])
+    ns = Blackboard(clock=Clock()).namespace("r")
+    ctl.tick(ns)
+    assert (ctl.active_layer, layer.frames, layer.seen) == ("Cruise", [0.0], None)
 
 
 def test_a_layer_that_raises_in_observe_is_named():

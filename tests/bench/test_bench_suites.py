@@ -14,7 +14,7 @@ from puckboard.cli import main
 def test_list_names_every_registered_suite(capsys):
     assert main(["bench", "--list"]) == 0
     out = capsys.readouterr().out
-    for name in ("core", "sim", "coppeliasim", "sweep", "estimation", "emulator"):
+    for name in ("core", "sim", "coppeliasim", "sweep", "estimation", "emulator", "sensitivity"):
         assert name in out
 
 
@@ -40,9 +40,15 @@ def test_core_suite_json_has_both_sides_of_each_comparison(capsys):
         "py_trees_client_set_get_us",
         "arbiter_tick_us",
         "py_trees_selector_tick_us",
+        "arbiter_tick_traced_us",
+        "observe_pass_us",
     ):
         assert core[key] > 0
     assert core["arbiter_layers"] == 4
+    # the figure to quote is the ratio of one run, whatever the machine's speed
+    ratio = core["arbiter_tick_us"] / core["py_trees_selector_tick_us"]
+    assert core["arbiter_over_selector"] == round(ratio, 2)
+    assert core["tracing_adds_us"] == core["arbiter_tick_traced_us"] - core["arbiter_tick_us"]
     assert data["machine"]["cpus"] >= 1
 
 

@@ -51,6 +51,22 @@ def test_scenes_lists_each_scene_with_its_description(capsys):
     assert scene_description("arena") in " ".join(arena.split())
 
 
+def test_scenes_show_prints_a_scene_file_it_was_given(tmp_path, capsys):
+    """The refusal of an unknown name suggests giving a scene file: 'show' takes one."""
+    from puckboard.cli import main
+
+    assert main(["scenes", "show", "two-robot-pass"]) == 0
+    shipped = capsys.readouterr().out
+    mine = tmp_path / "my_scene.toml"
+    mine.write_text(shipped.replace("two-robot-pass", "mine"), encoding="utf-8")
+    assert main(["scenes", "show", str(mine)]) == 0
+    assert capsys.readouterr().out == mine.read_text(encoding="utf-8")
+    broken = tmp_path / "broken.toml"
+    broken.write_text("robots = 3\n", encoding="utf-8")
+    assert main(["scenes", "show", str(broken)]) == 2  # checked as 'run' would check it
+    assert "broken.toml" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("command", ["serve", "emulate", "calibrate"])
 def test_help_has_no_rest_markup_and_every_option_is_explained(command, capsys):
     import argparse

@@ -116,3 +116,61 @@ def test_no_robot_at_the_address_is_one_line(tmp_path, capsys):
     assert main([*argv, "--port", str(port), "--out", str(out)]) == 2
     assert f"127.0.0.1:{port}" in one_error_line(capsys)
     assert not out.exists()
+
+
+def test_the_time_left_follows_the_plan_not_the_pace_of_the_first_poses(monkeypatch, capsys):
+    """Later stops drive further: told from the seconds per pose so far, the time left
+    stayed "about 1 min" from stop 2 to the last. At the plan's own pace it is what the
+    plan has left (issue 30, round 4, item 15)."""
+    from puckboard.calibration.plan import make_plan
+    from puckboard.calibration.readings import Progress
+    from puckboard.cli import calibrate
+
+    plan = make_plan(EPUCK)
+    display = calibrate._Display(enabled=True, plan=plan)
+    display.tty = False
+    shown = []
+    per_stop = 1 + len(plan.presentations)
+    for stop in range(plan.stops):
+        now = display.t0 + plan.duration(stop)  # exactly at the plan's pace
+        monkeypatch.setattr(calibrate.time, "monotonic", lambda now=now: now)
+        display.update(Progress(stop, plan.stops, 0.0, "front", ("front",), stop * per_stop, 99))
+        left = re.search(r"about (\d+) min left", capsys.readouterr().err)
+        assert left is not None
+        shown.append(int(left.group(1)))
+        assert display.seconds_left(stop, plan.duration(stop)) == pytest.approx(
+            plan.duration() - plan.duration(stop)
+        )
+    assert shown == sorted(shown, reverse=True) and shown[0] > shown[-2] > 0
+
+
+@pytest.mark.parametrize(("stops", "written"), [(1, False), (6, True)])
+def test_ctrl_c_keeps_the_stops_measured(tmp_path, monkeypatch, capsys, stops, written):
+    """Ctrl-C fits the poses measured so far and writes the profile when they suffice,
+    and says why not otherwise; either way it exits 130 (issue 30, round 4, item 15)."""
+    from calibration_helpers import known_profile, wall_robot
+
+    import puckboard.calibration as calibration
+    from puckboard.cli import calibrate
+
+    monkeypatch.setattr(calibrate, "_open", lambda backend, options: wall_robot(known_profile()))
+    real = calibration.run_calibration
+
+    def interrupted(adapter, plan, model, progress=None):
+        def ctrl_c_at_the_stop(p):
+            if p.stop == stops:
+                raise KeyboardInterrupt
+
+        return real(adapter, plan, model, progress=ctrl_c_at_the_stop)
+
+    monkeypatch.setattr(calibration, "run_calibration", interrupted)
+    out = tmp_path / "mine.toml"
+    argv = ["calibrate", "ir", "--backend", "epuck2-wifi", "--host", "10.0.0.9", "--out", str(out)]
+    assert main([*argv, "-q", "--step", "6mm"]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted; the wheels were stopped" in err
+    assert out.exists() == written
+    if written:
+        assert f"fitting the {1 + stops * 8} of" in err
+    else:
+        assert "too few to fit" in err and "nothing was written" in err

@@ -119,3 +119,77 @@ def test_progress_names_the_command(capsys):
     assert progress and all(line.startswith("sensitivity: ") for line in progress), progress
     assert progress[-1].startswith("sensitivity: 12/12 episodes (100 %)"), progress
     json.loads(captured.out)
+
+
+#: The joint method on a few plausible robots: the command's whole path, quick.
+JOINT = [
+    "sensitivity", "line-follow", "--controller", "stock", "--profile", "epuck",
+    "--method", "joint", "--seeds", "0:8", "--bins", "2", "--duration", "2",
+    "--workers", "1", "--quiet",
+]  # fmt: skip
+
+
+def test_joint_reports_the_band_every_curve_and_from_recomputes_it(capsys, tmp_path):
+    out = tmp_path / "joint.csv"
+    assert main([*JOINT, "--out", str(out), "--json"]) == 0
+    live = json.loads(capsys.readouterr().out)
+    assert (live["method"], live["ran"], live["episodes"]) == ("joint", 8, 8)
+    (analysis,) = live["analyses"]
+    assert analysis["band"]["episodes"] == 8
+    assert analysis["numbers"], "every drawn number has its curve"
+    for number in analysis["numbers"]:
+        assert sum(b["episodes"] for b in number["bins"]) == 8
+        assert all(b["rate_low"] <= b["rate"] <= b["rate_high"] for b in number["bins"])
+    # the same report from the file, without running an episode
+    assert main(["sensitivity", "--from", str(out), "--bins", "2", "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert "ran" not in again
+    assert again["analyses"] == live["analyses"]
+    assert (again["scenario"], again["seeds"]) == ("line-follow", "0:8")
+    # the same command resumes from the file: nothing runs again; the figure is drawn
+    figure = tmp_path / "joint.png"
+    assert main([*JOINT, "--out", str(out), "--plot", str(figure)]) == 0
+    printed = capsys.readouterr().out
+    assert "(0 run, 8 already in" in printed
+    assert printed.rstrip().endswith(f"plot written to {figure}")
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--bins", "1"], "--bins must be at least 2, got 1"),
+        (["--seeds", "0:3"], "too few for 2 bins"),
+        (["--fields", "ir_gain"], "--fields is for --method one-at-a-time"),
+    ],
+)  # fmt: skip
+def test_joint_mistakes_are_one_line(capsys, args, message):
+    changed = list(JOINT)
+    if args[0] in changed:
+        changed[changed.index(args[0]) + 1] = args[1]
+    else:
+        changed += args
+    assert main(changed) == 2
+    assert message in one_error_line(capsys)
+
+
+def test_from_a_file_that_cannot_be_read_is_one_line(capsys, tmp_path):
+    missing = tmp_path / "missing.csv"
+    assert main(["sensitivity", "--from", str(missing)]) == 2
+    assert f"--from '{missing}': no such file" in one_error_line(capsys)
+    bad = tmp_path / "notes.txt"
+    bad.write_text("x", encoding="utf-8")
+    assert main(["sensitivity", "--from", str(bad)]) == 2
+    assert "use a .csv or .parquet file name" in one_error_line(capsys)
+    assert main(["sensitivity", "--from", str(missing), "--method", "one-at-a-time"]) == 2
+    assert "--from recomputes a joint analysis" in one_error_line(capsys)
+
+
+def test_joint_without_statsmodels_names_the_analysis_extra(monkeypatch, capsys, tmp_path):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "statsmodels", None)  # as if it were not installed
+    assert main(JOINT) == 2
+    assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)
+    assert main(["sensitivity", "--from", str(tmp_path / "runs.csv")]) == 2
+    assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)

@@ -24,6 +24,9 @@ function startReplay(data) {
   $("player").hidden = false;
   fit();
   player.seek(0);
+  // a robot chosen from the start: its tree, layers and values show without a click
+  // (a newcomer does not know that the robots can be clicked)
+  if (data.robots.length) select(data.robots[0].name);
   state.readyAt = performance.now();  // how long the page took to become usable
 }
 

@@ -224,6 +224,7 @@ function liveFrame(f) {
     if (!last || Math.hypot(last[0] - r.pose[0], last[1] - r.pose[1]) > 0.005) trail.push([r.pose[0], r.pose[1]]);
   }
   showFrame(f);
+  refreshDetails();
 }
 
 // A served world whose scene was restored shows the run that ended as the previous run.
@@ -246,7 +247,7 @@ function showFrame(f) {
     const row = rows[i]; if (!row) return;
     const layer = row.querySelector(".layer-cell");
     layer.replaceChildren();
-    if (r.layer) { const tag = el("span", { class: "layer" }, r.layer); tag.style.background = r.layer_colour; layer.append(tag); }
+    if (r.layer) { const tag = el("span", { class: "layer" }, r.layer); paint(tag, r.layer_colour); layer.append(tag); }
     else layer.textContent = "—";
     row.querySelector(".wheels").textContent = r.wheels ? `${r.wheels[0].toFixed(2)} / ${r.wheels[1].toFixed(2)}` : "—";
     row.querySelector(".driver").textContent = r.driver;
@@ -283,6 +284,21 @@ function eventItem(e) {
   return item;
 }
 
+// Black or white text, whichever contrasts more with the colour (WCAG's relative
+// luminance): white on the light layer colours (orange #E69F00) washes out on a
+// projector. The same rule as text_colour in puckboard/viz/style.py (the tree's PNG).
+function textOn(hex) {
+  const lin = c => (c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4));
+  const [r, g, b] = [1, 3, 5].map(i => lin(parseInt(hex.slice(i, i + 2), 16) / 255));
+  const L = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+  return (L + 0.05) * (L + 0.05) > 0.0525 ? "#000000" : "#ffffff";
+}
+
+function paint(element, colour) {
+  element.style.background = colour;
+  element.style.color = textOn(colour);
+}
+
 function select(name) {
   state.selected = name;
   for (const row of $("robots").tBodies[0].rows) row.classList.toggle("selected", row.dataset.robot === name);
@@ -294,11 +310,13 @@ function select(name) {
 async function refreshDetails() {
   if (!state.selected) return;
   if (state.player) { showDetails(state.player.details(state.selected)); return; }
+  if (state.detailsPending) return;  // one request at a time; the next frame asks again
+  state.detailsPending = true;
   try {
     const all = await (await fetch("/details.json", { cache: "no-store" })).json();
     const d = all && all[state.selected];
     if (d) showDetails(d);
-  } catch (err) { /* the next refresh tries again */ }
+  } catch (err) { /* the next frame tries again */ } finally { state.detailsPending = false; }
 }
 
 function showDetails(d) {
@@ -372,7 +390,7 @@ function showTree(tree) {
     const name = el("span", { class: "node-name" }, n.name);
     const kind = n.kind === "layer" ? null : el("span", { class: "node-kind" }, n.type + (n.memory ? " (memory)" : ""));
     const badge = el("span", { class: "node-status" }, k === driver ? "in control" : word);
-    if (k === driver) badge.style.background = n.colour || "#333";
+    if (k === driver) paint(badge, n.colour || "#333333");
     item.append(sw, name, ...(kind ? [kind] : []), badge);
     return item;
   }));
@@ -397,7 +415,8 @@ $("timeline").addEventListener("click", ev => {
   state.player.seekTime(+tl.dataset.end * (ev.clientX - rect.left) / rect.width);
 });
 window.addEventListener("resize", () => { fit(); draw(); });
-setInterval(() => { if (!state.player) refreshDetails(); }, 500);
+// The live panel follows every frame (as soon as the previous answer is in), not a
+// timer of its own: on a 500 ms timer its time lagged the header's by up to 0.6 s.
 
 async function fetchJson(url) {
   try {

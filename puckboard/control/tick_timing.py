@@ -1,0 +1,94 @@
+"""Which layer makes a controller slower than its control period, said once per robot.
+
+A controller whose tick takes longer than the control period cannot keep up: in
+simulation the run slows below real time, on a robot the cycles overrun. Without a word
+the user sees only "0.12x real time" and cannot tell which of their layers is slow. The
+loop times every controller tick (two clock reads); after the first tick longer than
+the period, the next tick is run with every layer's ``observe`` and ``update`` timed,
+and one warning names the slowest layer and its time per tick. The timing wraps the
+same calls in the same order, so the run is the same with it.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+__all__ = ["TickTimer"]
+
+log = logging.getLogger(__name__)
+
+
+class TickTimer:
+    """Per robot: times its controller's ticks against ``period`` (seconds) and warns
+    once, naming the slowest layer, when they take longer."""
+
+    def __init__(self, robot: str, controller: Any, period: float) -> None:
+        self.robot = robot
+        self.controller = controller
+        self.period = period
+        self._slow_tick: float | None = None  # the first tick over the period, seconds
+        self._done = False
+
+    @contextmanager
+    def tick(self) -> Iterator[None]:
+        """Time one tick of the controller (the body ticks it)."""
+        if self._done:
+            yield
+            return
+        if self._slow_tick is None:
+            t0 = time.perf_counter()
+            yield
+            elapsed = time.perf_counter() - t0
+            if elapsed > self.period:
+                self._slow_tick = elapsed
+            return
+        spent: dict[str, float] = {}
+        with _timed_layers(self.controller, spent):
+            yield
+        self._done = True
+        self._warn(spent)
+
+    def _warn(self, spent: dict[str, float]) -> None:
+        name = getattr(self.controller, "name", "controller")
+        slow = self._slow_tick or 0.0
+        if spent:
+            layer, seconds = max(spent.items(), key=lambda item: item[1])
+            blame = f"its slowest layer, {layer}, takes {seconds * 1e3:.0f} ms per tick"
+        else:
+            blame = "no layer of it was timed"
+        log.warning(
+            "robot %r: a tick of controller %r took %.0f ms, longer than the %.0f ms control "
+            "period, so the run goes slower than real time; %s",
+            self.robot, name, slow * 1e3, self.period * 1e3, blame,
+        )  # fmt: skip
+
+
+@contextmanager
+def _timed_layers(controller: Any, spent: dict[str, float]) -> Iterator[None]:
+    """Within the block each layer's ``observe`` and ``update`` add their seconds to
+    ``spent[layer name]`` (instance attributes shadowing the methods, removed after)."""
+    layers = list(getattr(controller, "every_layer", ()))
+    for layer in layers:
+        for method in ("observe", "update"):
+            setattr(layer, method, _timed(getattr(layer, method), layer.name, spent))
+    try:
+        yield
+    finally:
+        for layer in layers:
+            for method in ("observe", "update"):
+                layer.__dict__.pop(method, None)
+
+
+def _timed(call: Callable[..., Any], name: str, spent: dict[str, float]) -> Callable[..., Any]:
+    def timed(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.perf_counter()
+        try:
+            return call(*args, **kwargs)
+        finally:
+            spent[name] = spent.get(name, 0.0) + time.perf_counter() - t0
+
+    return timed

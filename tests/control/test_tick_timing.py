@@ -1,0 +1,69 @@
+"""A layer slower than the control period is named once per robot, and the run's
+real-time factor keeps two significant figures (issue 30, round 4, item 10)."""
+
+from __future__ import annotations
+
+import logging
+import types
+
+import pytest
+
+import puckboard.control.tick_timing as tick_timing
+from puckboard.behaviours import Controller, Layer
+from puckboard.behaviours.cruise import Cruise
+from puckboard.cli.run import realtime_text
+from puckboard.control.episode import Episode
+from puckboard.records import WheelCommand
+
+
+class Clock:
+    """A stand-in for the wall clock that moves only when a layer says it works."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def perf_counter(self) -> float:
+        return self.now
+
+
+def controller_with_a_slow_layer(clock: Clock) -> Controller:
+    class Ponder(Layer):
+        def applies(self, frame):  # type: ignore[no-untyped-def]
+            clock.now += 0.3  # "takes" 300 ms each tick
+            return False
+
+        def command(self, frame):  # type: ignore[no-untyped-def]
+            return WheelCommand.stop()
+
+    return Controller([Ponder(), Cruise()], name="pondering")
+
+
+def test_a_layer_slower_than_the_period_is_named_once_per_robot(monkeypatch, caplog):
+    clock = Clock()
+    monkeypatch.setattr(tick_timing, "time", types.SimpleNamespace(perf_counter=clock.perf_counter))
+    episode = Episode("line-follow", controller=lambda: controller_with_a_slow_layer(clock))
+    with caplog.at_level(logging.WARNING, logger="puckboard.control.tick_timing"):
+        episode.run(1.0)
+    lines = [r.getMessage() for r in caplog.records if r.name == "puckboard.control.tick_timing"]
+    assert len(lines) == len(episode.connection.adapters) == 1
+    assert "controller 'pondering' took 300 ms, longer than the 50 ms control period" in lines[0]
+    assert "its slowest layer, Ponder, takes 300 ms per tick" in lines[0]
+
+
+def test_timing_the_layers_changes_no_result(monkeypatch):
+    plain = Episode("line-follow", seed=3).run(2.0).to_dict()
+    seconds = iter(range(10**6))  # a clock that says each tick took a second: every layer timed
+    fake = types.SimpleNamespace(perf_counter=lambda: float(next(seconds)))
+    monkeypatch.setattr(tick_timing, "time", fake)
+    timed = Episode("line-follow", seed=3).run(2.0).to_dict()
+    for key in ("wall_s", "realtime_factor"):
+        plain.pop(key), timed.pop(key)
+    assert timed == plain
+
+
+@pytest.mark.parametrize(
+    ("factor", "shown"),
+    [(185.3, "185x"), (12.4, "12x"), (1.94, "1.9x"), (0.1234, "0.12x"), (0.0123, "0.012x")],
+)
+def test_the_real_time_factor_keeps_two_significant_figures(factor, shown):
+    assert realtime_text(factor) == shown
