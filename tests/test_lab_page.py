@@ -1,0 +1,441 @@
+"""The lab page (docs/lab-fragile-to-robust.md) shows what its commands print and quotes
+its bands from the tables that measured them.
+
+Each command the page shows with its output is run here as a reader runs it, in a
+folder holding the tutorial's ``my_controller.py`` with the page's layer added, and
+compared exactly (doc_pages). The runs are single episodes; the sensitivity analysis
+and the tuning study take minutes, so their outputs are checked for agreeing with
+themselves, with the controllers page's tables of the same episodes, and with one
+row's episodes re-run. Every 200-seed figure the page quotes is the controllers page's.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import doc_pages
+import numpy as np
+import pytest
+from episodes import episode
+from test_doc_claims import (
+    BANDS,
+    REPLAYS,
+    ROBUST_BANDS,
+    SHORT,
+    band_key,
+    cell_key,
+    count_rate_interval,
+    plain,
+    stated_failures,
+)
+
+from puckboard.sweep.stats import wilson_interval
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGE = ROOT / "docs" / "lab-fragile-to-robust.md"
+PLAUSIBLE = {"variation": "plausible"}
+
+
+def page() -> str:
+    return PAGE.read_text(encoding="utf-8")
+
+
+def stated(pattern: str) -> re.Match[str]:
+    """The one place on the page that states ``pattern`` (whitespace-tolerant)."""
+    found = list(re.finditer(pattern.replace(" ", r"\s+"), page(), re.DOTALL))
+    assert len(found) == 1, f"the lab page states /{pattern}/ {len(found)} times, not once"
+    return found[0]
+
+
+def shown_commands() -> list[tuple[str, str]]:
+    """Each ``puckboard`` command of a bash block that a text block follows, with that
+    text (what the page says it prints)."""
+    blocks = doc_pages.fences(page())
+    pairs = []
+    for (language, body), (next_language, shown) in itertools.pairwise(blocks):
+        if language == "bash" and next_language == "text":
+            (command,) = body.strip().splitlines()
+            pairs.append((command, shown))
+    return pairs
+
+
+def shown_after(command_start: str) -> tuple[list[str], str]:
+    (found,) = [(c, s) for c, s in shown_commands() if c.startswith(command_start)]
+    return shlex.split(found[0])[1:], found[1]
+
+
+# -- the student's file -------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def student_folder(tmp_path_factory) -> Path:
+    """``my_controller.py`` as the tutorial saves it, with the lab's layer and factory
+    added as the page asks."""
+    tutorial = (ROOT / "docs" / "tutorial.md").read_text(encoding="utf-8")
+    saved = [b for lang, b in doc_pages.fences(tutorial) if b.startswith("# my_controller.py\n")]
+    added = [b for lang, b in doc_pages.fences(page()) if lang == "python"]
+    assert len(saved) == 1 and len(added) == 1, "one saved file, one addition to it"
+    folder = tmp_path_factory.mktemp("lab")
+    (folder / "my_controller.py").write_text(saved[0] + "\n\n" + added[0], encoding="utf-8")
+    return folder
+
+
+def run_cli(argv: list[str], folder: Path) -> str:
+    done = subprocess.run(
+        [sys.executable, "-m", "puckboard", *argv],
+        cwd=folder, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 0, f"{argv}\n{done.stderr[-3000:]}"
+    return done.stdout
+
+
+@pytest.mark.slow
+def test_the_runs_and_the_replay_print_what_the_page_shows(student_folder):
+    """The failing robot, its replay file, the graze and the guard's answer to it."""
+    runs = [
+        (c, s) for c, s in shown_commands() if c.startswith(("puckboard run", "puckboard replay"))
+    ]
+    assert len(runs) == 4, [c for c, _ in runs]
+    for command, shown in runs:  # in page order: a replay needs its recording
+        printed = run_cli(shlex.split(command)[1:], student_folder)
+        doc_pages.assert_shown(shown, printed, f"lab page: {command}")
+    assert (student_folder / "fail.html").is_file()
+    recording = student_folder / "fail.npz"
+    cruise_from = float(stated(r"from (\S+) s to the end of the run the layer").group(1))
+    assert layers_of(recording, "right")[-1] == (cruise_from, "Cruise")
+    grazed = float(stated(r"first collision, at (\S+) s").group(1))
+    at_touch = state_at(student_folder / "graze.npz", "right", grazed)
+    assert at_touch["layer"] == "FindLineOnTheRight", at_touch
+    assert at_touch["right"] < 0.01, at_touch  # "less than 1 cm away"
+
+
+def load(recording: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    with np.load(recording, allow_pickle=False) as z:
+        return z["time"], z["layer"], z["proximity"], json.loads(str(z["meta"]))
+
+
+def layers_of(recording: Path, robot: str) -> list[tuple[float, str]]:
+    """(time, layer) each time the robot's driving layer changed."""
+    time, layer, _, meta = load(recording)
+    column, names = meta["robots"].index(robot), meta["robot_layers"][robot]
+    changes = [0] + [i for i in range(1, len(time)) if layer[i, column] != layer[i - 1, column]]
+    return [(round(float(time[i]), 2), names[layer[i, column]]) for i in changes]
+
+
+def state_at(recording: Path, robot: str, t: float) -> dict[str, object]:
+    from puckboard.records import PROX_NAMES
+
+    time, layer, proximity, meta = load(recording)
+    column, names = meta["robots"].index(robot), meta["robot_layers"][robot]
+    i = int(np.argmin(np.abs(time - t)))
+    return {
+        "layer": names[layer[i, column]],
+        "right": float(proximity[i, column, PROX_NAMES.index("right")]),
+    }
+
+
+def test_the_graze_is_the_controllers_page_s_replayed_one():
+    """The seed the page records a graze on is the one the controllers page replays."""
+    (graze,) = [r for r in REPLAYS if plain(r["run"]) == "the graze"]
+    assert plain(graze["controller"]).startswith("my_controller")
+    assert plain(graze["outcome"]) == "collision: robot right"
+    command, _ = shown_after("puckboard run two-robot-pass --controller my_controller.py:my_")
+    assert command[command.index("--seed") + 1] == graze["seed"]
+
+
+# -- the figures quoted from the bands ----------------------------------------------------
+def band(controller: str, profile: str) -> dict[str, str]:
+    return {band_key(r): r for r in BANDS}[(controller, profile)]
+
+
+def test_the_bands_the_page_quotes_are_the_controllers_page_s():
+    improved = band("improved", "epuck")
+    m = stated(r"shipped it passes (\d+) of 200 seeds \((\S+) %\)")
+    shipped = plain(improved["shipped, of 200"])
+    assert shipped.startswith(f"{m.group(1)} ({m.group(2)} %"), shipped
+    m = stated(r"it passes \*\*(\d+) of 200 \(([^)]*)\)\*\*;\s+the failures are ([^.]*)\. Those")
+    assert f"{m.group(1)} ({m.group(2)})" == plain(improved["plausible robots, of 200"])
+    assert m.group(3) == stated_failures(improved["failures of plausible robots"])
+    assert improved["plausible, seeds 0–9"] == "0"  # "none of seeds 0–9 passes"
+    stated(r"on plausible robots none of seeds 0–9 passes")
+
+    mine = band("my_controller (the tutorial's)", "epuck")
+    m = stated(r"it passes\s+\*\*(\d+) of 200 \(([^)]*)\)\*\*, and the failures are (`\w+` \d+),")
+    assert f"{m.group(1)} ({m.group(2)})" == plain(mine["plausible robots, of 200"])
+    assert m.group(3) == stated_failures(mine["failures of plausible robots"])
+    m = stated(r"On (\d+) runs with plausible robots, the tutorial's controller\s+never loses")
+    rows = [r for r in BANDS if plain(r["controller"]).startswith("my_controller")]
+    assert int(m.group(1)) == 200 * len(rows)
+    assert all("lost_line" not in r["failures of plausible robots"] for r in rows)
+
+
+def moves_it_most(controller: str) -> str:
+    """The bands table's "what moves it most" cell, for the physical e-puck."""
+    row = band(controller, "epuck")
+    (column,) = [k for k in row if k.startswith("what moves it most")]
+    return row[column]
+
+
+def test_the_numbers_the_failures_hang_on_are_the_band_s():
+    edge = moves_it_most("improved")
+    m = stated(r"across the (\d+)–(\d+)° the sources give, the front sensors' heading moves\s+"
+               r"the improved controller from (\d+) to (\d+) of 40 seeds")  # fmt: skip
+    assert f"heading**, {m.group(1)}–{m.group(2)}°: {m.group(3)} to {m.group(4)} of 40" in edge
+    graze = moves_it_most("my_controller (the tutorial's)")
+    m = stated(r"the side sensors' inset, (\S+) mm, moves the tutorial's controller\s+from "
+               r"(\d+) to (\d+) of 40 seeds, and IR gain from (\d+) to (\d+) of 40")  # fmt: skip
+    inset, low, high, gain_low, gain_high = m.groups()
+    assert f"inset, {inset} mm: {low} to {high} of 40" in graze
+    assert f"IR gain, 0.7–1.3: {gain_low} to {gain_high} of 40" in graze
+
+
+def test_the_robust_band_the_page_quotes_is_the_controllers_page_s():
+    """ "200 of 200 validation seeds (...) in each of the four cells": every row's."""
+    m = stated(
+        r"robots it passed (\d+) of (\d+) validation seeds \((\S+) %, (\S+) %\) in each of "
+        r"the four\s+cells"
+    )
+    assert len(ROBUST_BANDS) == 4
+    for row in ROBUST_BANDS:
+        (column,) = [k for k in row if k.startswith("validation: plausible")]
+        runs = int(re.findall(r"\d+", column)[-1])
+        count, numbers = count_rate_interval(row[column], runs)
+        low_high = f"{numbers[1]:g}–{numbers[2]:g}"
+        assert m.groups() == (str(count), str(runs), f"{numbers[0]:g}", low_high), row
+    improved = plain(band("improved", "epuck")["plausible robots, of 200"])
+    m = stated(r"where `improved` passes (\S+) % on the straight\s+meeting with the physical")
+    assert f"({m.group(1)} %," in improved, improved
+
+
+def test_the_robust_numbers_the_page_names_are_the_preset_s():
+    from puckboard.behaviours import ClearanceGuard, LineSearch, load_controller
+
+    layers = {type(layer): layer for layer in load_controller("robust").layers}
+    m = stated(r"at the same clearance, (\S+); its search, `LineSearch`, .* at `ratio` (\S+)\.")
+    assert float(m.group(1)) == layers[ClearanceGuard].clearance
+    assert float(m.group(2)) == layers[LineSearch].ratio
+
+
+# -- the sensitivity analysis -------------------------------------------------------------
+ROW = re.compile(r"^(\S+(?: \(shipped\))?)\s+(\d+)\s+(\d+)\s+(\d+) %\s+\[(\d+), (\d+)\] %\s+(.*)$",
+                 re.MULTILINE)  # fmt: skip
+
+
+def sensitivity_shown() -> tuple[list[str], str]:
+    return shown_after("puckboard sensitivity")
+
+
+def test_the_sensitivity_output_agrees_with_itself_and_the_tables():
+    argv, shown = sensitivity_shown()
+    seeds = argv[argv.index("--seeds") + 1]
+    assert seeds == "0:10"
+    rows = ROW.findall(shown)
+    assert [r[0] for r in rows] == ["10", "14", "17 (shipped)", "18"]
+    for value, n, ok, rate, low, high, _ in rows:
+        lo, hi = wilson_interval(int(ok), int(n))
+        assert (int(low), int(high)) == (round(100 * lo), round(100 * hi)), value
+        assert int(rate) == round(100 * int(ok) / int(n)), value
+    # the shipped profile's row is the controllers page's seeds 0-9 figure for the cell
+    (short,) = [r for r in SHORT if cell_key(r) == ("improved", "two-robot-pass", "epuck")]
+    m = re.search(r"^shipped profile\s+(\d+) of 10 .*%\s+(\S.*)$", shown, re.MULTILINE)
+    assert m is not None
+    assert m.group(1) == short["success of seeds 0–9"]
+    assert f"`{m.group(2).replace(' ', '` ', 1)}" == short["reported failures"]
+    m = re.search(r"^--variation plausible\s+(\d+) of 10", shown, re.MULTILINE)
+    assert m is not None and m.group(1) == band("improved", "epuck")["plausible, seeds 0–9"]
+    spread = re.search(r"(\d+) %\s+(\d+) % at (\d+)°\s+(\d+) % at (\d+)°", shown)
+    assert spread is not None
+    rates = {r[0].split()[0]: int(r[3]) for r in rows}
+    assert int(spread.group(1)) == max(rates.values()) - min(rates.values())
+
+
+@pytest.mark.slow
+def test_the_sensitivity_s_best_value_is_what_the_episodes_give():
+    """The 10° row re-run: the front sensors turned to the low end of their range, as the
+    analysis turns them."""
+    from puckboard.profile import get_profile, uncertainty
+
+    _, shown = sensitivity_shown()
+    (row,) = [r for r in ROW.findall(shown) if r[0] == "10"]
+    low = uncertainty(get_profile("epuck"))["prox_heading.front"].low
+    assert round(np.degrees(low)) == 10
+    overrides = {"profile.prox_heading.front": low}
+    runs = [episode("two-robot-pass", "improved", s, "epuck", overrides) for s in range(10)]
+    assert sum(r.success for r in runs) == int(row[2])
+
+
+# -- the tuning study ---------------------------------------------------------------------
+TRIAL = re.compile(r"^\| (\d+) \| ([\d.]+) \| ([\d.]+) \| (\d+) of (\d+) \| (\d+) of (\d+) \| ([^|]*)\|$",
+                   re.MULTILINE)  # fmt: skip
+
+
+def tune_in(folder: Path, *extra: str) -> str:
+    """The page's tune command, resumed from the study the docs ship: nothing is run."""
+    argv, _ = shown_after("puckboard tune")
+    study = argv[argv.index("--study") + 1]
+    (folder / study).write_bytes((PAGE.parent / study).read_bytes())
+    return run_cli([*argv, *extra], folder)
+
+
+@pytest.mark.slow
+def test_the_tuning_output_and_trials_are_the_stored_study_s(student_folder, tmp_path):
+    """The page's output is the study's report; its trials table is the study's trials."""
+    folder = tmp_path / "resumed"
+    folder.mkdir()
+    (folder / "my_controller.py").write_bytes((student_folder / "my_controller.py").read_bytes())
+    _, shown = shown_after("puckboard tune")
+    printed = tune_in(folder)
+    first_shown, rest_shown = shown.strip().split("\n", 1)
+    first_printed, rest_printed = printed.strip().split("\n", 1)
+    doc_pages.assert_shown(rest_shown, rest_printed, "lab page: the tuning study")
+    # "6 trials (6 run now, 0 from lab.journal; 2 pruned)": all were run when measured
+    counts = r"^(\d+) trials \((\d+) run now, (\d+) from \S+; (\d+) pruned\)"
+    ran, resumed = re.match(counts, first_shown), re.match(counts, first_printed)
+    assert ran and resumed
+    assert ran.group(1) == ran.group(2) == resumed.group(1) == resumed.group(3), first_shown
+    assert ran.group(4) == resumed.group(4)
+
+    report = json.loads(tune_in(folder, "--json"))
+    rows = TRIAL.findall(page())
+    assert [int(r[0]) for r in rows] == [t["number"] for t in report["trials"]]
+    for row, trial in zip(rows, report["trials"]):
+        params = list(trial["params"].values())
+        assert [float(row[1]), float(row[2])] == [float(f"{v:g}") for v in params], row
+        cells = [f"{c['successes']} of {c['episodes']}" for c in trial["cells"]]
+        assert [f"{row[3]} of {row[4]}", f"{row[5]} of {row[6]}"] == cells, row
+        pruned = f"pruned after {trial['rounds']} of {report['rounds']} rounds"
+        assert (trial["state"] == "pruned") == (row[7].strip() == pruned), row
+    assert rows[report["best"]["trial"]][7].strip() == "best"
+    # trial 0 is the controller as written: the layers' own values
+    from puckboard.behaviours import load_controller
+
+    shipped = load_controller(f"{folder / 'my_controller.py'}:guarded_controller")
+    own = {f"layer.{layer.name}.{attr}": getattr(layer, attr)
+           for layer in shipped.layers for attr in ("clearance", "ratio") if hasattr(layer, attr)}  # fmt: skip
+    assert report["trials"][0]["params"] == own
+    # "trial 1's robots got further (0.86 laps against 0.81)"
+    m = stated(r"trials (\d+) and (\d+) passed every\s+design episode, and trial \d+'s robots "
+               r"got further \((\S+) laps against (\S+)\)")  # fmt: skip
+    progress = []
+    for number in (int(m.group(1)), int(m.group(2))):
+        cells = report["trials"][number]["cells"]
+        assert all(c["successes"] == c["episodes"] for c in cells)
+        progress.append(f"{sum(c['mean_progress_laps'] for c in cells) / len(cells):.2f}")
+    assert progress == [m.group(3), m.group(4)]
+    m = stated(r"(\d+) of the (\d+) design episodes were never run")
+    spared = report["episodes_spared_by_pruning"]
+    assert (int(m.group(1)), int(m.group(2))) == (spared, report["design_episodes"] + spared)
+
+
+def test_the_validation_intervals_the_page_reads_are_wilson_s():
+    m = stated(r"(\d+) of (\d+) is\s+(\d+)–(\d+) %\. It says")
+    count, n, low, high = (int(x) for x in m.groups())
+    lo, hi = wilson_interval(count, n)
+    assert (low, high) == (round(100 * lo), round(100 * hi))
+    # "12 of 12 on both cells": the tuning's validation column
+    argv, shown = shown_after("puckboard tune")
+    first, last = (int(x) for x in argv[argv.index("--validate") + 1].split(":"))
+    validation = re.findall(
+        r"^two-robot-pass\S*, epuck .*\((\d+)–(\d+) %, (\d+)/(\d+)\)$", shown, re.MULTILINE
+    )
+    assert validation == [(str(low), str(high), str(count), str(n))] * 2, validation
+    stated(
+        rf"seeds {first}–{last - 1}, which no trial saw:\s+{count} of {n} on both cells, and no warning"
+    )
+    assert "warning" not in shown
+    m = stated(r"a controller must pass (\d+) seeds of (\d+), without one\s+failure")
+    needed = int(m.group(1))
+    assert m.group(1) == m.group(2)
+    assert wilson_interval(needed, needed)[0] >= 0.95 > wilson_interval(needed - 1, needed - 1)[0]
+
+
+@pytest.mark.slow
+def test_the_trials_bends_end_as_the_page_says(student_folder):
+    """Trial 0 (the numbers as written) loses the line in the bend on seed 0, robot
+    ``right`` first; the best trial's numbers pass the same seed."""
+    spec = f"{student_folder / 'my_controller.py'}:guarded_controller"
+    seed = int(stated(r"on seed (\d+) robot `right` loses the line").group(1))
+    circling = episode("two-robot-pass-bend", spec, seed, "epuck", PLAUSIBLE)
+    assert circling.failure == "lost_line"
+    assert next(e for e in circling.events if e.kind == "lost_line").robot == "right"
+    (best,) = [r for r in TRIAL.findall(page()) if r[7].strip() == "best"]
+    tuned = {"layer.KeepClear.clearance": float(best[1]), "layer.FindLineOnTheRight.ratio": float(best[2])}  # fmt: skip
+    assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
+
+
+WORDS = {"six": 6, "eight": 8, "twelve": 12}
+
+
+def span(seeds: str) -> int:
+    first, last = (int(x) for x in seeds.split(":"))
+    return last - first
+
+
+def test_the_words_around_the_commands_are_their_arguments():
+    """ "Eight design seeds, six trials, ... twelve validation seeds per cell", and the
+    lecturer notes' "runs 50 episodes" and "a study of six trials"."""
+    argv, _ = shown_after("puckboard tune")
+    m = stated(r"(\w+) design seeds, (\w+) trials, the best then run on (\w+) validation seeds")
+    design, trials, validation = (WORDS[w.lower()] for w in m.groups())
+    assert design == span(argv[argv.index("--seeds") + 1])
+    assert trials == int(argv[argv.index("--trials") + 1])
+    assert validation == span(argv[argv.index("--validate") + 1])
+    notes = (ROOT / "docs" / "lecturer-notes.md").read_text(encoding="utf-8")
+    _, shown = sensitivity_shown()
+    episodes = re.search(r"(\d+) of \d+ episodes", shown)
+    assert episodes is not None
+    assert f"The sensitivity step runs {episodes.group(1)} episodes" in notes
+    # the wall clock the notes quote is what the page's outputs printed, in order
+    seconds = [
+        f"{float(re.search(r', ([0-9.]+) s', text).group(1)):.0f} s"  # type: ignore[union-attr]
+        for text in (
+            shown,
+            shown_after("puckboard tune")[1],
+            shown_after("puckboard sweep two-robot-pass ")[1],
+            shown_after("puckboard sweep two-robot-pass-bend ")[1],
+        )
+    ]
+    flat = " ".join(notes.split())
+    assert "they took {}, {}, and {} and {} of wall clock".format(*seconds) in flat, seconds
+    assert f"a study of {next(w for w, n in WORDS.items() if n == trials)} trials" in " ".join(
+        notes.split()
+    )
+
+
+SWEPT = re.compile(r"^\S+\s+-\s+(\d+)\s+(\d+)\s+(\d+) %\s+\[(\d+), (\d+)\] %\s+\S+\s+\S+\s+(.*)$",
+                   re.MULTILINE)  # fmt: skip
+
+
+def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
+    """The sweeps run the study's "use it" line on seeds no trial saw; each row's rate
+    and interval are its counts'."""
+    tune_argv, tune_shown = shown_after("puckboard tune")
+    use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
+    assert use is not None
+    design = range(*(int(x) for x in tune_argv[tune_argv.index("--seeds") + 1].split(":")))
+    read = {}
+    for scene in ("two-robot-pass", "two-robot-pass-bend"):
+        argv, shown = shown_after(f"puckboard sweep {scene} ")
+        assert use.group(1) in " ".join(argv), argv
+        seeds = range(*(int(x) for x in argv[argv.index("--seeds") + 1].split(":")))
+        assert not set(seeds) & set(design)
+        ((n, ok, rate, low, high, failures),) = SWEPT.findall(shown)
+        assert int(n) == len(seeds)
+        lo, hi = wilson_interval(int(ok), int(n))
+        assert (int(low), int(high)) == (round(100 * lo), round(100 * hi))
+        assert int(rate) == round(100 * int(ok) / int(n))
+        failed = sum(int(x) for x in re.findall(r"\d+", failures))
+        assert failed == int(n) - int(ok), failures
+        read[scene] = (int(ok), int(n), int(low), int(high), failures.strip())
+    m = stated(r"On the straight meeting, (\d+) of (\d+): the interval's lower end just reaches "
+               r"(\d+) %\. In the\s+bend, (\d+) of (\d+) \((\d+)–(\d+) %\), and (\d+) runs "
+               r"ended in `(\w+)`")  # fmt: skip
+    ok, n, low, *_ = read["two-robot-pass"]
+    assert m.groups()[:3] == (str(ok), str(n), str(low))
+    ok, n, low, high, failures = read["two-robot-pass-bend"]
+    kind, count = failures.split()
+    assert m.groups()[3:] == (str(ok), str(n), str(low), str(high), count, kind)
