@@ -4,7 +4,8 @@ A controller whose tick takes longer than the control period cannot keep up: in
 simulation the run slows below real time, on a robot the cycles overrun. Without a word
 the user sees only "0.12x real time" and cannot tell which of their layers is slow. The
 loop times every controller tick (two clock reads); after the first tick longer than
-the period, the next tick is run with every layer's ``observe`` and ``update`` timed,
+the period, the next tick is run with every layer's ``observe``, ``applies`` and
+``command`` timed (what a layer's own code spends),
 and one warning names the slowest layer and its time per tick. The timing wraps the
 same calls in the same order, so the run is the same with it.
 """
@@ -67,19 +68,23 @@ class TickTimer:
         )  # fmt: skip
 
 
+#: What a layer's own code runs in a tick; the node around it is puckboard's.
+_TIMED_METHODS = ("observe", "applies", "command")
+
+
 @contextmanager
 def _timed_layers(controller: Any, spent: dict[str, float]) -> Iterator[None]:
-    """Within the block each layer's ``observe`` and ``update`` add their seconds to
+    """Within the block each layer's ``observe``, ``applies`` and ``command`` add their seconds to
     ``spent[layer name]`` (instance attributes shadowing the methods, removed after)."""
     layers = list(getattr(controller, "every_layer", ()))
     for layer in layers:
-        for method in ("observe", "update"):
+        for method in _TIMED_METHODS:
             setattr(layer, method, _timed(getattr(layer, method), layer.name, spent))
     try:
         yield
     finally:
         for layer in layers:
-            for method in ("observe", "update"):
+            for method in _TIMED_METHODS:
                 layer.__dict__.pop(method, None)
 
 
