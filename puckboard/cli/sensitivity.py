@@ -194,28 +194,13 @@ def _check_plot(path: Path) -> None:
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
     from ..sensitivity import format_result, run_sensitivity
-    from ..sweep import make_progress
     from ..sweep.signals import interrupts_deferred
 
     with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
         scene = scene_or_error(args.scenario)
         plan = _plan(args, scene)
         store = open_out(args)
-    result = execute(
-        args,
-        executor,
-        store,
-        "sensitivity",
-        lambda on: run_sensitivity(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
-            episode_timeout=args.episode_timeout,
-        ),
-    )
+    result = _execute(args, executor, store, run_sensitivity, plan, scene)
     if result is None:
         return 1
     if args.json:
@@ -229,6 +214,30 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
         if not args.json:
             print(f"\nplot written to {args.plot}")
     return exit_status(args, result.sweep, stored=store is not None, command="sensitivity")
+
+
+def _execute(
+    args: argparse.Namespace, executor: Any, store: Any, analysis: Any, plan: Any, scene: Any
+) -> Any:
+    """Run ``analysis`` (one-at-a-time's or the joint one) on the executor with the
+    options both methods share; ``None`` when it was stopped (see ``execute``)."""
+    from ..sweep import make_progress
+
+    return execute(
+        args,
+        executor,
+        store,
+        "sensitivity",
+        lambda on: analysis(
+            plan,
+            scene,
+            executor=on,
+            store=store,
+            batch_size=args.batch_size,
+            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
+            episode_timeout=args.episode_timeout,
+        ),
+    )
 
 
 def _profiles(args: argparse.Namespace, scene: Any) -> list[Any]:
@@ -287,7 +296,7 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
 def _run_joint(args: argparse.Namespace, executor: Any) -> int:
     from ..errors import PuckboardError
     from ..sensitivity.joint import joint_plan, run_joint
-    from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan, make_progress
+    from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan
     from ..sweep.plan import parse_seeds
     from ..sweep.signals import interrupts_deferred
 
@@ -311,21 +320,7 @@ def _run_joint(args: argparse.Namespace, executor: Any) -> int:
         except (PlanError, PuckboardError) as exc:
             raise CliError(str(exc)) from exc
         store = open_out(args)
-    result = execute(
-        args,
-        executor,
-        store,
-        "sensitivity",
-        lambda on: run_joint(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
-            episode_timeout=args.episode_timeout,
-        ),
-    )
+    result = _execute(args, executor, store, run_joint, plan, scene)
     if result is None:
         return 1
     _show_joint(args, result, stored=str(args.out) if store is not None else None)

@@ -19,7 +19,7 @@ from ..profile.setting_names import path_unit
 from ..sweep.summary import controller_labels
 from .joint import JointAnalysis, JointResult
 from .plan import shown_scale
-from .plot import COLOURS, FONT
+from .plot import COLOURS, FONT, pyplot
 
 __all__ = ["ROWS", "plot_joint"]
 
@@ -104,13 +104,7 @@ def plot_joint(
     result: JointResult, path: str | os.PathLike[str], *, title: str | None = None
 ) -> None:
     """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError("--plot needs matplotlib: pip install 'puckboard[viz]'") from exc
+    plt = pyplot()
     analyses = result.analyses
     order = _order(analyses)
     names = controller_labels(result.controllers)

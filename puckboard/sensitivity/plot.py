@@ -132,10 +132,8 @@ def legend_entries(analyses: list[Analysis], names: dict[str, str]) -> tuple[lis
     return handles, labels
 
 
-def plot_sensitivity(
-    result: SensitivityResult, path: str | os.PathLike[str], *, title: str | None = None
-) -> None:
-    """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
+def pyplot() -> Any:
+    """matplotlib's pyplot drawing off screen, or an ImportError naming the extra."""
     try:
         import matplotlib
 
@@ -143,6 +141,14 @@ def plot_sensitivity(
         import matplotlib.pyplot as plt
     except ImportError as exc:
         raise ImportError("--plot needs matplotlib: pip install 'puckboard[viz]'") from exc
+    return plt
+
+
+def plot_sensitivity(
+    result: SensitivityResult, path: str | os.PathLike[str], *, title: str | None = None
+) -> None:
+    """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
+    plt = pyplot()
     analyses = result.analyses
     order = _field_order(analyses)
     names = controller_labels(result.plan.sweep.controllers)
