@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import pytest
+from layer_readings import MAX, Clock, ground, prox
 from py_trees.common import Status
 
 from puckboard.behaviours import (
@@ -25,17 +23,7 @@ from puckboard.behaviours import (
 )
 from puckboard.behaviours.tracing import trace
 from puckboard.blackboard import Blackboard
-from puckboard.records import PROX_NAMES, Ground, Proximity, WheelCommand
-
-MAX = math.radians(120)
-
-
-class Clock:
-    t = 0.0
-
-    def __call__(self) -> float:
-        return self.t
-
+from puckboard.records import WheelCommand
 
 #: the keys the test layers below read: keys of their own, so declared (a controller
 #: refuses a key its robot cannot have)
@@ -48,18 +36,6 @@ def make_ns(clock=None):
     for key in FLAG_KEYS:
         ns.declare(key)
     return ns
-
-
-def prox(**d):
-    arr = np.full(8, 0.05)
-    for name, value in d.items():
-        arr[PROX_NAMES.index(name)] = value
-    return Proximity(arr, np.zeros(8))
-
-
-def ground(left=1.0, centre=1.0, right=1.0):
-    v = np.array([left, centre, right])
-    return Ground(v, v * 1023)
 
 
 class Flag(Layer):

@@ -7,10 +7,8 @@ that way once the line is lost.
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import pytest
+from layer_readings import MAX, Clock, ground, prox
 
 from puckboard.behaviours import (
     ClearanceGuard,
@@ -23,28 +21,7 @@ from puckboard.behaviours import (
 )
 from puckboard.behaviours.layer import Frame
 from puckboard.blackboard import Blackboard
-from puckboard.records import PROX_NAMES, Ground, Proximity
-
-MAX = math.radians(120)
-
-
-class Clock:
-    t = 0.0
-
-    def __call__(self) -> float:
-        return self.t
-
-
-def prox(**d: float) -> Proximity:
-    arr = np.full(8, 0.05)
-    for name, value in d.items():
-        arr[PROX_NAMES.index(name)] = value
-    return Proximity(arr, np.zeros(8))
-
-
-def ground(left: float = 1.0, centre: float = 1.0, right: float = 1.0) -> Ground:
-    v = np.array([left, centre, right])
-    return Ground(v, v * 1023)
+from puckboard.records import Ground, Proximity
 
 
 def frame(p: Proximity | None = None, g: Ground | None = None) -> Frame:
