@@ -26,6 +26,7 @@ __all__ = [
     "add_variation_argument",
     "add_web_arguments",
     "bind_error_message",
+    "check_plot_file",
     "check_port",
     "check_seconds",
     "check_speed",
@@ -169,6 +170,17 @@ def require(module: str, what: str) -> None:
         importlib.import_module(module)
     except ImportError as exc:
         raise missing_extra(exc, what) from None
+
+
+def check_plot_file(path: Path) -> None:
+    """Refuse a ``--plot`` file matplotlib cannot write (its suffix) or cannot be drawn
+    here (matplotlib missing), before any episode runs."""
+    if path.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise CliError(f"--plot {str(path)!r}: use a .png, .svg or .pdf file name")
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise CliError("--plot needs matplotlib: pip install 'puckboard[viz]'") from None
 
 
 def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path:

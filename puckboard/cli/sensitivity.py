@@ -18,7 +18,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from .common import CliError
+from .common import CliError, check_plot_file
 from .sweep import (
     add_duration,
     add_scene_and_controllers,
@@ -169,7 +169,7 @@ def _sensitivity(args: argparse.Namespace) -> int:
     if args.bins < 2:
         raise CliError(f"--bins must be at least 2, got {args.bins}")
     if args.plot is not None:
-        _check_plot(args.plot)
+        check_plot_file(args.plot)
     if args.source is not None:
         if args.method == "one-at-a-time":
             raise CliError(
@@ -181,15 +181,6 @@ def _sensitivity(args: argparse.Namespace) -> int:
     if args.seeds is None:
         args.seeds = JOINT_SEEDS if args.method == "joint" else DEFAULT_SEEDS
     return with_executor(args, _run_joint if args.method == "joint" else _run)
-
-
-def _check_plot(path: Path) -> None:
-    if path.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise CliError(f"--plot {str(path)!r}: use a .png, .svg or .pdf file name")
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise CliError("--plot needs matplotlib: pip install 'puckboard[viz]'") from None
 
 
 def _run(args: argparse.Namespace, executor: Any) -> int:

@@ -123,9 +123,9 @@ def _tune(args: argparse.Namespace) -> int:
     except ImportError as exc:
         raise missing_extra(exc, "puckboard tune") from None
     if args.plot is not None:
-        from .sensitivity import _check_plot
+        from .common import check_plot_file
 
-        _check_plot(args.plot)
+        check_plot_file(args.plot)
     if args.study is not None:
         from .common import check_writable
 
