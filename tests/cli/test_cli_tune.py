@@ -64,8 +64,11 @@ def test_progress_names_the_trials_the_best_so_far_and_the_time_left(capsys):
     assert main([a for a in SMALL if a != "--quiet"]) == 0
     captured = capsys.readouterr()
     lines = captured.err.strip().splitlines()
-    assert len(lines) == 3
-    assert lines[-1].startswith("tune: trial 2 ") and "3/3 trials, best so far: trial " in lines[-1]
+    assert len(lines) == 4
+    trials, validation = lines[:3], lines[3]
+    assert trials[-1].startswith("tune: trial 2 ") and "3/3 trials, best so far: trial " in trials[-1]
+    # validation, after the trials' "left ~0:00", has its own progress (1 seed, 1 cell)
+    assert validation.startswith("tune validation: 1/1 episodes (100 %)")
     assert all("left ~" in line for line in lines)
     assert "validation (seeds 2:3)" in captured.out and "use it:" in captured.out
 
