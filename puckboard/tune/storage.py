@@ -108,9 +108,9 @@ def _difference(path: Path | None, made_by: Mapping[str, Any], wanted: Mapping[s
 
 
 def _check_whole(path: Path) -> None:
-    """Refuse a journal with a line that is cut short or not JSON, saying what the whole
-    lines before it hold; a file whose first line is not a journal's is left to Optuna's
-    own refusal (it is no study file)."""
+    """Refuse a file whose first line is no journal entry (no study file), and a journal
+    with a line that is cut short or not JSON, saying what the whole lines before it
+    hold. Optuna would read such a file as far as it goes and append after the damage."""
     data = path.read_bytes()
     lines = data.splitlines(keepends=True)
     for number, line in enumerate(lines):
@@ -118,12 +118,16 @@ def _check_whole(path: Path) -> None:
             entry = json.loads(line)
         except ValueError:
             entry = None
-        if number == 0 and not (isinstance(entry, dict) and "op_code" in entry):
-            return  # not a journal at all: open_study says so
-        if entry is not None and line.endswith(b"\n"):
+        journal = isinstance(entry, dict) and "op_code" in entry
+        if number == 0 and not journal and not line.startswith(b'{"op_code"'):
+            raise StudyMismatch(
+                f"--study {str(path)!r} is not a study file (its first line is no journal "
+                "entry); give a new file name or the file an earlier puckboard tune wrote"
+            )
+        if journal and line.endswith(b"\n"):
             continue
-        kept = _finished_in(b"".join(lines[:number]))
-        how = "cut short" if number == len(lines) - 1 else "not a journal line"
+        kept = _finished_in(b"".join(lines[:number])) if number else 0
+        how = "cut short" if not line.endswith(b"\n") else "not a journal line"
         raise StudyMismatch(
             f"--study {str(path)!r} is damaged: line {number + 1} of {len(lines)} is {how}; "
             f"the {number} whole lines before it hold {kept} finished "

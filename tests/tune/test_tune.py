@@ -250,6 +250,13 @@ def test_a_damaged_study_file_is_refused_saying_what_its_whole_lines_hold(short_
             run_tune(spec_for(short_pass), 3, executor=CountingExecutor(), study_path=damaged)
         assert f"--study '{damaged}' is damaged: {words}" in str(caught.value)
         assert damaged.read_bytes() == b"".join(lines)  # nothing appended to it
+    for text, words in ((whole[0][:30], "damaged: line 1 of 1 is cut short; the 0 whole"),
+                        (b"no journal, no newline", "is not a study file")):  # fmt: skip
+        other = tmp_path / "other.journal"
+        other.write_bytes(text)
+        with pytest.raises(StudyMismatch, match=words):
+            run_tune(spec_for(short_pass), 1, executor=CountingExecutor(), study_path=other)
+        assert other.read_bytes() == text
 
 
 def test_a_study_made_by_another_command_is_refused_naming_what_differs(short_pass, tmp_path):
