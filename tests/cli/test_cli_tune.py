@@ -154,13 +154,20 @@ def test_a_study_file_of_another_command_is_one_line(capsys, tmp_path):
 
 
 def test_a_study_file_cut_short_is_one_line_saying_what_it_holds(capsys, tmp_path):
+    import dataclasses
+
+    from sweep_helpers import DURATION, CountingExecutor
+
+    from puckboard.scenario.scenefile import load_scene
+    from puckboard.tune import TuneSpec, parse_param, run_tune
+
     study = tmp_path / "tune.journal"
-    args = [*SMALL[: SMALL.index("--trials")], "--trials", "1", *SMALL[SMALL.index("--seeds") :]]
-    assert main([*args, "--study", str(study)]) == 0
-    capsys.readouterr()
+    scene = dataclasses.replace(load_scene("two-robot-pass"), duration=DURATION)
+    spec = TuneSpec((scene,), "improved", (parse_param(f"{INNER}=0.1:0.9"),), range(1), range(1, 2))
+    run_tune(spec, 1, executor=CountingExecutor(), study_path=study)  # in this process: quick
     cut = tmp_path / "cut.journal"
     cut.write_bytes(study.read_bytes()[:400])  # a copy cut short
-    assert main([*args, "--study", str(cut)]) == 2
+    assert main([*SMALL, "--study", str(cut)]) == 2
     line = one_error_line(capsys)
     assert f"--study '{cut}' is damaged: line " in line and "is cut short; the " in line
     assert "finished trial" in line and "copy those lines to a new file" in line
