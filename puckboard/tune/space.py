@@ -7,7 +7,7 @@ A parameter is written ``PATH=LOW:HIGH`` with an optional kind after the range, 
 * ``layer.FrontObstacleLeftTurn.hold_steps=1:9:int`` — a whole number, both ends included;
 * ``speed=0.01:0.1:log`` — a real number drawn uniformly in its logarithm (for gains that
   span decades); ``:int:log`` combines both;
-* ``layer.LineFollow.recovery=true,false`` or ``layer.ClearanceGuard.side=right,left`` —
+* ``layer.LineFollow.recovery=true,false`` (or ``PATH=word1,word2``) —
   one of the values listed (Optuna's categorical distribution), for a setting that is
   true or false, or a word: a range would make a bool a number.
 
