@@ -93,7 +93,8 @@ def _importances(ax: Any, result: TuneResult) -> None:
     if caveat:
         ax.text(
             0.98, 0.98, caveat, transform=ax.transAxes, ha="right", va="top",
-            fontsize=FONT - 3, color="#D55E00", wrap=True,
+            fontsize=FONT - 3, color="#D55E00",
+            bbox={"facecolor": "white", "edgecolor": "#D55E00", "alpha": 0.9},
         )  # fmt: skip
 
 
