@@ -125,18 +125,41 @@ def main(args: argparse.Namespace) -> int:
         for path in paths:
             print(f"wrote {path}")
     if args.animate:
+        bar = _FrameProgress()
         try:
             info = render_animation(
                 rec, args.animate, fps=args.fps, speed=args.speed or 4.0, size=size,
-                start=args.start, end=args.end,
+                start=args.start, end=args.end, progress=bar,
             )  # fmt: skip
         except ValueError as exc:
             raise CliError(str(exc)) from exc
+        finally:
+            bar.close()
         w, h = info["size"]
         print(
             f"wrote {info['path']} ({info['frames']} frames, {w}x{h}, {info['bytes'] / 1e6:.1f} MB)"
         )
     return 0
+
+
+class _FrameProgress:
+    """Frames rendered, on stderr (a long animation is minutes of silence otherwise)."""
+
+    def __init__(self) -> None:
+        from ..sweep.progress import make_progress
+
+        self.bar = make_progress(label="plot --animate", unit="frames")
+        self.started = False
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.started:
+            self.bar.start(total)
+            self.started = True
+        self.bar.advance(1)
+
+    def close(self) -> None:
+        if self.started:
+            self.bar.close()
 
 
 def _check_window(start: float | None, end: float | None) -> None:

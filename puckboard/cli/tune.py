@@ -1,7 +1,7 @@
 """``puckboard tune``: search a controller's numbers for the worst robot, not the average.
 
 Each ``--param PATH=LOW:HIGH[:int][:log]`` is a range Optuna's seeded TPE sampler draws
-from; each trial runs the design seeds (``--seeds``) on every scene × profile and is
+from (``PATH=A,B,...``: a choice, for a setting that is true/false or a word); each trial runs the design seeds (``--seeds``) on every scene × profile and is
 scored by its worst cell, then the mean, then progress; hopeless trials are pruned
 after the first rounds. ``--study FILE`` keeps every finished trial (Ctrl-C keeps them,
 the same command resumes). The best parameters are run again on ``--validate`` seeds no
@@ -45,7 +45,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "PATH is a keyword of the controller's factory (speed) or a layer's attribute "
             "(layer.<LayerName>.<attribute>, as for sweep --set). Ranges: LOW:HIGH (a real "
             "number), LOW:HIGH:int (a whole number), LOW:HIGH:log (drawn on a log scale), "
-            "LOW:HIGH:int:log. Example: puckboard tune two-robot-pass --controller improved "
+            "LOW:HIGH:int:log; a setting that is true/false or a word takes its choices instead: "
+            "layer.LineFollow.recovery=true,false. Example: puckboard tune two-robot-pass --controller improved "
             "--param layer.LineFollow.inner_factor=0.1:0.9 --set robot.profile=epuck,epuck-vrep "
             "--variation plausible --seeds 0:40 --validate 40:140 --study tune.journal"
         ),
@@ -59,7 +60,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )  # fmt: skip
     parser.add_argument(
         "--param", dest="params", action="append", required=True,
-        metavar="PATH=LOW:HIGH[:int][:log]", help="a parameter and its range (repeatable)",
+        metavar="PATH=LOW:HIGH[:int][:log]",
+        help="a parameter and its range, or PATH=A,B,... its choices (repeatable)",
     )  # fmt: skip
     parser.add_argument(
         "--profile", dest="profiles", action="append", default=[], metavar="NAME",
@@ -83,9 +85,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "study runs only the rest",
     )  # fmt: skip
     parser.add_argument(
-        "--rounds", type=int, default=4, metavar="N",
+        "--rounds", type=int, default=None, metavar="N",
         help="rounds the design seeds are run in; a trial may be pruned after each but the "
-        "first (default 4)",
+        "first (default 4, or one per seed when there are fewer)",
     )  # fmt: skip
     parser.add_argument(
         "--sampler-seed", type=int, default=0, metavar="N",
@@ -116,8 +118,12 @@ def main(args: argparse.Namespace) -> int:
 def _tune(args: argparse.Namespace) -> int:
     check_numbers(args)
     for flag, value, least in (("--trials", args.trials, 1), ("--rounds", args.rounds, 1)):
-        if value < least:
+        if value is not None and value < least:
             raise CliError(f"{flag} must be at least {least}, got {value}")
+    if not 0 <= args.sampler_seed < 2**32:  # what numpy, under Optuna's sampler, takes
+        raise CliError(
+            f"--sampler-seed must be a whole number from 0 to 2**32 - 1, got {args.sampler_seed}"
+        )
     try:
         import optuna  # noqa: F401
     except ImportError as exc:
@@ -140,6 +146,7 @@ def _spec(args: argparse.Namespace) -> Any:
     from ..sweep import PlanError, SweepPlan, check_plan
     from ..sweep.plan import parse_seeds, parse_set
     from ..tune import SpaceError, TuneSpec, parse_param
+    from ..tune.run import DEFAULT_ROUNDS
 
     scenes = tuple(scene_or_error(ref) for ref in args.scenes)
     if len({s.name for s in scenes}) != len(scenes):
@@ -161,19 +168,27 @@ def _spec(args: argparse.Namespace) -> Any:
                 raise CliError(f"--set {name}: give one value (tune moves only --param ranges)")
             else:
                 fixed[name] = values[0]
+        seeds = parse_seeds(args.seeds)
+        if args.rounds is not None and args.rounds > len(seeds):
+            raise CliError(
+                f"--rounds {args.rounds} is more than the {len(seeds)} design seeds of --seeds "
+                f"{args.seeds}: each round needs a seed; give --rounds {len(seeds)} or fewer, "
+                "or more seeds"
+            )
         spec = TuneSpec(
             scenes=scenes,
             controller=args.controller,
             params=params,
-            seeds=parse_seeds(args.seeds),
+            seeds=seeds,
             validate=_validate_seeds(args.validate),
             profiles=profiles,
             fixed=fixed,
-            rounds=args.rounds,
+            rounds=DEFAULT_ROUNDS if args.rounds is None else args.rounds,
             sampler_seed=args.sampler_seed,
         )
-        ends = [{p.name: p.low for p in params}, {p.name: p.high for p in params}]
-        for scene in scenes:  # both ends of every range, as a sweep's values are checked
+        count = max(len(p.ends) for p in params)  # both ends of a range, every choice
+        ends = [{p.name: p.ends[min(i, len(p.ends) - 1)] for p in params} for i in range(count)]
+        for scene in scenes:  # as a sweep's values are checked
             check_plan(
                 SweepPlan(
                     scenario=scene.name, controllers=(args.controller,), seeds=range(1),
@@ -213,6 +228,7 @@ def _validate_seeds(text: str) -> range:
 
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
+    from ..sweep.progress import make_progress
     from ..sweep.signals import interrupts_deferred
     from ..tune import Interrupted, StudyMismatch, run_tune
 
@@ -231,6 +247,7 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
                 study_path=args.study,
                 episode_timeout=args.episode_timeout,
                 on_trial=None if args.quiet else _show_trial,
+                progress=make_progress(not args.quiet, label="tune validation"),
             ),
         )
     except StudyMismatch as exc:

@@ -48,11 +48,16 @@ class PlainProgress:
     """One line per ``every`` seconds (and a last one), for pipes and logs."""
 
     def __init__(
-        self, stream: TextIO | None = None, every: float = 5.0, label: str = "sweep"
+        self,
+        stream: TextIO | None = None,
+        every: float = 5.0,
+        label: str = "sweep",
+        unit: str = "episodes",
     ) -> None:
         self.stream = stream or sys.stderr
         self.every = every
         self.label = label
+        self.unit = unit
         self.total = self.done = self.skipped = 0
         self._t0 = self._last = 0.0
 
@@ -82,7 +87,7 @@ class PlainProgress:
         left = "?" if eta is None else _clock(eta)
         percent = 100.0 * self.done / self.total if self.total else 100.0
         self.stream.write(
-            f"{self.label}: {self.done}/{self.total} episodes ({percent:.0f} %), "
+            f"{self.label}: {self.done}/{self.total} {self.unit} ({percent:.0f} %), "
             f"elapsed {_clock(time.monotonic() - self._t0)}, left ~{left}\n"
         )
         self.stream.flush()
@@ -94,7 +99,9 @@ class PlainProgress:
 class RichProgress:
     """A ``rich`` progress bar with elapsed and remaining time."""
 
-    def __init__(self, stream: TextIO | None = None, label: str = "sweep") -> None:
+    def __init__(
+        self, stream: TextIO | None = None, label: str = "sweep", unit: str = "episodes"
+    ) -> None:
         from rich.console import Console
         from rich.progress import (
             BarColumn,
@@ -109,7 +116,7 @@ class RichProgress:
             TextColumn(label),
             BarColumn(),
             MofNCompleteColumn(),
-            TextColumn("episodes"),
+            TextColumn(unit),
             TimeElapsedColumn(),
             TextColumn("left"),
             TimeRemainingColumn(),
@@ -132,16 +139,16 @@ class RichProgress:
 
 
 def make_progress(
-    enabled: bool = True, stream: TextIO | None = None, label: str = "sweep"
+    enabled: bool = True, stream: TextIO | None = None, label: str = "sweep", unit: str = "episodes"
 ) -> Progress:
     """The best progress display for ``stream`` (default ``stderr``), its lines starting
-    with ``label`` (the command's name)."""
+    with ``label`` (the command's name), counting ``unit``."""
     if not enabled:
         return NullProgress()
     stream = stream or sys.stderr
     if stream.isatty():
         try:
-            return RichProgress(stream, label)
+            return RichProgress(stream, label, unit)
         except ImportError:
             pass
-    return PlainProgress(stream, label=label)
+    return PlainProgress(stream, label=label, unit=unit)

@@ -1,7 +1,8 @@
 """Tuning a controller's numbers for the worst robot, not the average one.
 
 :func:`run_tune` searches the ranges of a controller's parameters (:class:`Param`,
-``PATH=LOW:HIGH[:int][:log]``: a factory keyword or a layer's attribute) with Optuna's
+``PATH=LOW:HIGH[:int][:log]``: a factory keyword or a layer's attribute; :class:`Choice`,
+``PATH=A,B``, for one that is true/false or a word) with Optuna's
 seeded TPE sampler and median pruner, scoring each trial by its worst cell (scene ×
 profile) over the design seeds, then the mean, then progress (:class:`Score`). Episodes
 run on the sweep machinery (:mod:`puckboard.sweep`: local processes or Dask). The study
@@ -19,12 +20,13 @@ from .objective import Cell, CellRate, Interrupted, Score
 from .plot import plot_tune
 from .report import format_result, ready_line, result_dict
 from .run import TrialEvent, TuneResult, TuneSpec, run_tune
-from .space import Param, SpaceError, check_space, parse_param
+from .space import Choice, Param, SpaceError, check_space, parse_param
 from .storage import StudyMismatch
 
 __all__ = [
     "Cell",
     "CellRate",
+    "Choice",
     "Interrupted",
     "Param",
     "Score",

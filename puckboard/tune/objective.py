@@ -22,10 +22,13 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..sweep.rows import Outcome
 from ..sweep.stats import wilson_interval
+
+if TYPE_CHECKING:
+    from ..sweep.progress import Progress
 
 __all__ = ["Cell", "CellRate", "Interrupted", "Score", "cell_rates", "rounds", "run_cells"]
 
@@ -162,29 +165,74 @@ def run_cells(
     *,
     executor: Any,
     episode_timeout: float | None = None,
+    progress: Progress | None = None,
 ) -> list[tuple[Cell, Outcome]]:
     """Run ``seeds`` of every cell with ``params`` fixed; the outcomes by cell.
 
-    One sweep plan per scene, with the profiles (when given) as its grid. A sweep that
-    was interrupted raises :class:`Interrupted` after keeping nothing of its own: the
-    study keeps whole trials, not parts.
+    One sweep plan per scene, with the profiles (when given) as its grid; ``progress``
+    counts the episodes of all of them as one. A sweep that was interrupted raises
+    :class:`Interrupted` after keeping nothing of its own: the study keeps whole trials,
+    not parts.
     """
+    found: list[tuple[Cell, Outcome]] = []
+    shared = None
+    if progress is not None:
+        progress.start(len(seeds) * len(scenes) * max(1, len(profiles)))
+        shared = _Counted(progress)
+    try:
+        for scene in scenes:
+            found += _run_scene(
+                scene, profiles, controller, seeds, params, executor, episode_timeout, shared
+            )
+    finally:
+        if progress is not None:
+            progress.close()
+    return found
+
+
+class _Counted:
+    """One progress across the scenes' sweeps: each sweep advances it, none restarts it."""
+
+    def __init__(self, progress: Progress) -> None:
+        self.progress = progress
+
+    def start(self, total: int, done: int = 0) -> None:
+        pass
+
+    def advance(self, n: int) -> None:
+        self.progress.advance(n)
+
+    def close(self) -> None:
+        pass
+
+
+def _run_scene(
+    scene: Any,
+    profiles: Sequence[str],
+    controller: str,
+    seeds: range,
+    params: Mapping[str, Any],
+    executor: Any,
+    episode_timeout: float | None,
+    progress: Progress | None,
+) -> list[tuple[Cell, Outcome]]:
     from ..sweep.plan import SweepPlan
     from ..sweep.run import run_sweep
 
     found: list[tuple[Cell, Outcome]] = []
-    for scene in scenes:
-        plan = SweepPlan(
-            scenario=scene.name,
-            controllers=(controller,),
-            seeds=seeds,
-            grid={"robot.profile": tuple(profiles)} if profiles else {},
-            fixed=dict(params),
-        )
-        result = run_sweep(plan, scene, executor=executor, episode_timeout=episode_timeout)
-        if result.interrupted:
-            raise Interrupted(result.terminated)
-        for outcome in result.outcomes:
-            profile = str(dict(outcome.params).get("robot.profile", "")) if profiles else ""
-            found.append((Cell(scene.name, profile), outcome))
+    plan = SweepPlan(
+        scenario=scene.name,
+        controllers=(controller,),
+        seeds=seeds,
+        grid={"robot.profile": tuple(profiles)} if profiles else {},
+        fixed=dict(params),
+    )
+    result = run_sweep(
+        plan, scene, executor=executor, episode_timeout=episode_timeout, progress=progress
+    )
+    if result.interrupted:
+        raise Interrupted(result.terminated)
+    for outcome in result.outcomes:
+        profile = str(dict(outcome.params).get("robot.profile", "")) if profiles else ""
+        found.append((Cell(scene.name, profile), outcome))
     return found

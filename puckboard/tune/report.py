@@ -11,6 +11,7 @@ report says so.
 
 from __future__ import annotations
 
+import shlex
 from typing import Any
 
 from .objective import CellRate, Score
@@ -21,16 +22,20 @@ __all__ = ["format_result", "ready_line", "result_dict"]
 
 def ready_line(result: TuneResult) -> str:
     """``--controller SPEC --set NAME=V ...``: the best parameters for ``run`` or
-    ``sweep``, in the order the study's ``--param`` gave them."""
+    ``sweep``, in the order the study's ``--param`` gave them, each word quoted for a
+    POSIX shell where it needs it (a path with a space or a non-ASCII letter pastes)."""
     if result.best is None:
         return ""
     values = result.best["params"]
-    parts = [f"--controller {result.spec.controller}"]
-    parts += [f"--set {p.name}={_value(values[p.name])}" for p in result.spec.params]
-    return " ".join(parts)
+    parts = ["--controller", result.spec.controller]
+    for p in result.spec.params:
+        parts += ["--set", f"{p.name}={_value(values[p.name])}"]
+    return shlex.join(parts)
 
 
 def _value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"  # as --set reads it back
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
@@ -45,9 +50,12 @@ def _rate(rate: CellRate) -> str:
 def format_result(result: TuneResult, *, stored: str | None = None) -> str:
     """The report as text (see the module docstring)."""
     spec = result.spec
+    alongside = (
+        f", {result.alongside} by another command on it meanwhile" if result.alongside else ""
+    )
     lines = [
         f"{len(result.trials)} trials ({result.ran} run now, {result.skipped} from "
-        f"{stored or 'the study'}; {result.pruned} pruned), {result.wall_s:.1f} s"
+        f"{stored or 'the study'}{alongside}; {result.pruned} pruned), {result.wall_s:.1f} s"
     ]
     ran, spared = result.episodes()
     if spared:
@@ -101,6 +109,7 @@ def result_dict(result: TuneResult) -> dict[str, Any]:
         "trials": result.trials,
         "ran": result.ran,
         "skipped": result.skipped,
+        "run_alongside": result.alongside,
         "pruned": result.pruned,
         "design_episodes": ran,
         "episodes_spared_by_pruning": spared,

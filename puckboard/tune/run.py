@@ -8,6 +8,12 @@ through. The first trial of a new study is the controller as shipped (its own va
 where they lie in the ranges), so the best found is never worse on the design seeds
 than the starting point.
 
+Trials are numbered as they finished (0, 1, 2, ...), the numbers the report and
+``--json`` give: a trial that a Ctrl-C cut short keeps its place in the study file,
+but it never finished, so it is not counted, and a resumed study numbers its trials as
+one that ran through. ``--trials`` counts the finished trials in the study, whichever
+command ran them: two commands on one study share the work.
+
 A trial runs its design seeds in rounds (:func:`~puckboard.tune.objective.rounds`);
 after each, the score so far is reported and Optuna's median pruner may stop a trial
 behind the median of earlier trials at that round (never after the first round, whose
@@ -17,16 +23,20 @@ which no trial saw.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .objective import Cell, CellRate, Score, cell_rates, rounds, run_cells
-from .space import Param, own_values
-from .storage import finished_trials, open_study
+from .space import Choice, Param, shipped_values, trial_zero
+from .storage import COMMAND_ATTR, finished_trials, open_study
+
+if TYPE_CHECKING:
+    from ..sweep.progress import Progress
 
 __all__ = ["DEFAULT_ROUNDS", "TrialEvent", "TuneResult", "TuneSpec", "run_tune", "seeds_text"]
 
@@ -45,7 +55,7 @@ class TuneSpec:
 
     scenes: tuple[Any, ...]
     controller: str
-    params: tuple[Param, ...]
+    params: tuple[Param | Choice, ...]
     seeds: range
     validate: range
     profiles: tuple[str, ...] = ()
@@ -102,7 +112,11 @@ class TrialEvent:
 
 @dataclass
 class TuneResult:
-    """A study's trials, its best parameters and their design and validation rates."""
+    """A study's trials, its best parameters and their design and validation rates.
+
+    ``ran`` trials were run by this call, ``skipped`` were in the study when it began;
+    any others (:attr:`alongside`) were run meanwhile by another command on the same study.
+    """
 
     spec: TuneSpec
     trials: list[dict[str, Any]]
@@ -113,6 +127,11 @@ class TuneResult:
     skipped: int = 0
     wall_s: float = 0.0
     study: Any = None
+
+    @property
+    def alongside(self) -> int:
+        """Trials another command finished in the same study while this one ran."""
+        return len(self.trials) - self.ran - self.skipped
 
     @property
     def pruned(self) -> int:
@@ -142,9 +161,11 @@ class TuneResult:
 
 
 def _sampler(seed: int) -> Any:
+    """TPE seeded with ``seed`` (wrapped into the 32 bits a numpy seed takes, so that
+    the study's seed plus a trial's index never leaves them)."""
     import optuna
 
-    return optuna.samplers.TPESampler(seed=seed, multivariate=True)
+    return optuna.samplers.TPESampler(seed=seed % 2**32, multivariate=True)
 
 
 def _pruner() -> Any:
@@ -153,15 +174,14 @@ def _pruner() -> Any:
     return optuna.pruners.MedianPruner(n_startup_trials=PRUNE_AFTER_TRIALS, n_warmup_steps=1)
 
 
-def _defaults(spec: TuneSpec) -> dict[str, Any]:
-    """The controller's own values of the tuned parameters, when all lie in their ranges."""
-    own = own_values(spec.controller)
-    values = {}
-    for param in spec.params:
-        value = own.get(param.name)
-        if isinstance(value, (int, float)) and param.low <= value <= param.high:
-            values[param.name] = int(value) if param.integer else float(value)
-    return values if len(values) == len(spec.params) else {}
+def _in_study_order(spec: TuneSpec, study: Any) -> TuneSpec:
+    """``spec`` with its parameters in the order of the command that made the study: the
+    same parameters given in another order are the same study, and drawing them in the
+    study's order keeps its trials what they were."""
+    made = study.user_attrs.get(COMMAND_ATTR, {}).get("params", [])
+    order = {text: i for i, text in enumerate(made)}
+    params = tuple(sorted(spec.params, key=lambda p: order.get(p.spec, len(order))))
+    return spec if params == spec.params else dataclasses.replace(spec, params=params)
 
 
 def run_tune(
@@ -172,26 +192,28 @@ def run_tune(
     study_path: Path | None = None,
     episode_timeout: float | None = None,
     on_trial: Callable[[TrialEvent], None] | None = None,
+    progress: Progress | None = None,
 ) -> TuneResult:
     """Run trials until ``trials`` have finished (complete or pruned) in the study, then
-    validate the best. A Ctrl-C raises :class:`~puckboard.tune.objective.Interrupted`
-    (a :class:`KeyboardInterrupt`) with every finished trial kept in ``study_path``."""
+    validate the best, its episodes shown on ``progress``. A Ctrl-C raises
+    :class:`~puckboard.tune.objective.Interrupted` (a :class:`KeyboardInterrupt`) with
+    every finished trial kept in ``study_path``."""
     from optuna.trial import TrialState
 
     t0 = time.perf_counter()
     study = open_study(
         study_path, spec.command(), sampler=_sampler(spec.sampler_seed), pruner=_pruner()
     )
-    done = len(finished_trials(study))
-    skipped = done
+    spec = _in_study_order(spec, study)
+    done = skipped = len(finished_trials(study))
     design_rounds = rounds(spec.seeds, spec.rounds)
     ran = 0
     while done < trials:
         study.sampler = _sampler(spec.sampler_seed + done)
-        if done == 0 and not study.get_trials(states=(TrialState.WAITING,)):
-            defaults = _defaults(spec)
-            if defaults:
-                study.enqueue_trial(defaults)
+        if done == 0 and not study.get_trials(deepcopy=False, states=(TrialState.WAITING,)):
+            shipped = trial_zero(spec.params, shipped_values(spec.controller))
+            if shipped:
+                study.enqueue_trial(shipped)
         trial = study.ask()
         values = {p.name: p.suggest(trial) for p in spec.params}
         try:
@@ -207,13 +229,15 @@ def run_tune(
             study.tell(trial, state=TrialState.PRUNED)
         else:
             study.tell(trial, Score.of(rates).value)
-        done += 1
         ran += 1
+        finished = finished_trials(study)  # with any that another command finished meanwhile
+        done = len(finished)
         if on_trial is not None:
-            on_trial(_event(study, trial.number, done, trials, pruned, ran, t0))
+            number = _finished_number(finished, trial)
+            on_trial(_event(study, finished, number, trials, pruned, ran, t0))
     result = _result(study, spec, ran=ran, skipped=skipped)
     if result.best is not None:
-        result.validation = _validate(study, spec, result.best, executor, episode_timeout)
+        result.validation = _validate(study, spec, result.best, executor, episode_timeout, progress)
     result.wall_s = time.perf_counter() - t0
     return result
 
@@ -244,41 +268,48 @@ def _evaluate(
 
 
 def _event(
-    study: Any, number: int, done: int, total: int, pruned: bool, ran: int, t0: float
-) -> TrialEvent:
+    study: Any, finished: Sequence[Any], number: int, total: int, pruned: bool, ran: int,
+    t0: float,
+) -> TrialEvent:  # fmt: skip
     best = _best(study)
     elapsed = time.perf_counter() - t0
     worst = None
     if best is not None:
         worst = Score.of([CellRate.from_dict(c) for c in best.user_attrs["cells"]]).worst
+    done = len(finished)
     return TrialEvent(
         number=number,
         finished=done,
         total=total,
         pruned=pruned,
         best_value=None if best is None else float(best.value),
-        best_number=None if best is None else int(best.number),
+        best_number=None if best is None else _finished_number(finished, best),
         best_worst=worst,
-        seconds_left=elapsed / ran * (total - done) if ran else None,
+        seconds_left=elapsed / ran * max(0, total - done) if ran else None,
     )
 
 
 def _best(study: Any) -> Any:
-    """The complete trial with the highest score, the earliest of equals."""
-    from optuna.trial import TrialState
-
-    complete = [t for t in study.trials if t.state == TrialState.COMPLETE]
-    if not complete:
+    """The complete trial with the highest score (Optuna's: the earliest of equals), or
+    ``None`` before any completed."""
+    try:
+        return study.best_trial
+    except ValueError:  # no trial complete yet
         return None
-    return max(complete, key=lambda t: (t.value, -t.number))
+
+
+def _finished_number(finished: Sequence[Any], trial: Any) -> int:
+    """``trial``'s place among the finished trials: the number the report gives it."""
+    return next(i for i, t in enumerate(finished) if t.number == trial.number)
 
 
 def _result(study: Any, spec: TuneSpec, *, ran: int, skipped: int) -> TuneResult:
     trials = []
-    for t in finished_trials(study):
+    finished = finished_trials(study)
+    for number, t in enumerate(finished):
         trials.append(
             {
-                "number": t.number,
+                "number": number,
                 "state": t.state.name.lower(),
                 "params": {_label(spec, k): v for k, v in t.params.items()},
                 "value": t.value,
@@ -290,7 +321,11 @@ def _result(study: Any, spec: TuneSpec, *, ran: int, skipped: int) -> TuneResult
     design = [CellRate.from_dict(c) for c in best.user_attrs["cells"]] if best else []
     best_dict = None
     if best is not None:
-        best_dict = {"number": best.number, "params": dict(best.params), "value": best.value}
+        best_dict = {
+            "number": _finished_number(finished, best),
+            "params": dict(best.params),
+            "value": best.value,
+        }
     return TuneResult(spec, trials, best_dict, design, [], ran=ran, skipped=skipped, study=study)
 
 
@@ -299,7 +334,12 @@ def _label(spec: TuneSpec, name: str) -> str:
 
 
 def _validate(
-    study: Any, spec: TuneSpec, best: Mapping[str, Any], executor: Any, timeout: float | None
+    study: Any,
+    spec: TuneSpec,
+    best: Mapping[str, Any],
+    executor: Any,
+    timeout: float | None,
+    progress: Progress | None,
 ) -> list[CellRate]:
     """The best trial's rates on the validation seeds; kept in the study, so that a
     resumed study that found nothing better does not run them again."""
@@ -310,7 +350,7 @@ def _validate(
     params = {**spec.fixed, **best["params"]}
     outcomes = run_cells(
         spec.scenes, spec.profiles, spec.controller, spec.validate, params,
-        executor=executor, episode_timeout=timeout,
+        executor=executor, episode_timeout=timeout, progress=progress,
     )  # fmt: skip
     rates = cell_rates(outcomes, spec.cells)
     study.set_user_attr(_VALIDATION_ATTR, {"key": key, "cells": [r.to_dict() for r in rates]})

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -44,8 +45,15 @@ def test_an_animation_alone_writes_no_plots_into_the_current_folder(tmp_path, mo
     here = tmp_path / "here"
     here.mkdir()
     monkeypatch.chdir(here)
+    capsys.readouterr()
     assert main(["plot", str(run), "--animate", "a.gif"]) == 0
     assert sorted(os.listdir(here)) == ["a.gif"]
+    # the frames are counted on stderr as they are drawn, the last line when all are
+    said = capsys.readouterr()
+    frames = re.search(r"\((\d+) frames, ", said.out)
+    assert frames is not None
+    n = frames.group(1)
+    assert said.err.splitlines()[-1].startswith(f"plot --animate: {n}/{n} frames (100 %)")
     assert main(["plot", str(run), "--animate", "b.gif", "--out", "figs"]) == 0
     assert len(list(Path("figs").iterdir())) == 4  # asked for: still written
 

@@ -64,8 +64,13 @@ def test_progress_names_the_trials_the_best_so_far_and_the_time_left(capsys):
     assert main([a for a in SMALL if a != "--quiet"]) == 0
     captured = capsys.readouterr()
     lines = captured.err.strip().splitlines()
-    assert len(lines) == 3
-    assert lines[-1].startswith("tune: trial 2 ") and "3/3 trials, best so far: trial " in lines[-1]
+    assert len(lines) == 4
+    trials, validation = lines[:3], lines[3]
+    assert (
+        trials[-1].startswith("tune: trial 2 ") and "3/3 trials, best so far: trial " in trials[-1]
+    )
+    # validation, after the trials' "left ~0:00", has its own progress (1 seed, 1 cell)
+    assert validation.startswith("tune validation: 1/1 episodes (100 %)")
     assert all("left ~" in line for line in lines)
     assert "validation (seeds 2:3)" in captured.out and "use it:" in captured.out
 
@@ -115,6 +120,17 @@ def test_ctrl_c_keeps_finished_trials_in_one_line_and_the_same_command_resumes(
         (["--set", "robot.profile=epuck", "--profile", "epuck"], "not both"),
         (["--set", "noise.proximity=0,0.1"], "give one value"),
         (["--plot", "tune.gif"], "use a .png, .svg or .pdf"),
+        (["--sampler-seed", "-1"], "--sampler-seed must be a whole number from 0 to 2**32 - 1"),
+        (["--rounds", "100"], "--rounds 100 is more than the 2 design seeds of --seeds 0:2"),
+        (
+            ["--controller", "robust", "--param", "layer.LineSearch.ratio=0:1:int"],
+            "layer.LineSearch.ratio is a real number (ships 0.5); an int range would round it",
+        ),
+        (
+            ["--controller", "robust", "--param", "layer.LineFollow.recovery=0:1:int"],
+            "is true or false, not a number; search it as a choice: "
+            "--param layer.LineFollow.recovery=true,false",
+        ),
     ],
 )
 def test_each_mistake_is_one_line_and_status_2(capsys, change, words):
@@ -135,6 +151,43 @@ def test_a_study_file_of_another_command_is_one_line(capsys, tmp_path):
     assert main([*changed, *study]) == 2
     line = one_error_line(capsys)
     assert 'was made by another command (seeds: "0:2" there, "0:1" now)' in line
+
+
+def test_a_study_file_cut_short_is_one_line_saying_what_it_holds(capsys, tmp_path):
+    import dataclasses
+
+    from sweep_helpers import DURATION, CountingExecutor
+
+    from puckboard.scenario.scenefile import load_scene
+    from puckboard.tune import TuneSpec, parse_param, run_tune
+
+    study = tmp_path / "tune.journal"
+    scene = dataclasses.replace(load_scene("two-robot-pass"), duration=DURATION)
+    spec = TuneSpec((scene,), "improved", (parse_param(f"{INNER}=0.1:0.9"),), range(1), range(1, 2))
+    run_tune(spec, 1, executor=CountingExecutor(), study_path=study)  # in this process: quick
+    cut = tmp_path / "cut.journal"
+    cut.write_bytes(study.read_bytes()[:400])  # a copy cut short
+    assert main([*SMALL, "--study", str(cut)]) == 2
+    line = one_error_line(capsys)
+    assert f"--study '{cut}' is damaged: line " in line and "is cut short; the " in line
+    assert "finished trial" in line and "copy those lines to a new file" in line
+
+
+def test_a_true_false_setting_is_tuned_as_a_choice_and_the_line_to_use_sets_it(capsys):
+    recovery = "layer.LineFollow.recovery"
+    args = [
+        "tune", "two-robot-pass", "--controller", "robust", "--param", f"{recovery}=false,true",
+        "--trials", "2", "--seeds", "0:1", "--validate", "1:2", "--duration", "3",
+        "--workers", "1", "--quiet", "--json",
+        "--sampler-seed", str(2**32 - 1),  # the highest: trial 1's sampler wraps round
+    ]  # fmt: skip
+    assert main(args) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["params"] == [f"{recovery}=false,true"]
+    assert data["trials"][0]["params"] == {recovery: True}  # robust ships recovery on
+    assert data["trials"][1]["params"][recovery] in (True, False)
+    best = data["best"]["params"][recovery]
+    assert data["use"] == f"--controller robust --set {recovery}={str(best).lower()}"
 
 
 def test_without_optuna_the_line_names_the_extra(capsys, monkeypatch):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import re
 
 import pytest
 from sweep_helpers import DURATION, CountingExecutor
@@ -187,6 +188,75 @@ def test_ctrl_c_keeps_the_finished_trials_and_the_interrupted_one_runs_again(
     resumed = run_tune(spec_for(short_pass), 3, executor=CountingExecutor(), study_path=study)
     assert (resumed.skipped, resumed.ran) == (1, 2)
     assert drawn(resumed) == drawn(through)
+    # the interrupted trial never finished: numbered as the trials that ran through are
+    assert [t["number"] for t in resumed.trials] == [t["number"] for t in through.trials]
+    assert resumed.best["number"] == through.best["number"]
+
+
+def test_the_same_params_in_another_order_resume_the_study_and_draw_what_it_drew(
+    short_pass, tmp_path
+):
+    study = tmp_path / "tune.journal"
+    through = run_tune(spec_for(short_pass), 3, executor=CountingExecutor())
+    run_tune(spec_for(short_pass), 2, executor=CountingExecutor(), study_path=study)
+    swapped = spec_for(short_pass, params=spec_for(short_pass).params[::-1])
+    resumed = run_tune(swapped, 3, executor=CountingExecutor(), study_path=study)
+    assert (resumed.skipped, resumed.ran) == (2, 1)
+    assert drawn(resumed) == drawn(through)
+    assert resumed.spec.params == through.spec.params  # the order that made the study
+
+
+def test_trials_another_command_ran_on_the_study_meanwhile_are_counted_as_such(
+    short_pass, tmp_path
+):
+    study = tmp_path / "tune.journal"
+    others = []
+
+    def another_command_runs_one(event):
+        if not others:  # after this command's first trial, another runs the study to 2
+            others.append(run_tune(spec_for(short_pass), 2, executor=CountingExecutor(),
+                                   study_path=study))  # fmt: skip
+
+    result = run_tune(
+        spec_for(short_pass), 3, executor=CountingExecutor(), study_path=study,
+        on_trial=another_command_runs_one,
+    )  # fmt: skip
+    assert (others[0].ran, others[0].skipped) == (1, 1)
+    assert (len(result.trials), result.ran, result.skipped, result.alongside) == (3, 2, 0, 1)
+    assert [t["number"] for t in result.trials] == [0, 1, 2]
+    assert format_result(result, stored="conc.journal").startswith(
+        "3 trials (2 run now, 0 from conc.journal, 1 by another command on it meanwhile; "
+    )
+    assert result_dict(result)["run_alongside"] == 1
+
+
+def test_a_damaged_study_file_is_refused_saying_what_its_whole_lines_hold(short_pass, tmp_path):
+    study = tmp_path / "tune.journal"
+    run_tune(spec_for(short_pass), 2, executor=CountingExecutor(), study_path=study)
+    whole = study.read_bytes().splitlines(keepends=True)
+    n = len(whole)
+    cases = [
+        # a copy cut short in its last line (the validation's): both trials are whole
+        (whole[:-1] + [whole[-1][:10]], f"line {n} of {n} is cut short; the {n - 1} whole "
+         "lines before it hold 2 finished trials"),
+        # a line that is no journal's before the first trial ended
+        (whole[:2] + [b"#garbage\n"] + whole[2:], f"line 3 of {n + 1} is not a journal line; "
+         "the 2 whole lines before it hold 0 finished trials"),
+    ]  # fmt: skip
+    for number, (lines, words) in enumerate(cases):
+        damaged = tmp_path / f"damaged{number}.journal"
+        damaged.write_bytes(b"".join(lines))
+        with pytest.raises(StudyMismatch) as caught:
+            run_tune(spec_for(short_pass), 3, executor=CountingExecutor(), study_path=damaged)
+        assert f"--study '{damaged}' is damaged: {words}" in str(caught.value)
+        assert damaged.read_bytes() == b"".join(lines)  # nothing appended to it
+    for text, words in ((whole[0][:30], "damaged: line 1 of 1 is cut short; the 0 whole"),
+                        (b"no journal, no newline", "is not a study file")):  # fmt: skip
+        other = tmp_path / "other.journal"
+        other.write_bytes(text)
+        with pytest.raises(StudyMismatch, match=words):
+            run_tune(spec_for(short_pass), 1, executor=CountingExecutor(), study_path=other)
+        assert other.read_bytes() == text
 
 
 def test_a_study_made_by_another_command_is_refused_naming_what_differs(short_pass, tmp_path):
@@ -232,6 +302,14 @@ def test_the_report_gives_both_rates_per_cell_and_a_line_to_run_it(short_pass, t
     assert data["use"] in text
     plot_tune(result, tmp_path / "tune.png")
     assert (tmp_path / "tune.png").stat().st_size > 0
+    import matplotlib
+
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text kept as text
+        plot_tune(result, tmp_path / "tune.svg")
+    svg = (tmp_path / "tune.svg").read_text(encoding="utf-8")
+    assert "a hint, not a finding" in svg  # 2 trials: the importances carry the caveat
+    ticks = re.findall(r">(-?\d+(?:\.\d+)?)</text>", svg)
+    assert "1" in ticks and "0.5" not in ticks  # trials are counted: whole-number ticks
 
 
 def test_validation_below_design_beyond_both_intervals_is_overfitting(short_pass):
