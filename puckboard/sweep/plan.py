@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 __all__ = [
+    "LABEL_PREFIX",
     "PARAMETERS",
     "SCENE_CONTROLLERS",
     "EpisodeSpec",
@@ -25,6 +26,7 @@ __all__ = [
     "SweepPlan",
     "check_parameter",
     "episode_key",
+    "episode_overrides",
     "params_key",
     "parse_seeds",
     "parse_set",
@@ -49,6 +51,12 @@ PARAMETERS: dict[str, str] = {
     "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
+
+#: Names of *labels*: text that an episode's identity (its key, its row's ``params``)
+#: carries and the episode itself is never given, so a study can say which of its points
+#: an episode belongs to where the parameters alone cannot (``puckboard sensitivity``
+#: marks its one-at-a-time points that draw the other numbers with ``label.field``).
+LABEL_PREFIX = "label."
 
 _CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
 _POSITIVE = {"dt", "duration"}
@@ -120,8 +128,17 @@ def profile_parameters(profile: Any) -> dict[str, Any]:
     return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
+def episode_overrides(params: Mapping[str, Any]) -> dict[str, Any]:
+    """``params`` as an episode takes them: every parameter but the labels
+    (:data:`LABEL_PREFIX`)."""
+    return {k: v for k, v in params.items() if not k.startswith(LABEL_PREFIX)}
+
+
 def check_parameter(name: str) -> str:
-    """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
+    """Return ``name`` if it is a parameter episodes accept (or a label), else raise
+    :class:`PlanError`."""
+    if name.startswith(LABEL_PREFIX) and len(name) > len(LABEL_PREFIX):
+        return name
     if _is_profile_param(name):
         from ..profile import check_path
 
@@ -178,7 +195,7 @@ def _profile_value(name: str, value: Any) -> Any:
 
 
 def _check_value(name: str, value: Any) -> None:
-    if name.startswith(("layer.", "controller.")):
+    if name.startswith(("layer.", "controller.", LABEL_PREFIX)):
         return
     if _is_profile_param(name):
         _profile_value(name, value)
