@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..profile import apply_overrides, get_profile, profile_values
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
 from ..sweep.rows import Outcome
 from ..sweep.summary import GroupSummary
 from .estimate import (
@@ -359,27 +359,9 @@ class JointResult:
             "episodes": sum(a.band.episodes for a in self.analyses),
         }
         if self.sweep is not None:
-            out.update(
-                planned=len(self.sweep.plan),
-                ran=self.sweep.ran,
-                skipped=self.sweep.skipped,
-                interrupted=self.sweep.interrupted,
-                errors=len(self.sweep.errors),
-                wall_s=self.sweep.wall_s,
-                episodes_per_s=self.episodes_per_s,
-            )
+            out.update(self.sweep.counts(), episodes_per_s=self.episodes_per_s)
         out["analyses"] = [a.to_dict() for a in self.analyses]
         return out
-
-
-def seeds_text(seeds: Iterable[int]) -> str:
-    """``A:B`` for consecutive seeds, else the count."""
-    s = sorted(set(seeds))
-    if not s:
-        return ""
-    if s == list(range(s[0], s[-1] + 1)):
-        return f"{s[0]}:{s[-1] + 1}"
-    return f"{len(s)} seeds"
 
 
 def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> JointResult:
@@ -432,13 +414,11 @@ def run_joint(
     point_keys = [params_key({**plan.sweep.fixed, **point}) for point in plan.sweep.points]
     wanted = [(c, key) for c in plan.sweep.controllers for key in point_keys]
     labels = dict(zip(point_keys, plan.profiles))
-    seeds = plan.sweep.seeds
-    step = f":{seeds.step}" if seeds.step != 1 else ""
     return JointResult(
         scenario=plan.scenario,
         controllers=plan.sweep.controllers,
         profiles=plan.profiles,
-        seeds=f"{seeds.start}:{seeds.stop}{step}",
+        seeds=seeds_text(plan.sweep.seeds),
         bins=plan.bins,
         analyses=analyse_rows(rows, plan.bins, wanted, labels) if rows else [],
         sweep=sweep,

@@ -31,6 +31,7 @@ __all__ = [
     "parse_seeds",
     "parse_set",
     "profile_parameters",
+    "seeds_text",
 ]
 
 #: Controller spec meaning "each robot keeps the controller its scene names".
@@ -288,6 +289,21 @@ def parse_seeds(spec: str) -> range:
     if min(seeds) < 0:
         raise PlanError(f"--seeds {spec!r}: seeds cannot be negative")
     return seeds
+
+
+def seeds_text(seeds: Iterable[int]) -> str:
+    """Seeds as ``--seeds`` spells them, the inverse of :func:`parse_seeds`: a range as
+    ``A:B`` (``A:B:STEP``); other seeds (those read back from rows) as ``A:B`` when they
+    are consecutive, else their count (``"12 seeds"``)."""
+    if isinstance(seeds, range):
+        step = f":{seeds.step}" if seeds.step != 1 else ""
+        return f"{seeds.start}:{seeds.stop}{step}"
+    s = sorted(set(seeds))
+    if not s:
+        return ""
+    if s == list(range(s[0], s[-1] + 1)):
+        return f"{s[0]}:{s[-1] + 1}"
+    return f"{len(s)} seeds"
 
 
 @dataclass(frozen=True)
