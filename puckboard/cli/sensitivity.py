@@ -346,14 +346,14 @@ def _from_file(args: argparse.Namespace) -> int:
 
 
 def _show_joint(args: argparse.Namespace, result: Any, stored: str | None) -> None:
-    from ..sensitivity.joint_report import format_joint
+    from ..sensitivity.joint import format_joint
 
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
         print(format_joint(result, stored=stored))
     if args.plot is not None and result.analyses:
-        from ..sensitivity.joint_plot import plot_joint
+        from ..sensitivity.joint import plot_joint
 
         plot_joint(result, args.plot)
         if not args.json:

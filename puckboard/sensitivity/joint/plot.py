@@ -15,11 +15,12 @@ import math
 import os
 from typing import Any
 
-from ..profile.setting_names import path_unit
-from ..sweep.summary import controller_labels
-from ..viz.figures import COLOURS, FONT, new_figure
-from .joint import JointAnalysis, JointResult
-from .plan import shown_scale
+from ...profile.setting_names import path_unit
+from ...sweep.summary import controller_labels
+from ...viz.figures import COLOURS, FONT, new_figure
+from ..units import shown_scale
+from .analysis import JointAnalysis, JointResult
+from .estimate import PASS
 
 __all__ = ["ROWS", "plot_joint"]
 
@@ -93,7 +94,7 @@ def _panel(ax: Any, name: str, analyses: list[JointAnalysis]) -> None:
 
 def _label(a: JointAnalysis, names: dict[str, str]) -> str:
     b = a.band
-    ranked = "pass/fail" if a.ranked_by == "pass" else "progress"
+    ranked = "pass/fail" if a.ranked_by == PASS else "progress"
     return (
         f"{names.get(a.controller, a.controller)} · {a.profile}: plausible "
         f"{100 * b.success_rate:.0f} % of {b.episodes}, ranked by {ranked}"

@@ -23,14 +23,13 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..profile import RobotProfile, apply_overrides, get_profile, uncertainty
-from ..profile.setting_names import is_set, path_unit, path_value
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ...profile import RobotProfile, apply_overrides, get_profile, uncertainty
+from ...profile.setting_names import is_set, path_unit, path_value
+from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 
 __all__ = [
     "DEFAULT_VALUES",
@@ -41,10 +40,8 @@ __all__ = [
     "Field",
     "Point",
     "SensitivityPlan",
-    "describe_value",
     "field_values",
     "sensitivity_plan",
-    "shown_scale",
 ]
 
 #: Values per field unless asked otherwise: enough to see a curve's shape, few enough
@@ -258,21 +255,3 @@ def sensitivity_plan(
         points=tuple(p.params for p in points),
     )
     return SensitivityPlan(sweep, tuple(labels), tuple(picked), tuple(points), values, variation)
-
-
-def describe_value(value: float, unit: str) -> str:
-    """A value as people read it: mm for lengths, degrees for angles."""
-    if unit == "m":
-        return f"{value * 1000:.4g} mm"
-    if unit == "rad":
-        return f"{math.degrees(value):.4g}°"
-    return f"{value:.4g}"
-
-
-def shown_scale(unit: str) -> tuple[float, str]:
-    """Factor and unit that tables and plots show a field's values in."""
-    if unit == "m":
-        return 1000.0, "mm"
-    if unit == "rad":
-        return math.degrees(1.0), "°"
-    return 1.0, "" if unit == "1" else unit

@@ -31,10 +31,11 @@ from typing import Any
 
 import numpy as np
 
-from ..profile import apply_overrides, get_profile, profile_values
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
-from ..sweep.rows import Outcome
-from ..sweep.summary import GroupSummary
+from ...profile import apply_overrides, get_profile, profile_values
+from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
+from ...sweep.rows import Outcome
+from ...sweep.summary import GroupSummary
+from ..one_at_a_time.plan import FIELD_LABEL, PLAUSIBLE
 from .estimate import (
     DEFAULT_BINS,
     PASS,
@@ -47,7 +48,6 @@ from .estimate import (
     ranking_outcome,
     strongest_interaction,
 )
-from .plan import FIELD_LABEL, PLAUSIBLE
 
 __all__ = [
     "JointAnalysis",
@@ -57,7 +57,9 @@ __all__ = [
     "analyse_rows",
     "from_rows",
     "joint_plan",
+    "profile_label",
     "run_joint",
+    "verdict",
 ]
 
 _PROFILE_VALUES = ".profile_values"
@@ -398,7 +400,7 @@ def run_joint(
     """Run every episode of ``plan`` not yet in ``store`` (as
     :func:`~puckboard.sweep.run_sweep`) and analyse all of the plan's episodes, those
     ``store`` held before included."""
-    from ..sweep.run import run_sweep
+    from ...sweep.run import run_sweep
 
     sweep = run_sweep(
         plan.sweep,

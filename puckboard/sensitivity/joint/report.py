@@ -8,11 +8,11 @@ read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ..profile.setting_names import path_unit
-from ..sweep.summary import controller_labels, format_table
-from .estimate import PASS, Effect
-from .joint import JointAnalysis, JointResult, Number, verdict
-from .plan import shown_scale
+from ...profile.setting_names import path_unit
+from ...sweep.summary import controller_labels, format_table
+from ..units import shown_scale
+from .analysis import JointAnalysis, JointResult, Number, verdict
+from .estimate import MIN_EVENTS, PASS, PROGRESS, Effect
 
 __all__ = ["SHOWN", "format_joint"]
 
@@ -54,7 +54,7 @@ def _ranking(a: JointAnalysis) -> str:
                 str(rank),
                 n.name + (" *" if n in clear else ""),
                 _effect(n.effect(PASS)),
-                _effect(n.effect("progress")),
+                _effect(n.effect(PROGRESS)),
                 _quarters(n),
             ]
         )
@@ -97,8 +97,8 @@ def format_analysis(a: JointAnalysis, controller: str) -> str:
         parts.append("ranked by pass/fail (logistic regression per number)")
     else:
         parts.append(
-            "ranked by progress (fewer than 10 passes or 10 failures: too few for pass/fail "
-            "to rank anything)"
+            f"ranked by progress (fewer than {MIN_EVENTS} passes or {MIN_EVENTS} failures: too "
+            "few for pass/fail to rank anything)"
         )
     parts.append(verdict(a) + " (* its simultaneous 95 % interval leaves out 0)")
     if not a.numbers:

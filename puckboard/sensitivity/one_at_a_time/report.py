@@ -7,8 +7,8 @@ Values are shown as people read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ..sweep.summary import GroupSummary, controller_labels, format_table
-from .plan import describe_value, shown_scale
+from ...sweep.summary import GroupSummary, controller_labels, format_table
+from ..units import describe_value, shown_scale
 from .summary import Analysis, FieldResult, SensitivityResult
 
 __all__ = ["format_analysis", "format_result"]
