@@ -368,12 +368,26 @@ class JointResult:
 
 def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> JointResult:
     """Recompute a joint analysis from stored rows (``puckboard sensitivity --from``)."""
+    if bins < 2:
+        raise PlanError(f"--bins must be at least 2, got {bins}")
     analyses = analyse_rows(rows, bins)
     if not analyses:
         raise PlanError(
             "no rows of plausible robots with their drawn numbers: write the file with "
             "puckboard sensitivity ... --method joint --out FILE (or sweep --variation "
             "plausible --out FILE)"
+        )
+    fewest = min(analyses, key=lambda a: a.band.episodes)
+    n = fewest.band.episodes
+    if n < 2 * bins:  # as a live run refuses: a bin of one episode is no rate
+        fix = (
+            f"use --bins {n // 2} or fewer"
+            if n >= 4
+            else "run more seeds (the joint method wants hundreds)"
+        )
+        raise PlanError(
+            f"the rows hold {n} episodes of {fewest.controller} on {fewest.profile}, too few "
+            f"for {bins} bins (at least 2 episodes a bin): {fix}"
         )
     scenario = str(rows[0].get("scenario", ""))
     seeds = [int(float(r.get("seed") or 0)) for r in rows if _params(r).get("variation")]

@@ -34,6 +34,7 @@ from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 __all__ = [
     "DEFAULT_VALUES",
     "FIELD_LABEL",
+    "MAX_VALUES",
     "PLAUSIBLE",
     "SHIPPED",
     "VALUE",
@@ -47,6 +48,11 @@ __all__ = [
 #: Values per field unless asked otherwise: enough to see a curve's shape, few enough
 #: that every field of a profile fits in minutes.
 DEFAULT_VALUES = 7
+
+#: At most this many values per field. Each value is a point of its own, run on every
+#: seed for every controller and profile (100 values of the physical e-puck's 16 fields
+#: on 20 seeds are 32,000 episodes per controller), and a curve's shape shows at a few.
+MAX_VALUES = 100
 
 #: Kinds of point: the profile as shipped, one field at one value, all fields drawn.
 SHIPPED, VALUE, PLAUSIBLE = "shipped", "value", "plausible"
@@ -123,6 +129,11 @@ def field_values(low: float, high: float, count: int) -> tuple[float, ...]:
     value, the middle, for ``count`` 1; the one value of an empty range)."""
     if count < 1:
         raise PlanError(f"--values must be at least 1, got {count}")
+    if count > MAX_VALUES:
+        raise PlanError(
+            f"--values {count} is more than {MAX_VALUES} per field: each value runs every seed "
+            f"(a curve's shape shows at a few; default {DEFAULT_VALUES}); use at most {MAX_VALUES}"
+        )
     if high == low:
         return (low,)
     if count == 1:
