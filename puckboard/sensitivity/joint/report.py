@@ -41,6 +41,10 @@ def _effect(e: Effect | None) -> str:
     return f"{e.estimate:+.{digits}f} [{e.low:+.{digits}f}, {e.high:+.{digits}f}]"
 
 
+def _pairs(count: int) -> str:
+    return f"{count} pair" if count == 1 else f"{count} pairs"
+
+
 def _quarters(n: Number) -> str:
     return " | ".join(_percent(b.rate) for b in n.bins)
 
@@ -111,10 +115,10 @@ def format_analysis(a: JointAnalysis, controller: str) -> str:
     if pair is not None:
         parts.append(
             f"strongest interacting pair, clear: {pair.a} × {pair.b} (product term "
-            f"{_effect(pair.effect)}, of {pair.pairs_tested} pairs of the top numbers)"
+            f"{_effect(pair.effect)}, of {_pairs(pair.pairs_tested)} of the top numbers)"
             if pair.effect.clear
             else f"no interaction is clear at N = {b.episodes} (strongest: {pair.a} × "
-            f"{pair.b}, {_effect(pair.effect)}, of {pair.pairs_tested} pairs)"
+            f"{pair.b}, {_effect(pair.effect)}, of {_pairs(pair.pairs_tested)})"
         )
     for n in a.clear:
         parts += ["", _curve(n)]
