@@ -15,6 +15,8 @@ from typing import Any
 from .common import CliError, add_variation_argument
 from .experiment_options import (
     add_duration,
+    add_out,
+    add_quiet,
     add_scene_and_controllers,
     add_where_to_run,
     check_numbers,
@@ -91,12 +93,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
 
 def _add_outputs(parser: argparse.ArgumentParser) -> None:
     """Where the rows, the summary and the plot go."""
-    parser.add_argument(
-        "--out",
-        type=Path,
-        metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already there",
-    )
+    add_out(parser)
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     parser.add_argument(
         "--plot",
@@ -109,7 +106,7 @@ def _add_outputs(parser: argparse.ArgumentParser) -> None:
         metavar="PARAM",
         help="parameter for the plot's x axis (default: the first --set with several values)",
     )
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(parser)
 
 
 def main(args: argparse.Namespace) -> int:
