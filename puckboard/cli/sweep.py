@@ -246,15 +246,8 @@ def _report(
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
-        counts = (
-            f"{result.ran} run, {result.skipped} already in {args.out}"
-            if stored
-            else f"{result.ran} run"
-        )
-        print(
-            f"{plan.scenario}: {len(result.outcomes)} of {len(plan)} episodes ({counts}), "
-            f"{wall_time(args, result):.1f} s"
-        )
+        file = str(args.out) if stored else None
+        print(f"{plan.scenario}: {result.episodes_text(file)}, {wall_time(args, result):.1f} s")
         print()
         print(format_groups(groups, written_values(args.sets)))
         if len(plan.controllers) > 1:
