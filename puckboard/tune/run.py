@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..sweep.plan import seeds_text
 from .objective import Cell, CellRate, Score, cell_rates, rounds, run_cells
 from .space import Choice, Param, shipped_values, trial_zero
 from .storage import COMMAND_ATTR, finished_trials, open_study
@@ -89,11 +90,6 @@ class TuneSpec:
             "rounds": self.rounds,
             "sampler_seed": self.sampler_seed,
         }
-
-
-def seeds_text(seeds: range) -> str:
-    step = f":{seeds.step}" if seeds.step != 1 else ""
-    return f"{seeds.start}:{seeds.stop}{step}"
 
 
 @dataclass(frozen=True)
