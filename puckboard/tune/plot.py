@@ -21,7 +21,7 @@ import math
 import os
 from typing import Any
 
-from ..viz.figures import COLOURS, FONT, new_figure
+from ..viz.figures import COLOURS, FONT, OKABE_ITO, new_figure
 from .objective import CellRate, Score
 from .run import TuneResult
 
@@ -93,8 +93,8 @@ def _importances(ax: Any, result: TuneResult) -> None:
     if caveat:
         ax.text(
             0.98, 0.98, caveat, transform=ax.transAxes, ha="right", va="top",
-            fontsize=FONT - 3, color="#D55E00",
-            bbox={"facecolor": "white", "edgecolor": "#D55E00", "alpha": 0.9},
+            fontsize=FONT - 3, color=OKABE_ITO["vermillion"],
+            bbox={"facecolor": "white", "edgecolor": OKABE_ITO["vermillion"], "alpha": 0.9},
         )  # fmt: skip
 
 
