@@ -112,6 +112,4 @@ def hand_placed(robot: RobotSpec, offset: float, heading: float) -> RobotSpec:
     x = robot.x - offset * math.sin(robot.theta)
     y = robot.y + offset * math.cos(robot.theta)
     theta = robot.theta + heading
-    return dataclasses.replace(
-        robot, x=x, y=y, theta=math.atan2(math.sin(theta), math.cos(theta))
-    )
+    return dataclasses.replace(robot, x=x, y=y, theta=math.atan2(math.sin(theta), math.cos(theta)))

@@ -33,6 +33,8 @@ class EpisodeResult:
     events: list[Event] = field(default_factory=list)
     #: every failure the judge detected, in order (``failure`` is the one reported)
     failures: list[str] = field(default_factory=list)
+    #: the conditions ``--variation reality-gap`` drew (None, and not reported, otherwise)
+    conditions: dict[str, Any] | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -40,9 +42,10 @@ class EpisodeResult:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
     def to_dict(self) -> dict[str, Any]:
-        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
+        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable); ``conditions``
+        only when a variation drew them."""
         rtf = self.realtime_factor
-        return {
+        out: dict[str, Any] = {
             "scenario": self.scenario,
             "controller": self.controller,
             "seed": self.seed,
@@ -57,3 +60,6 @@ class EpisodeResult:
             "robots": [m.to_dict() for m in self.robots],
             "events": [e.to_dict() for e in self.events],
         }
+        if self.conditions is not None:
+            out["conditions"] = self.conditions
+        return out
