@@ -46,6 +46,7 @@ from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
 from ..scenario.conditions import CONDITIONS
+from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
 from ..scenario.reality_gap import REALITY_GAP, draw_conditions
@@ -120,7 +121,8 @@ class Episode:
     ) -> None:
         overrides = dict(overrides or {})
         variation = str(overrides.pop("variation", variation))
-        self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
+        # a generated scene (generated-pass) draws its track from the episode's seed
+        self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
         # conditions the run sets itself are its definition: reality-gap keeps them
         fixed = [n for n in overrides if n in CONDITIONS or n.startswith("noise.")]
         #: what ``reality-gap`` drew, as the result reports it (None for other variations)
