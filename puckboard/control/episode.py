@@ -48,6 +48,7 @@ from ..profile import RobotProfile, get_profile
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
 from ..scenario.result import EpisodeResult
+from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
 from .loop import ControlLoop
@@ -122,6 +123,8 @@ class Episode:
         self.scene = vary_scene(self.scene, int(seed), variation)
         self.seed = int(seed)
         self.backend = backend if backend is not None else default_backend()
+        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
+            self.scene = link_control(self.scene)  # a profile file's measured link timing
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
