@@ -100,6 +100,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="NAME=VALUE",
         help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
         "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
+        "surface.line_contrast (0..1), surface.line_width (m), obstacle.ir_reflectance (0..1), "
+        "start.offset (m), start.heading (rad), "
         "layer.<LayerName>.<attribute>, profile.<path> (every robot's, e.g. "
         "profile.prox_max_distance=0.045 or profile.prox_radius.side=31mm; paths: "
         "puckboard profiles show) or robot.<name>.profile.<path> (repeatable)",
@@ -306,6 +308,31 @@ def realtime_text(factor: float | None) -> str:
     return f"{factor:.0f}x" if factor >= 10 else f"{float(f'{factor:.2g}'):g}x"
 
 
+def _loop_timing(d: dict[str, Any]) -> str:
+    """``; control every 100 ms, 50 ms latency`` when the loop is not one tick per step."""
+    if "control_period_s" not in d:
+        return ""
+    return (
+        f"; control every {d['control_period_s'] * 1000:g} ms, "
+        f"{d['control_latency_s'] * 1000:g} ms latency"
+    )
+
+
+def _condition_lines(conditions: dict[str, Any] | None) -> list[str]:
+    """What ``--variation reality-gap`` drew, one setting a line (none for other
+    variations); per obstacle and per robot values by name."""
+    if not conditions:
+        return []
+    lines = ["", "conditions drawn (reality-gap):"]
+    for name, value in conditions.items():
+        if isinstance(value, dict):
+            shown = ", ".join(f"{k} {v:.4g}" for k, v in value.items())
+        else:
+            shown = value if isinstance(value, str) else f"{value:.4g}"
+        lines.append(f"  {name} = {shown}")
+    return lines
+
+
 def format_summary(result: Any) -> str:
     """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
     d = result.to_dict()
@@ -313,7 +340,7 @@ def format_summary(result: Any) -> str:
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
         f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
-        f"of {d['dt_s'] * 1000:g} ms)",
+        f"of {d['dt_s'] * 1000:g} ms{_loop_timing(d)})",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",
@@ -327,6 +354,7 @@ def format_summary(result: Any) -> str:
             f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
     lines += _profile_value_lines(d["robots"])
+    lines += _condition_lines(d.get("conditions"))
     lines.append("")
     if d["success"]:
         lines.append("outcome: SUCCESS")

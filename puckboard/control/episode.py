@@ -45,9 +45,13 @@ from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
+from ..scenario.conditions import CONDITIONS
+from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
+from ..scenario.reality_gap import REALITY_GAP, draw_conditions
 from ..scenario.result import EpisodeResult
+from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
 from .loop import ControlLoop
@@ -118,10 +122,23 @@ class Episode:
     ) -> None:
         overrides = dict(overrides or {})
         variation = str(overrides.pop("variation", variation))
-        self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
-        self.scene = vary_scene(self.scene, int(seed), variation)
+        # a generated scene (generated-pass) draws its track from the episode's seed
+        self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
+        # conditions the run sets itself are its definition: reality-gap keeps them
+        fixed = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
+        if any(get_profile(r.profile).link is not None for r in self.scene.robots):
+            fixed += ["control.period", "control.latency"]  # the robot's own, measured link
+        #: what ``reality-gap`` drew, as the result reports it (None for other variations)
+        self.conditions = (
+            draw_conditions(self.scene, int(seed), fixed).to_dict()
+            if variation == REALITY_GAP
+            else None
+        )
+        self.scene = vary_scene(self.scene, int(seed), variation, fixed)
         self.seed = int(seed)
         self.backend = backend if backend is not None else default_backend()
+        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
+            self.scene = link_control(self.scene)  # a profile file's measured link timing
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
@@ -158,7 +175,7 @@ class Episode:
                 )
             self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
-            self.loop = ControlLoop(bindings)
+            self.loop = ControlLoop(bindings, period=_loop_period(self.scene, self.world))
             self.judge = Judge(self.scene)
             self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
@@ -295,13 +312,32 @@ class Episode:
             failures=list(self.judge.failures),
             robots=self.judge.metrics(),
             events=sorted(self.judge.events, key=lambda e: e.time_s),
+            conditions=self.conditions,
         )
+        if not self.scene.control.is_default(self.scene.dt):
+            self.result.control_period_s = float(self.loop.period)
+            self.result.control_latency_s = float(self.scene.control.latency)
         for obs in self.result_observers:
             try:
                 obs(self)
             except Exception:
                 log.exception("episode result observer %r failed", obs)
         return self.result
+
+
+def _loop_period(scene: Scene, world: Any) -> float | None:
+    """The control period the scene asks for (None: the loop's default, one step or a real
+    robot's 0.05 s). A latency is simulated by the embedded world, which delays each
+    wheel command itself; on any other backend the delay is the link's own, so a scene
+    asking for one there is refused rather than silently run without it."""
+    control = scene.control
+    if control.latency > 0 and world is None:
+        raise SceneError(
+            f"control.latency = {control.latency:g} s is simulated by the embedded backend "
+            "only; a real link brings its own (measure it with puckboard calibrate link), "
+            "so leave control.latency at 0 on this backend"
+        )
+    return control.period
 
 
 def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:

@@ -33,6 +33,12 @@ class EpisodeResult:
     events: list[Event] = field(default_factory=list)
     #: every failure the judge detected, in order (``failure`` is the one reported)
     failures: list[str] = field(default_factory=list)
+    #: the conditions ``--variation reality-gap`` drew (None, and not reported, otherwise)
+    conditions: dict[str, Any] | None = None
+    #: the control loop's period and latency (s) when they differ from one tick per
+    #: step and no delay (``None``: today's synchronous loop, and no fields in the JSON)
+    control_period_s: float | None = None
+    control_latency_s: float | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -40,13 +46,25 @@ class EpisodeResult:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
     def to_dict(self) -> dict[str, Any]:
-        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
+        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable); ``conditions``
+        only when a variation drew them."""
         rtf = self.realtime_factor
-        return {
+        # the loop's timing only when it is not the default, so a default run's object
+        # (and every figure published from one) stays what it was
+        timing = (
+            {}
+            if self.control_period_s is None
+            else {
+                "control_period_s": self.control_period_s,
+                "control_latency_s": self.control_latency_s or 0.0,
+            }
+        )
+        out: dict[str, Any] = {
             "scenario": self.scenario,
             "controller": self.controller,
             "seed": self.seed,
             "dt_s": self.dt_s,
+            **timing,
             "steps": self.steps,
             "sim_time_s": round(self.sim_time_s, 6),
             "wall_s": round(self.wall_s, 6),
@@ -57,3 +75,6 @@ class EpisodeResult:
             "robots": [m.to_dict() for m in self.robots],
             "events": [e.to_dict() for e in self.events],
         }
+        if self.conditions is not None:
+            out["conditions"] = self.conditions
+        return out

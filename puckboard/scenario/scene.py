@@ -10,6 +10,7 @@ World frame: x to the right, y up, angles counter-clockwise from +x, seen from a
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,6 +22,7 @@ __all__ = [
     "GOAL_KINDS",
     "Arena",
     "CircleObstacle",
+    "Control",
     "Goal",
     "Noise",
     "PolygonObstacle",
@@ -44,13 +46,17 @@ def _polygon_edges(
 class Track:
     """A dark line on the floor: a polyline of ``points`` (M×2, m) of ``width`` (m).
 
-    ``closed`` joins the last point back to the first (a loop).
+    ``closed`` joins the last point back to the first (a loop). ``contrast`` is the share
+    of the line's brightness difference from the floor that the ground sensors see
+    (1: the line as its colour says; lower: a glossy or worn tape, a grey floor, which
+    reflect more of the sensors' IR than the colour suggests; 0: no line).
     """
 
     points: npt.NDArray[np.float64]
     width: float = 0.02
     closed: bool = True
     colour: Colour = (20, 20, 20)
+    contrast: float = 1.0
 
     def __post_init__(self) -> None:
         pts = np.array(self.points, dtype=float, copy=True)
@@ -62,6 +68,8 @@ class Track:
             raise ValueError("track.points must be finite numbers")
         if not self.width > 0:
             raise ValueError(f"track.width must be positive (m), got {self.width}")
+        if not 0.0 <= self.contrast <= 1.0:
+            raise ValueError(f"track.contrast must lie in [0, 1], got {self.contrast}")
         pts.setflags(write=False)
         object.__setattr__(self, "points", pts)
 
@@ -80,22 +88,38 @@ class Track:
 
 @dataclass(frozen=True)
 class CircleObstacle:
-    """A static round obstacle (a cylinder seen from above)."""
+    """A static round obstacle (a cylinder seen from above).
+
+    ``ir_reflectance`` scales the IR light it sends back against the surface the IR
+    response curve was measured on (1); a black object sends back little (0.1 or less):
+    the e-puck's IR hardly sees it. V-REP's cone sensors ignore it, as V-REP does.
+    """
 
     x: float
     y: float
     radius: float
     colour: Colour = (200, 60, 40)
     name: str = ""
+    ir_reflectance: float = 1.0
+
+    def __post_init__(self) -> None:
+        _check_reflectance(self.ir_reflectance)
+
+
+def _check_reflectance(value: float) -> None:
+    if not 0.0 <= value <= 1.0:
+        raise ValueError(f"obstacle ir_reflectance must lie in [0, 1], got {value}")
 
 
 @dataclass(frozen=True, eq=False)
 class PolygonObstacle:
-    """A static convex polygon obstacle; ``vertices`` (K×2, m) counter-clockwise."""
+    """A static convex polygon obstacle; ``vertices`` (K×2, m) counter-clockwise;
+    ``ir_reflectance`` as :class:`CircleObstacle`'s."""
 
     vertices: npt.NDArray[np.float64]
     colour: Colour = (200, 60, 40)
     name: str = ""
+    ir_reflectance: float = 1.0
 
     def __post_init__(self) -> None:
         v = np.array(self.vertices, dtype=float, copy=True)
@@ -105,6 +129,7 @@ class PolygonObstacle:
             )
         v.setflags(write=False)
         object.__setattr__(self, "vertices", v)
+        _check_reflectance(self.ir_reflectance)
 
     def edges(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """The closed outline's edges as (start points, edge vectors), K×2 each."""
@@ -193,6 +218,68 @@ class Noise:
     gyro_bias: float = 0.0
 
 
+@dataclass(frozen=True)
+class Control:
+    """The control loop's timing, apart from the physics step ``dt``.
+
+    ``period`` (s): how often each controller ticks and a wheel command is sent; the
+    physics keeps stepping at ``dt`` in between, so it must be a whole number of steps.
+    ``None`` means one step, the thesis's synchronous stepping (V-REP at its default
+    50 ms step, every tick seeing the step just taken).
+
+    ``latency`` (s): the loop's delay, from the instant the sensors were read to the
+    instant the command computed from them turns the wheels. On a link to a robot the
+    host can time only the whole round trip (it shares no clock with the robot), so
+    this is one number, the sum of the sensing's age and the command's way to the
+    wheels; the simulator applies it on the wheel side (a layer sees the step just
+    taken, its command acts ``latency`` later), which for a controller that reacts to
+    what it senses is the same loop. It too must be a whole number of steps (0: none).
+    The links' ranges and their sources: :mod:`puckboard.profile.links`.
+    """
+
+    period: float | None = None
+    latency: float = 0.0
+
+    def is_default(self, dt: float) -> bool:
+        """True for today's loop: one tick per physics step and no delay."""
+        return self.latency == 0.0 and (self.period is None or _same(self.period, dt))
+
+    def period_for(self, dt: float) -> float:
+        """The control period (s) with physics step ``dt``."""
+        return dt if self.period is None else self.period
+
+    def steps(self, dt: float) -> tuple[int, int]:
+        """(steps per tick, steps of latency) with physics step ``dt``; ``ValueError``
+        (one line, saying how to fix it) for a period or latency that is negative, not
+        finite, or not a whole number of steps."""
+        period = self.period_for(dt)
+        return (
+            _whole_steps("control.period", period, dt, minimum=1),
+            _whole_steps("control.latency", self.latency, dt, minimum=0),
+        )
+
+
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-12)
+
+
+def _whole_steps(name: str, value: float, dt: float, *, minimum: int) -> int:
+    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``."""
+    if not math.isfinite(value) or value < 0 or (minimum and value <= 0):
+        bound = "positive" if minimum else "zero or positive"
+        raise ValueError(f"{name} must be a finite, {bound} number of seconds, got {value!r}")
+    ratio = value / dt
+    steps = round(ratio)
+    if abs(ratio - steps) > 1e-6 or steps < minimum:
+        below, above = math.floor(ratio), max(minimum, math.ceil(ratio))
+        near = [f"{k * dt:g}" for k in sorted({max(minimum, below), above})]
+        raise ValueError(
+            f"{name} = {value:g} s is not a whole number of physics steps of dt = {dt:g} s "
+            f"(the physics steps at dt between ticks); use {' or '.join(near)} s, or change dt"
+        )
+    return steps
+
+
 GOAL_KINDS = ("auto", "pass", "follow", "avoid")
 """What a scene asks of its robots; the judge (:mod:`puckboard.scenario.judge`) scores it.
 
@@ -241,9 +328,15 @@ class Scene:
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
     goal: Goal = field(default_factory=Goal)
     dummies: tuple[Dummy, ...] = ()
+    #: the control loop's timing (default: one tick per step, no delay)
+    control: Control = field(default_factory=Control)
     #: Where the scene was read from (a file's path, a shipped scene's file name), so a
     #: message about one of its robots can name the file; not part of what it describes.
     source: str = field(default="", compare=False)
+    #: For a generated scene (a file with a ``[generate]`` table): the file's data as
+    #: JSON, from which each episode's seed draws its own track (:mod:`.generated`); this
+    #: scene is then seed 0's. None for a scene that is what it says.
+    generate: str | None = field(default=None, compare=False, repr=False)
 
     def with_profile(self, profile: str | RobotProfile) -> Scene:
         """This scene with every robot given robot profile ``profile`` (a shipped one by

@@ -48,7 +48,15 @@ PARAMETERS: dict[str, str] = {
     "noise.gyro_bias": "constant offset of the gyro's yaw rate (rad/s)",
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
-    "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
+    "surface.line_contrast": "share (0..1) of the line's contrast the ground sensors see",
+    "surface.line_width": "the line's width (m)",
+    "obstacle.ir_reflectance": "every obstacle's IR reflectance (0..1; black: about 0.1)",
+    "start.offset": "every robot's start moved to its left (m), as placed by hand",
+    "start.heading": "every robot's start heading turned counter-clockwise (rad)",
+    "control.period": "how often the controllers tick (s; a whole number of dt)",
+    "control.latency": "sensing to wheels delay of the control loop (s; a whole number of dt)",
+    "variation": "none, plausible (each robot drawn within its profile's plausible ranges) "
+    "or reality-gap (plausible robots in conditions drawn within sourced ranges)",
     "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
@@ -60,7 +68,7 @@ PARAMETERS: dict[str, str] = {
 LABEL_PREFIX = "label."
 
 _CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
-_POSITIVE = {"dt", "duration"}
+_POSITIVE = {"dt", "duration", "control.period"}
 
 
 class PlanError(ValueError):
@@ -224,6 +232,8 @@ def _check_value(name: str, value: Any) -> None:
         raise PlanError(f"parameter {name} must be positive (s), got {value!r}")
     if name.startswith("noise.") and value < 0:
         raise PlanError(f"parameter {name} is a standard deviation and cannot be negative")
+    if name == "control.latency" and value < 0:
+        raise PlanError(f"parameter {name} is a delay (s) and cannot be negative")
 
 
 def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
