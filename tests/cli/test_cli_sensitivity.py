@@ -242,6 +242,7 @@ def test_from_a_file_of_another_kind_names_from_not_out(capsys, tmp_path):
          "and runs no episode: drop --controller"),
         (["--from", "ROWS", "--seeds", "0:8"], "runs no episode: drop --seeds"),
         (["--from", "ROWS", "--seeds", "0:8", "--out", "OUT"], "drop --seeds, --out"),
+        (["--from", "ROWS", "--set", "control.period=0.1"], "runs no episode: drop --set"),
         ([*JOINT[1:], "--values", "3"], "--values is for --method one-at-a-time; the joint "
          "method draws every number; its curves have --bins bins"),
         ([*JOINT[1:], "--variation", "none"], "--variation is for --method one-at-a-time; the "
