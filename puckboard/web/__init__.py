@@ -22,7 +22,10 @@ from __future__ import annotations
 
 import html
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
 
 __all__ = ["show_replay", "watch_episode", "watch_server"]
 
@@ -49,7 +52,7 @@ def watch_episode(
     return view
 
 
-def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
+def watch_server(server: RemoteApiServer, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
     """Serve a live view of a
     :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`'s world;
     returns the started :class:`~puckboard.web.server.WebView`."""
@@ -57,7 +60,7 @@ def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> A
     from .state import ServerFollower
 
     view = WebView(host=host, port=port).start()
-    follower = ServerFollower(server, view.publish)
+    follower = ServerFollower(server.view(), view.publish)
     view.follow(follower)
     server.add_step_observer(follower)
     return view
