@@ -259,17 +259,6 @@ class ProximitySensors:
         self._wall_segments = np.array([w[5] for w in walls], dtype=np.intp)
 
     # -- broad phase -----------------------------------------------------------------------
-    def near(self, poses: Sequence[Sequence[float]]) -> tuple[list[int], list[int], list[int]]:
-        """Which robots can see anything, and which circles and segments any of them may
-        see (the union of :meth:`candidates`).
-
-        Circle indices count static circles first, then robots.
-        """
-        robots, circles_of, segments_of = self.candidates(poses)
-        circles = sorted({c for i in robots for c in circles_of[i]})
-        segments = sorted({k for i in robots for k in segments_of[i]})
-        return robots, circles, segments
-
     def candidates(
         self, poses: Sequence[Sequence[float]]
     ) -> tuple[list[int], list[list[int]], list[list[int]]]:
