@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ProfileError, SceneError
-from ..profile import RobotProfile, apply_overrides, check_path, get_profile
+from ..profile import RobotProfile, apply_overrides, check_setting, get_profile
 from .robot_profiles import scene_profile
 from .scene import RobotSpec, Scene
 from .variation import check_variation
@@ -235,7 +235,7 @@ def apply_profile_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene
 
 def _checked(name: str, path: str) -> str:
     try:
-        return check_path(path)
+        return check_setting(path)
     except ProfileError as exc:
         raise ProfileError(f"override {name!r}: {exc}") from None
 

@@ -15,7 +15,7 @@ import math
 import os
 from typing import Any
 
-from ..profile.setting_names import path_unit
+from ..profile.setting_names import setting_unit
 from ..sweep.summary import controller_labels
 from .joint import JointAnalysis, JointResult
 from .plan import shown_scale
@@ -65,7 +65,7 @@ def _chart(ax: Any, analyses: list[JointAnalysis], order: list[str]) -> None:
 
 def _panel(ax: Any, name: str, analyses: list[JointAnalysis]) -> None:
     path = name.split(": ", 1)[1]
-    scale, unit = shown_scale(path_unit(path))
+    scale, unit = shown_scale(setting_unit(path))
     shipped = None
     for index, a in enumerate(analyses):
         n = next((x for x in a.numbers if x.name == name), None)

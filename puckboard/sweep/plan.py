@@ -123,10 +123,10 @@ def profile_parameters(profile: Any) -> dict[str, Any]:
 def check_parameter(name: str) -> str:
     """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
     if _is_profile_param(name):
-        from ..profile import check_path
+        from ..profile import check_setting
 
         try:
-            check_path(_profile_path(name))
+            check_setting(_profile_path(name))
         except ValueError as exc:
             raise PlanError(f"parameter {name}: {exc}") from None
         return name
