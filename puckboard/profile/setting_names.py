@@ -375,7 +375,9 @@ def _numbers(record: list[tuple[str, float]]) -> dict[str, float | None]:
     return out
 
 
-def _set(profile: Any, setting: str, value: float | None) -> dict[str, Any]:
+def _set(
+    profile: Any, setting: str, value: float | None
+) -> dict[str, Any]:  # Any: a RobotProfile's fields as a SimpleNamespace (checked once, at the end)
     """The field changes that give ``profile`` ``value`` at the single-number ``setting``."""
     target = _resolve(setting)
     head = target.head
@@ -490,7 +492,9 @@ def recorded_numbers(profile: RobotProfile) -> dict[str, float | None]:
     return _numbers(list(profile.overrides))
 
 
-def _check_detection(profile: Any, given: list[tuple[str, Any]]) -> None:
+def _check_detection(
+    profile: Any, given: list[tuple[str, Any]]
+) -> None:  # Any: a RobotProfile's fields as a SimpleNamespace (checked once, at the end)
     """0 <= prox_min_distance < prox_max_distance <= prox_range, named by the setting set."""
     lo, hi, rng = profile.prox_min_distance, profile.prox_max_distance, profile.prox_range
     if lo < hi <= rng:
