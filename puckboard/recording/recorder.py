@@ -55,7 +55,7 @@ import zipfile
 import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -66,6 +66,8 @@ from .decisions import DecisionRecorder, Decisions
 
 if TYPE_CHECKING:
     from ..behaviours.controller import Controller
+    from ..blackboard import Blackboard
+    from ..scenario.scene import Scene
 
 __all__ = [
     "FORMAT_VERSION",
@@ -89,6 +91,25 @@ RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels
 """Blackboard keys (relative to each robot's namespace) a :class:`Recorder` reads."""
 
 _PROX_RANGE_DEFAULT = 0.05
+
+
+class RecordedRun(Protocol):
+    """What a recorder needs of a run: a :class:`~puckboard.control.episode.Episode`, or
+    anything with its blackboard, connection and observers. (The recording sits below
+    the control loop, so it names what it reads instead of importing the class;
+    :meth:`Recorder.for_episode` reads the rest, the controllers, scene, loop, seed,
+    backend and judge, where the run has them.)"""
+
+    @property
+    def blackboard(self) -> Blackboard: ...
+
+    @property
+    def connection(self) -> Any: ...  # a backends.base.Connection: backends sit above
+
+    def add_observer(self, observer: Callable[[Any], None]) -> None: ...
+
+    def add_close_observer(self, observer: Callable[[Any], Any]) -> None: ...
+
 
 #: The recorded arrays, by name, in the order a file stores them: their type and, for
 #: the per-robot ones, each robot's row shape (the array is T×N×shape; ``None``: T only).
@@ -341,7 +362,7 @@ class Recorder:
         robot_names: Sequence[str],
         *,
         path: str | os.PathLike[str] | None = None,
-        scene: Any = None,
+        scene: Scene | None = None,
         meta: Mapping[str, Any] | None = None,
         robot_layers: Mapping[str, Sequence[str]] | None = None,
         capacity: int = 1024,
@@ -381,7 +402,11 @@ class Recorder:
     # -- building from an episode ---------------------------------------------------------
     @classmethod
     def for_episode(
-        cls, episode: Any, path: str | os.PathLike[str] | None = None, *, decisions: bool = True
+        cls,
+        episode: RecordedRun,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        decisions: bool = True,
     ) -> Recorder:
         """A recorder for every robot of ``episode``, with its scene and run metadata and,
         unless ``decisions`` is false, what each robot's arbiter decided every tick."""
@@ -425,19 +450,19 @@ class Recorder:
             controllers=controllers if decisions else None,
         )
 
-    def attach(self, episode: Any) -> Recorder:
+    def attach(self, episode: RecordedRun) -> Recorder:
         """Register as ``episode``'s cycle observer and close observer; returns ``self``."""
         episode.add_observer(self)
         episode.add_close_observer(self.close)
         return self
 
     # -- sampling --------------------------------------------------------------------------
-    def __call__(self, episode: Any) -> None:
+    def __call__(self, episode: RecordedRun) -> None:
         board = episode.blackboard
         loop = getattr(episode, "loop", None)
         self.sample(board, fallback_time=getattr(loop, "time", None))
 
-    def sample(self, board: Any, *, fallback_time: float | None = None) -> None:
+    def sample(self, board: Blackboard, *, fallback_time: float | None = None) -> None:
         """Append one row read from ``board`` (a :class:`~puckboard.blackboard.Blackboard`)."""
         if self._closed:
             return
@@ -540,7 +565,7 @@ class Recorder:
             decisions=None if self._decisions is None else self._decisions.decisions(n),
         )
 
-    def close(self, _episode: Any = None) -> Recording:
+    def close(self, _episode: RecordedRun | None = None) -> Recording:
         """Stop recording and, if a ``path`` was given, save. Idempotent; returns the
         recording."""
         rec = self.recording()
@@ -570,7 +595,7 @@ def _json_default(value: Any) -> Any:
     raise TypeError(f"cannot store {type(value).__name__} in a recording's metadata")
 
 
-def scene_to_json(scene: Any) -> dict[str, Any]:
+def scene_to_json(scene: Scene) -> dict[str, Any]:
     """The scene as stored in a recording: the scene file's own JSON form."""
     from ..scenario.conversion import scene_to_dict
 

@@ -26,12 +26,14 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
+    from ..control.episode import Episode
+    from ..recording.recorder import Recording
 
 __all__ = ["show_replay", "watch_episode", "watch_server"]
 
 
 def watch_episode(
-    episode: Any, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
+    episode: Episode, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
 ) -> Any:
     """Serve a live view of ``episode`` (before :meth:`run`); returns the started
     :class:`~puckboard.web.server.WebView`. ``speed`` paces the run to the wall clock
@@ -66,7 +68,7 @@ def watch_server(server: RemoteApiServer, *, host: str = "127.0.0.1", port: int 
     return view
 
 
-def show_replay(recording: Any, *, height: int = 720) -> Any:
+def show_replay(recording: Recording | str | os.PathLike[str], *, height: int = 720) -> Any:
     """Show ``recording`` (a :class:`~puckboard.recording.recorder.Recording` or the path
     of one) in the web view's player, inline in a Jupyter notebook: the one-file export
     of ``puckboard replay --html`` in an iframe, so it needs no server. Returns an

@@ -48,6 +48,7 @@ from ..viz.style import event_label, hex_colour, layer_colour, robot_colours
 
 if TYPE_CHECKING:
     from ..backends.coppeliasim.server.view import ServedView
+    from ..control.episode import Episode
     from ..scenario.judge import Judge
     from ..scenario.scene import Scene
     from ..sim.world import World
@@ -291,7 +292,7 @@ class EpisodeFollower(_Follower):
     """Follows a local run; register it with ``episode.add_observer`` (and as a close
     observer, for the final frame)."""
 
-    def __init__(self, episode: Any, publish: Publish) -> None:
+    def __init__(self, episode: Episode, publish: Publish) -> None:
         super().__init__(episode.scene, publish, driver="puckboard run")
         self.episode = episode
         self.adapters = [episode.connection.adapters[n] for n in self.names]
@@ -331,14 +332,14 @@ class EpisodeFollower(_Follower):
             out[i] = (pose.x, pose.y, pose.theta)
         return out
 
-    def __call__(self, episode: Any = None) -> None:
+    def __call__(self, episode: Episode | None = None) -> None:
         for i, tr in enumerate(self.traces):  # every cycle: was the tree ticked in this one?
             if tr is not None:
                 self._ticked[i] = tr.ticks != self._ticks[i]
                 self._ticks[i] = tr.ticks
         self.update(force=False)
 
-    def close(self, episode: Any = None) -> None:
+    def close(self, episode: Episode | None = None) -> None:
         self.finished = True
         self.update(force=True)
 
