@@ -46,7 +46,7 @@ class SceneError(PuckboardError, ValueError):
 
 
 class ProfileError(PuckboardError, ValueError):
-    """A robot profile, a profile path or a value set on one is invalid; the message
+    """A robot profile, a profile setting name or a value set on one is invalid; the message
     names the path (and the file), the value and what is allowed."""
 
 

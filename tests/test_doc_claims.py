@@ -1075,13 +1075,13 @@ def test_the_knife_edge_on_seeds_0_to_9_is_what_the_episodes_give():
     """ "on seeds 0–9 alone: 1 at 17°, 8 at 12.7°, 7 at 10°": the front sensors' heading
     set as the sensitivity analysis sets it (seven values evenly across the range)."""
     from puckboard.profile import get_profile, uncertainty
-    from puckboard.profile.setting_names import path_value
+    from puckboard.profile.setting_names import setting_value
     from puckboard.sensitivity import field_values
 
     m = claim(CONTROLLERS, r"on seeds 0–9 alone: (\d+) at (\S+)°, (\d+) at (\S+)°, (\d+) at (\S+)°")
     spread = uncertainty(get_profile("epuck"))["prox_heading.front"]
     values = {f"{np.degrees(v):.3g}": v for v in field_values(spread.low, spread.high, 7)}
-    shipped = path_value(get_profile("epuck"), "prox_heading.front")
+    shipped = setting_value(get_profile("epuck"), "prox_heading.front")
     for count, degrees in zip(m.groups()[::2], m.groups()[1::2]):
         # the shipped value is the profile as it is, with nothing set
         overrides = (

@@ -11,13 +11,24 @@ following drive and this layer is suppressed.
 It applies while no ground sensor sees the line, and curves towards the remembered
 side: the outer wheel at ``speed``, the inner at ``ratio * speed``. Before it has seen
 the line at all it curves towards ``default_side``.
+
+"Off the line" must mean what the line-following layer means by it: were their two
+thresholds different, a band of readings would be dark to one and light to the other,
+and there neither would drive (another layer would) or both would want to. Given the
+line-following layer (``line=``), the search reads that layer's ``threshold`` and has
+none of its own to tune: one number for both.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from ..records import WheelCommand
 from .cruise import DEFAULT_SPEED
 from .layer import Frame, Layer
+
+if TYPE_CHECKING:
+    from .line_follow import LineFollow
 
 __all__ = ["LineSearch"]
 
@@ -28,7 +39,9 @@ class LineSearch(Layer):
 
     Parameters: ``speed`` (rad/s of the outer wheel), ``ratio`` (inner wheel's fraction
     of ``speed``; 1 drives straight), ``threshold`` (dark below it, as
-    :class:`~puckboard.behaviours.LineFollow`), ``default_side``.
+    :class:`~puckboard.behaviours.LineFollow`), ``default_side``; ``line``, the
+    :class:`~puckboard.behaviours.LineFollow` whose ``threshold`` this search shares
+    (then ``threshold`` is that layer's, and setting either sets both).
     """
 
     reads = ("ground",)
@@ -40,6 +53,7 @@ class LineSearch(Layer):
         ratio: float = 0.8,
         threshold: float = 0.5,
         default_side: str = "right",
+        line: LineFollow | None = None,
         name: str | None = None,
     ) -> None:
         super().__init__(name)
@@ -47,9 +61,30 @@ class LineSearch(Layer):
             raise ValueError(f"default_side must be 'left' or 'right', got {default_side!r}")
         self.speed = speed
         self.ratio = ratio
-        self.threshold = threshold
+        self.line = line
+        self._threshold = threshold
         self.default_side = default_side
         self._last_side: str | None = None
+
+    @property
+    def threshold(self) -> float:
+        """Dark below it: the shared line-following layer's, when there is one."""
+        return self._threshold if self.line is None else self.line.threshold
+
+    @threshold.setter
+    def threshold(self, value: float) -> None:
+        if self.line is None:
+            self._threshold = value
+        else:
+            self.line.threshold = value
+
+    def parameters(self) -> dict[str, Any]:
+        """As every layer's, with ``threshold`` only where it is this layer's own number
+        (a shared one is tuned on the line-following layer)."""
+        out = super().parameters()
+        if self.line is None:
+            out["threshold"] = self._threshold
+        return out
 
     @property
     def last_side(self) -> str:
@@ -61,7 +96,8 @@ class LineSearch(Layer):
         if ground is None:
             return
         left, _centre, right = ground.value.tolist()
-        left_dark, right_dark = left < self.threshold, right < self.threshold
+        threshold = self.threshold
+        left_dark, right_dark = left < threshold, right < threshold
         if left_dark != right_dark:  # one outer sensor alone: the line is on its side
             self._last_side = "left" if left_dark else "right"
 

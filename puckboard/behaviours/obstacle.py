@@ -88,7 +88,8 @@ class FrontObstacleLeftTurn(FrontBraitenbergAvoid):
 
     ``turn_speed`` is the right wheel's speed during the turn (the left wheel runs at
     ``-turn_speed/2``); ``close_fraction`` is the fraction of the range below which both
-    front sensors must be to fall back to Braitenberg.
+    front sensors must be to fall back to Braitenberg; ``braitenberg_fallback=False``
+    never falls back: the turn is always left (the ``robust`` controller's choice).
     """
 
     def __init__(
@@ -97,15 +98,19 @@ class FrontObstacleLeftTurn(FrontBraitenbergAvoid):
         *,
         turn_speed: float | None = None,
         close_fraction: float = 0.25,
+        braitenberg_fallback: bool = True,
         name: str | None = None,
     ) -> None:
         super().__init__(speed, name)
         self.turn_speed = speed if turn_speed is None else turn_speed
         self.close_fraction = close_fraction
+        self.braitenberg_fallback = braitenberg_fallback
 
     def command(self, frame: Frame) -> WheelCommand:
         prox = frame.proximity
         assert prox is not None
+        if not self.braitenberg_fallback:
+            return WheelCommand(-self.turn_speed / 2.0, self.turn_speed)
         limit = self.close_fraction * prox.range
         if prox.front_left > limit or prox.front_right > limit:
             return WheelCommand(-self.turn_speed / 2.0, self.turn_speed)

@@ -94,13 +94,14 @@ def robust(
     keep the right side's obstacle in view; search for the line towards where it was
     last seen (:class:`LineSearch`), on a curve tight enough to find it inside a bend.
     """
+    line = LineFollow(speed, inner_factor=0.20, recovery=True)
     return Controller(
         [
-            FrontObstacleLeftTurn(speed, close_fraction=0.0),
-            LineFollow(speed, inner_factor=0.20, recovery=True),
+            FrontObstacleLeftTurn(speed, braitenberg_fallback=False),
+            line,
             ClearanceGuard("right", clearance=clearance, speed=speed, away_factor=away_factor),
             SideWallKeep(("right",), speed=speed),
-            LineSearch(speed, ratio=search_ratio),
+            LineSearch(speed, ratio=search_ratio, line=line),  # one line threshold for both
             Cruise(speed),
         ],
         name="robust",

@@ -19,7 +19,7 @@ Statuses are small integers (:data:`STATUS_NAMES` names them), kept in one preal
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -27,6 +27,9 @@ import py_trees
 from py_trees.common import Status
 
 from .layer import LayerNode
+
+if TYPE_CHECKING:
+    from .controller import Controller
 
 __all__ = ["NOT_TICKED", "STATUS_NAMES", "TreeTrace", "trace", "tree_nodes"]
 
@@ -121,7 +124,7 @@ class TreeTrace(py_trees.visitors.VisitorBase):
         return "".join(str(int(c)) for c in self.status)
 
 
-def trace(controller: Any) -> TreeTrace:
+def trace(controller: Controller) -> TreeTrace:
     """The :class:`TreeTrace` of ``controller``'s tree, attached on first use.
 
     A recorder and a live view of the same run share one trace, so the tree is visited

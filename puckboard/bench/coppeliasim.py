@@ -36,9 +36,12 @@ import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .timing import median_seconds
+
+if TYPE_CHECKING:
+    from ..backends.base import RobotAdapter
 
 __all__ = ["THESIS", "format_table", "run_suite"]
 
@@ -90,7 +93,7 @@ def _timed(timings: dict[str, list[float]], what: str, fn: Callable[[], Any]) ->
     return value
 
 
-def _drive(robot: Any, timings: dict[str, list[float]]) -> None:
+def _drive(robot: RobotAdapter, timings: dict[str, list[float]]) -> None:
     """Decide from the ground sensor (a plain line follower) and set both wheels."""
     ground = robot.ns.snapshot(["ground"]).value("ground")
     left = right = 4.0
@@ -103,7 +106,7 @@ def _drive(robot: Any, timings: dict[str, list[float]]) -> None:
 def _body(*reads: str, camera: bool = False) -> Callable[[Any, dict[str, list[float]]], None]:
     from ..records import Sensor
 
-    def body(robot: Any, timings: dict[str, list[float]]) -> None:
+    def body(robot: RobotAdapter, timings: dict[str, list[float]]) -> None:
         if camera:
             _timed(timings, "camera", robot.camera_image)
         if reads == ("all",):

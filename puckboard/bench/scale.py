@@ -15,9 +15,12 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .timing import REPEATS, median_seconds
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["PHASES", "ROBOT_COUNTS", "grid_robots", "run_suite", "swarm_with"]
 
@@ -27,7 +30,7 @@ GRID = 0.2  # m between robot start positions
 CLEARANCE = 0.12  # m from a start position to any obstacle or wall
 
 
-def grid_robots(scene: Any, n: int) -> tuple[Any, ...]:
+def grid_robots(scene: Scene, n: int) -> tuple[Any, ...]:
     """``n`` robots on a grid inside ``scene``'s arena, clear of its obstacles."""
     from ..scenario.scene import CircleObstacle, RobotSpec
 
@@ -122,7 +125,7 @@ PHASES = (
 )
 
 
-def _phases(scene: Any, cycles: int, n: int) -> dict[str, float]:
+def _phases(scene: Scene, cycles: int, n: int) -> dict[str, float]:
     """CPU µs per robot-step in each phase, from one run of ``cycles`` cycles driven by
     hand as :meth:`ControlLoop.cycle` drives them (CPU time: other programs on the
     machine disturb it much less than the wall clock)."""

@@ -14,9 +14,12 @@ import os
 import statistics
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .timing import REPEATS, seconds_per_call
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["run_suite"]
 
@@ -51,7 +54,7 @@ def _bench_scene() -> Any:
     )
 
 
-def _build_stack(scene: Any, seed: int = 0) -> tuple[Any, Any]:
+def _build_stack(scene: Scene, seed: int = 0) -> tuple[Any, Any]:
     from ..backends.embedded import EmbeddedAdapter
     from ..behaviours import load_controller
     from ..blackboard import Blackboard

@@ -31,7 +31,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..sweep.cluster import DaskExecutor
 from ..sweep.executors import InlineExecutor, LocalExecutor, SweepExecutor
@@ -40,6 +40,9 @@ from ..sweep.run import SweepResult, run_sweep
 from ..sweep.signals import Terminated, stop_on_terminate
 from ..sweep.worker import worker_ready
 from .sweep_model import episodes_from_rows, model_sweep, read_rows
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["run_suite"]
 
@@ -59,7 +62,7 @@ def _plan(scenario: str, duration: float, episodes: int) -> SweepPlan:
     )
 
 
-def _sweep(executor: SweepExecutor, scene: Any, plan: SweepPlan, **options: Any) -> SweepResult:
+def _sweep(executor: SweepExecutor, scene: Scene, plan: SweepPlan, **options: Any) -> SweepResult:
     """:func:`run_sweep`, except that Ctrl-C (or SIGTERM) ends the benchmark after the
     sweep has stopped its workers, rather than leaving it to time a partial sweep."""
     result = run_sweep(plan, scene, executor=executor, **options)
@@ -68,7 +71,7 @@ def _sweep(executor: SweepExecutor, scene: Any, plan: SweepPlan, **options: Any)
     return result
 
 
-def _rate(executor: SweepExecutor, scene: Any, plan: SweepPlan) -> tuple[float, SweepResult]:
+def _rate(executor: SweepExecutor, scene: Scene, plan: SweepPlan) -> tuple[float, SweepResult]:
     result = _sweep(executor, scene, plan)
     if result.errors:
         raise RuntimeError(f"benchmark episodes failed: {result.errors[0]}")
@@ -223,7 +226,7 @@ def _ready_times(executor: LocalExecutor, since: float) -> list[float]:
     return sorted(seen.values())
 
 
-def _task_round_trip(executor: SweepExecutor, scene: Any, tasks: int = 200) -> float:
+def _task_round_trip(executor: SweepExecutor, scene: Scene, tasks: int = 200) -> float:
     """Seconds per task of empty batches: sending the scene, returning no rows."""
     from ..sweep.worker import run_batch
 

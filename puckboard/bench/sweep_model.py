@@ -26,10 +26,13 @@ import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..sweep.batches import balance_order, make_batches
 from ..sweep.plan import EpisodeSpec
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["episodes_from_rows", "makespan", "model_sweep", "old_batches"]
 
@@ -72,7 +75,7 @@ def episodes_from_rows(
 def model_sweep(
     episodes: Sequence[tuple[EpisodeSpec, float]],
     *,
-    scene: Any = None,
+    scene: Scene | None = None,
     workers: Sequence[int] = (1, 2, 4, 8, 16),
     startup_s: float | Mapping[int, float] = 0.0,
     startup_after_s: float | Mapping[int, float] | None = None,
@@ -87,7 +90,7 @@ def model_sweep(
     one per worker count; ``startup_after_s`` the same for today's command line, which
     starts them while it prepares the sweep (default: the same as before).
     """
-    scene = scene if scene is not None else SimpleNamespace(duration=1.0, dt=1.0)
+    limits: Any = scene if scene is not None else SimpleNamespace(duration=1.0, dt=1.0)
     cost = {spec: seconds + per_episode_s for spec, seconds in episodes}
     specs = [spec for spec, _ in episodes]
     total = sum(cost.values())
@@ -108,7 +111,7 @@ def model_sweep(
     times: dict[str, dict[int, float]] = {"before": {}, "after": {}}
     for w in sorted({1, *workers}):
         before = task_seconds(old_batches(specs, w))
-        after = task_seconds(make_batches(balance_order(specs, scene), w))
+        after = task_seconds(make_batches(balance_order(specs, limits), w))
         times["before"][w] = start(w) + makespan(before, w)
         times["after"][w] = start(w, after=True) + makespan(after, w)
         out["workers"][w] = {

@@ -13,7 +13,10 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..control.episode import Episode
 
 __all__ = ["run_suite"]
 
@@ -39,7 +42,7 @@ print(" ".join(map(str, counts)), flush=True)
 """
 
 
-def _timed_run(episode: Any, duration: float) -> tuple[float, float]:
+def _timed_run(episode: Episode, duration: float) -> tuple[float, float]:
     """Wall and CPU seconds (this process, all its threads) of a full-length run."""
     wall0, cpu0 = time.perf_counter(), time.process_time()
     episode.run(duration, stop_early=False)

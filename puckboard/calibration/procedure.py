@@ -31,7 +31,7 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -45,6 +45,9 @@ from . import checks
 from .plan import CalibrationPlan, Presentation
 from .readings import Measurements, PoseReading, Progress
 from .response import WallModel
+
+if TYPE_CHECKING:
+    from ..backends.base import RobotAdapter
 
 __all__ = ["CalibrationInterrupted", "Odometry", "run_calibration"]
 
@@ -385,7 +388,7 @@ def run_calibration(
     return measured()
 
 
-def _stop_wheels(adapter: Any) -> None:
+def _stop_wheels(adapter: RobotAdapter) -> None:
     """Zero the wheels, best effort: after a lost link there is nobody to tell (the
     adapter already tried), and the error that ended the run is the one to report."""
     if adapter.closed:

@@ -20,7 +20,7 @@ from ..profile import (
     profile_values,
     uncertainty,
 )
-from ..profile.setting_names import PATH_FIELDS, expand_path, path_unit, path_value
+from ..profile.setting_names import SETTING_FIELDS, expand_setting, setting_unit, setting_value
 from ..profile.uncertainty import certainty_note
 from ..records import PROX_NAMES
 
@@ -61,14 +61,14 @@ def _suffix(unit: str) -> str:
 
 def _value_text(profile: RobotProfile, path: str) -> str:
     """A row's value in display units; a group whose sensors differ shows each."""
-    unit = path_unit(path)
-    singles = expand_path(path)
+    unit = setting_unit(path)
+    singles = expand_setting(path)
     head, _, suffix = path.partition(".")
-    values = [path_value(profile, p) for p in singles]
+    values = [setting_value(profile, p) for p in singles]
     if head == "prox_heading" and suffix in PROX_GROUPS:
         left, right = PROX_GROUPS[suffix]
-        values = [path_value(profile, f"{head}.{PROX_NAMES[left]}")]
-        values.append(-path_value(profile, f"{head}.{PROX_NAMES[right]}"))
+        values = [setting_value(profile, f"{head}.{PROX_NAMES[left]}")]
+        values.append(-setting_value(profile, f"{head}.{PROX_NAMES[right]}"))
         singles = (f"{head}.{PROX_NAMES[left]}", f"{head}.{PROX_NAMES[right]}")
     common = max(values, key=values.count)
     text = _number(common, unit) + _suffix(unit)
@@ -90,7 +90,7 @@ def path_rows(profile: RobotProfile) -> list[str]:
     for path, _ in profile.overrides:
         if path not in rows and path != "ir_gain.all":
             rows.append(path)
-    order = {head: i for i, head in enumerate(PATH_FIELDS)}
+    order = {head: i for i, head in enumerate(SETTING_FIELDS)}
     rows.sort(key=lambda p: order[p.partition(".")[0]])  # stable: standard rows keep order
     return rows
 
@@ -98,7 +98,7 @@ def path_rows(profile: RobotProfile) -> list[str]:
 def _source_text(profile: RobotProfile, path: str) -> tuple[str, str]:
     """(range, source) cells: the plausible range, and where the value (if set) and the
     range come from."""
-    unit = path_unit(path)
+    unit = setting_unit(path)
     found = uncertainty(profile).get(path)
     parts = []
     if path in dict(profile.overrides):
@@ -156,24 +156,24 @@ def path_table_json(profile: RobotProfile) -> dict[str, Any]:
     ranges = uncertainty(profile)
     by_single: dict[str, Range] = {}
     for path, plausible in ranges.items():
-        for single in expand_path(path):
+        for single in expand_setting(path):
             by_single[single] = plausible
     values = profile_values(profile)
     set_by = {
         single: profile.sources.get(path, "")
         for path, _ in profile.overrides
-        for single in expand_path(path)
+        for single in expand_setting(path)
     }
     rows = []
     singles: list[str] = []
     for path in path_rows(profile):
-        singles += [s for s in expand_path(path) if s not in singles]
+        singles += [s for s in expand_setting(path) if s not in singles]
     for single in singles:
         found = by_single.get(single)
-        value = values.get(single, path_value(profile, single))
-        row: dict[str, Any] = {"path": single, "unit": path_unit(single), "value": value}
+        value = values.get(single, setting_value(profile, single))
+        row: dict[str, Any] = {"path": single, "unit": setting_unit(single), "value": value}
         if base is not None:
-            row["base_value"] = path_value(base, single)
+            row["base_value"] = setting_value(base, single)
         if found is not None:
             low, high = found.low, found.high
             if single.startswith("prox_heading.") and value < 0:

@@ -64,9 +64,12 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable, Mapping
-from typing import Any, ClassVar, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, TypeVar
 
 from ..blackboard import Blackboard, Namespace, Record, Snapshot
+
+if TYPE_CHECKING:
+    from ..backends.base import RobotAdapter
 
 __all__ = ["KnowledgeSource"]
 
@@ -81,6 +84,13 @@ class _LoopLike(Protocol):
     bindings: list[Any]
 
     def add_before_tick(self, callback: Callable[[Any], None]) -> None: ...
+
+
+class _CarriesLoop(Protocol):
+    """An episode, which carries its control loop."""
+
+    @property
+    def loop(self) -> _LoopLike: ...
 
 
 class KnowledgeSource:
@@ -144,7 +154,7 @@ class KnowledgeSource:
     def reset(self) -> None:
         """Forget any internal state (called by :meth:`bind`). Default: nothing."""
 
-    def configure(self, robot: Any) -> None:
+    def configure(self, robot: RobotAdapter) -> None:
         """Called by :meth:`attach` with the robot's adapter before :meth:`bind`, so a
         source can take what it needs of the robot (its ``profile``, say). Default:
         nothing."""
@@ -227,14 +237,14 @@ class KnowledgeSource:
             return []
 
     # -- in the control loop ---------------------------------------------------------------
-    def attach(self: S, loop: Any, robot: str | None = None) -> S:
+    def attach(self: S, loop: _LoopLike | _CarriesLoop, robot: str | None = None) -> S:
         """Run this source in ``loop`` (a ``ControlLoop``, or anything with ``.loop``).
 
         It is called after sensing and before the controllers tick. ``robot`` names the
         robot whose namespace to use; it may be omitted when the source is already bound
         or the loop drives only one robot.
         """
-        loop = getattr(loop, "loop", loop)  # an Episode carries its loop
+        loop = _the_loop(loop)
         if robot is not None or self.ns is None:
             adapter = _robot(loop, robot)
             self.configure(adapter)
@@ -242,16 +252,16 @@ class KnowledgeSource:
         loop.add_before_tick(self._before_tick)
         return self
 
-    def _before_tick(self, loop: Any) -> None:
+    def _before_tick(self, loop: _LoopLike) -> None:
         self.step()
 
     @classmethod
-    def for_each_robot(cls: type[S], loop: Any, **kwargs: Any) -> dict[str, S]:
+    def for_each_robot(cls: type[S], loop: _LoopLike | _CarriesLoop, **kwargs: Any) -> dict[str, S]:
         """One instance per robot of ``loop`` (``kwargs`` go to the constructor), attached.
 
         Returns the instances by robot name, e.g. to inspect ``failures`` later.
         """
-        loop = getattr(loop, "loop", loop)
+        loop = _the_loop(loop)
         out: dict[str, S] = {}
         for binding in loop.bindings:
             source = cls(**kwargs)
@@ -306,6 +316,12 @@ class KnowledgeSource:
     def __repr__(self) -> str:
         where = self.ns.name if self.ns is not None else "unbound"
         return f"<{type(self).__name__} {self.name!r} on {where}: {self.reads} -> {self.writes}>"
+
+
+def _the_loop(loop: _LoopLike | _CarriesLoop) -> _LoopLike:
+    """The control loop itself: an Episode carries its loop."""
+    inner: Any = getattr(loop, "loop", loop)
+    return inner  # type: ignore[no-any-return]
 
 
 def _robot(loop: _LoopLike, robot: str | None) -> Any:

@@ -37,12 +37,14 @@ and the question "how far from home am I, give or take?" would have no answer. T
 position errors are what grow fastest (they are driven by the heading error), and the
 correlation between heading and lateral position is exactly what makes the ellipses
 long and thin across the direction of travel. So the state is the full pose. The
-motion model is nonlinear, and filterpy's ``ExtendedKalmanFilter.predict()`` is linear
-(``x = F·x + B·u``); as its docstring suggests, the mean is propagated here by the
-nonlinear model and ``F``, ``Q`` are set by hand before ``P = F P Fᵀ + Q``. filterpy's
-``update`` with an angle-wrapping residual fuses any absolute measurement
-(:meth:`OdometryFilter.correct`). A predict costs about 0.1 ms, negligible against a
-50 ms control period.
+motion model is nonlinear, and filterpy's ``ExtendedKalmanFilter.predict_x`` is linear
+(``x = F·x + B·u``): filterpy's docstring says to override it when the state must be
+computed otherwise, and that is the one way this filter uses filterpy. Its ``predict_x``
+adds the motion model's step to the mean (and wraps the heading); each step sets the
+Jacobian ``F`` and the process noise ``Q`` and calls filterpy's ``predict``, which
+moves the mean and computes ``P = F P Fᵀ + Q``; filterpy's ``update`` with an
+angle-wrapping residual fuses any absolute measurement (:meth:`OdometryFilter.correct`).
+A predict costs about 0.1 ms, negligible against a 50 ms control period.
 
 **Gyro** (e-puck2): the yaw rate enters as a second measurement of the same turn: the
 turn Δθ used in the prediction is the inverse-variance weighted mean of the encoders'
@@ -60,6 +62,7 @@ no amount of filtering recovers that without an absolute measurement.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -86,6 +89,24 @@ def _angle_residual(a: FloatArray, b: FloatArray) -> FloatArray:
     flat = y.reshape(-1)  # a view: filterpy passes column vectors
     flat[2] = wrap_angle(float(flat[2]))
     return y
+
+
+@functools.cache
+def _pose_ekf() -> Any:
+    """filterpy's EKF with the motion model's nonlinear mean (a class made on first use:
+    filterpy, and scipy behind it, load only when a filter is built)."""
+    from filterpy.kalman import ExtendedKalmanFilter
+
+    class PoseEKF(ExtendedKalmanFilter):  # type: ignore[misc]
+        """``predict(u)`` with ``u`` the motion model's step ``[Δx, Δy, Δθ]`` (3×1)."""
+
+        x: FloatArray  # the state [x, y, θ] as a column, filterpy's own attribute
+
+        def predict_x(self, u: FloatArray) -> None:
+            self.x = self.x + u
+            self.x[2, 0] = wrap_angle(float(self.x[2, 0]))
+
+    return PoseEKF
 
 
 @dataclass(frozen=True)
@@ -149,11 +170,9 @@ class OdometryFilter:
         initial: Pose | tuple[float, float, float] = (0.0, 0.0, 0.0),
         initial_cov: npt.ArrayLike | None = None,
     ) -> None:
-        from filterpy.kalman import ExtendedKalmanFilter  # scipy behind it: import on use
-
         self.profile = profile
         self.noise = noise if noise is not None else OdometryNoise()
-        self.ekf = ExtendedKalmanFilter(dim_x=3, dim_z=3)
+        self.ekf = _pose_ekf()(dim_x=3, dim_z=3)
         self.reset(initial, initial_cov)
         #: True while the accelerometer says the wheels are not to be trusted.
         self.slipping = False
@@ -244,10 +263,8 @@ class OdometryFilter:
             ]
         )
         self.ekf.Q = Q
-        # the nonlinear mean, then filterpy's covariance step P = F P Fᵀ + Q
-        self.ekf.x = self.ekf.x + np.array([[c * ds * cos_mu], [c * ds * sin_mu], [dtheta]])
-        self.ekf.x[2, 0] = wrap_angle(float(self.ekf.x[2, 0]))
-        self.ekf.P = self.ekf.F @ self.ekf.P @ self.ekf.F.T + self.ekf.Q
+        # filterpy's predict: the nonlinear mean (PoseEKF.predict_x), then P = F P Fᵀ + Q
+        self.ekf.predict(np.array([[c * ds * cos_mu], [c * ds * sin_mu], [dtheta]]))
         self.distance += abs(ds)
 
     def predict_steps(self, steps_left: float, steps_right: float, **kwargs: Any) -> None:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,6 +31,10 @@ from ..records import Pose, Proximity, Sensor
 from .knowledge import KnowledgeSource
 from .odometry import OdometryFilter, OdometryNoise
 from .proximity import ProximityFilter
+
+if TYPE_CHECKING:
+    from ..backends.base import RobotAdapter
+    from ..blackboard import Namespace
 
 __all__ = ["GYRO_KEY", "OdometrySource", "ProximitySource"]
 
@@ -70,7 +74,7 @@ class OdometrySource(KnowledgeSource):
 
     def __init__(
         self,
-        ns: Any = None,
+        ns: Namespace | None = None,
         *,
         profile: RobotProfile | str | None = None,
         noise: OdometryNoise | None = None,
@@ -114,7 +118,7 @@ class OdometrySource(KnowledgeSource):
     def profile(self) -> RobotProfile:
         return self._profile if self._profile is not None else EPUCK2
 
-    def configure(self, robot: Any) -> None:
+    def configure(self, robot: RobotAdapter) -> None:
         if self._profile is None and isinstance(getattr(robot, "profile", None), RobotProfile):
             self._profile = robot.profile
 
@@ -201,7 +205,7 @@ class ProximitySource(KnowledgeSource):
 
     def __init__(
         self,
-        ns: Any = None,
+        ns: Namespace | None = None,
         *,
         sigma: float = 0.002,
         accel_sigma: float = 0.1,
@@ -214,7 +218,7 @@ class ProximitySource(KnowledgeSource):
         self._last_stamp: float | None = None
         super().__init__(ns, name=name, strict=strict)
 
-    def configure(self, robot: Any) -> None:
+    def configure(self, robot: RobotAdapter) -> None:
         prox_range = getattr(getattr(robot, "profile", None), "prox_range", None)
         if prox_range:
             self.filter.range = float(prox_range)

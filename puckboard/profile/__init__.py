@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from .files import load_profile_file, profile_from_data, profile_to_data, resolve_profile
 from .model import NO_DETECTION_DISTANCE, RobotProfile, SensorPose
-from .setting_names import PROX_GROUPS, apply_overrides, check_path, check_value
+from .setting_names import PROX_GROUPS, apply_overrides, check_setting, check_value
 from .shipped import EPUCK, EPUCK1, EPUCK2, EPUCK_VREP, PROFILES, get_profile, profile_names
 from .uncertainty import VARIATIONS, Range, draw, profile_values, uncertainty, variation_rng
 
@@ -33,7 +33,7 @@ __all__ = [
     "RobotProfile",
     "SensorPose",
     "apply_overrides",
-    "check_path",
+    "check_setting",
     "check_value",
     "draw",
     "get_profile",

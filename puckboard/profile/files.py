@@ -33,7 +33,7 @@ from typing import Any
 
 from ..errors import ProfileError
 from .model import RobotProfile
-from .setting_names import apply_overrides, check_path
+from .setting_names import apply_overrides, check_setting
 from .shipped import PROFILES, get_profile, profile_names
 
 if sys.version_info >= (3, 11):
@@ -206,7 +206,7 @@ def _entries(
             sources.update(sub_sources)
         else:
             try:
-                check_path(path)
+                check_setting(path)
             except ProfileError as exc:
                 raise ProfileError(f"{source}: [set] {exc}") from None
             values[path], sources[path] = entry, default_source

@@ -1,11 +1,11 @@
 """Setting names: the names a user sets a robot-model number by, with what makes sense.
 
-Called *paths* below and on the command line (``profile.<path>``): a dotted name into the
-robot model, not a file. They are the one dialect every profile setting speaks: ``--set
-profile.<path>=VALUE``, a profile file's ``set`` table, a scene's inline profile, a sweep's
-and a sensitivity analysis's points.
+A setting name (``profile.<setting>`` on the command line) is a dotted name into the
+robot model. Setting names are the one dialect every profile change speaks: ``--set
+profile.<setting>=VALUE``, a profile file's ``set`` table, a scene's inline profile, a
+sweep's and a sensitivity analysis's points.
 
-A path names one number of a :class:`~puckboard.profile.model.RobotProfile` the way a
+A setting names one number of a :class:`~puckboard.profile.model.RobotProfile` the way a
 person thinks of it (``prox_max_distance``, ``prox_radius.side``, ``ir_gain.right``),
 not the way the record stores it (a tuple of sensor poses). Sensors go by name
 (:data:`puckboard.records.PROX_NAMES`), never by index, and the symmetric pairs by group:
@@ -22,7 +22,7 @@ be a number in SI units or a string with a unit: ``"31mm"``, ``"3.1cm"``, ``"17d
 :func:`apply_overrides` returns a new profile and records every change, so the profile
 can be written down as its base plus the changes and rebuilt exactly. Changes apply from
 the broad to the specific (``ir_gain`` before ``ir_gain.side`` before ``ir_gain.right``),
-whatever order they are given in: the most specific path wins.
+whatever order they are given in: the most specific setting wins.
 """
 
 from __future__ import annotations
@@ -42,18 +42,18 @@ from ..records import PROX_NAMES
 from .model import RobotProfile
 
 __all__ = [
-    "PATH_FIELDS",
     "PROX_GROUPS",
+    "SETTING_FIELDS",
     "apply_overrides",
-    "check_path",
+    "check_setting",
     "check_value",
-    "concrete_paths",
-    "describe_paths",
-    "expand_path",
+    "concrete_settings",
+    "describe_settings",
+    "expand_setting",
     "is_set",
-    "path_unit",
-    "path_value",
     "recorded_numbers",
+    "setting_unit",
+    "setting_value",
 ]
 
 #: The symmetric pairs of IR sensors as (left, right) sensor indices, by group name.
@@ -86,8 +86,8 @@ class _Field:
         return f"{lo}{_show(self.low, self.unit)}, {_show(self.high, self.unit)}{hi}"
 
 
-#: Every path head, in the order reports list them.
-PATH_FIELDS: dict[str, _Field] = {
+#: Every setting head, in the order reports list them.
+SETTING_FIELDS: dict[str, _Field] = {
     "wheel_radius": _Field(
         "m", 0.005, 0.05, False, False,
         "wheel radius: the nominal one (conversions, odometry) and both wheels; "
@@ -163,7 +163,7 @@ def _show(value: float, unit: str) -> str:
 
 @dataclass(frozen=True)
 class _Target:
-    """What one path changes: a field, and which of its sensors (or wheels)."""
+    """What one setting changes: a field, and which of its sensors (or wheels)."""
 
     head: str
     suffix: str  # "" (bare), a sensor name, a group name, "all", "left" or "right"
@@ -172,11 +172,11 @@ class _Target:
 
     @property
     def field(self) -> _Field:
-        return PATH_FIELDS[self.head]
+        return SETTING_FIELDS[self.head]
 
     @property
     def cover(self) -> frozenset[str]:
-        """The numbers this path sets, to drop older, narrower changes it replaces."""
+        """The numbers this setting sets, to drop older, narrower changes it replaces."""
         if self.sensors:
             return frozenset(str(i) for i in self.sensors)
         if self.head == "wheel_radius":
@@ -184,22 +184,22 @@ class _Target:
         return frozenset({""})
 
     def order(self) -> tuple[int, int, int]:
-        head = list(PATH_FIELDS).index(self.head)
+        head = list(SETTING_FIELDS).index(self.head)
         return head, self.rank, self.sensors[0] if len(self.sensors) == 1 else -1
 
 
-def _resolve(path: str) -> _Target:
-    """The target of ``path``; :class:`ProfileError` naming the known paths if none."""
-    head, dot, suffix = str(path).strip().partition(".")
-    spec = PATH_FIELDS.get(head)
+def _resolve(setting: str) -> _Target:
+    """The target of ``setting``; :class:`ProfileError` naming the known settings if none."""
+    head, dot, suffix = str(setting).strip().partition(".")
+    spec = SETTING_FIELDS.get(head)
     if spec is None or (dot and not spec.sensors) or (not dot and not spec.bare):
-        raise ProfileError(_unknown_path(path))
+        raise ProfileError(_unknown_setting(setting))
     if not dot:
         return _Target(head, "", tuple(range(len(PROX_NAMES))) if spec.sensors == "ir" else (), 0)
     if spec.sensors == "wheel":
         if suffix in ("left", "right"):
             return _Target(head, suffix, (), 2)
-        raise ProfileError(_unknown_path(path, f"{head}.left or {head}.right"))
+        raise ProfileError(_unknown_setting(setting, f"{head}.left or {head}.right"))
     if suffix in PROX_NAMES:
         return _Target(head, suffix, (PROX_NAMES.index(suffix),), 2)
     if suffix in PROX_GROUPS:
@@ -210,15 +210,15 @@ def _resolve(path: str) -> _Target:
     close = difflib.get_close_matches(suffix, [*PROX_NAMES, *groups], n=1)
     hint = f" (did you mean {head}.{close[0]}?)" if close else ""
     raise ProfileError(
-        f"unknown sensor or group {suffix!r} in profile path {path!r}{hint}; sensors: "
+        f"unknown sensor or group {suffix!r} in profile setting {setting!r}{hint}; sensors: "
         f"{', '.join(PROX_NAMES)}; groups: {', '.join(groups)}"
     )
 
 
-def concrete_paths() -> list[str]:
-    """Every path there is, spelled out (for suggestions and completion)."""
+def concrete_settings() -> list[str]:
+    """Every setting there is, spelled out (for suggestions and completion)."""
     out = []
-    for head, spec in PATH_FIELDS.items():
+    for head, spec in SETTING_FIELDS.items():
         if spec.bare:
             out.append(head)
         if spec.sensors == "wheel":
@@ -229,10 +229,10 @@ def concrete_paths() -> list[str]:
     return out
 
 
-def describe_paths() -> str:
-    """The paths in one line: ``wheel_radius[.left|.right], ..., prox_radius.<sensor|group>``."""
+def describe_settings() -> str:
+    """The settings in one line: ``wheel_radius[.left|.right], ..., prox_radius.<sensor|group>``."""
     parts = []
-    for head, spec in PATH_FIELDS.items():
+    for head, spec in SETTING_FIELDS.items():
         if spec.sensors == "wheel":
             parts.append(f"{head}[.left|.right]")
         elif spec.sensors == "ir":
@@ -242,38 +242,38 @@ def describe_paths() -> str:
     return ", ".join(parts)
 
 
-def _unknown_path(path: str, expected: str = "") -> str:
-    close = difflib.get_close_matches(str(path).strip(), concrete_paths(), n=1, cutoff=0.6)
+def _unknown_setting(setting: str, expected: str = "") -> str:
+    close = difflib.get_close_matches(str(setting).strip(), concrete_settings(), n=1, cutoff=0.6)
     hint = f" (did you mean {close[0]}?)" if close else ""
     if expected:
-        return f"unknown profile path {path!r}{hint}; expected {expected}"
+        return f"unknown profile setting {setting!r}{hint}; expected {expected}"
     return (
-        f"unknown profile path {path!r}{hint}; paths: {describe_paths()} (sensors: "
+        f"unknown profile setting {setting!r}{hint}; settings: {describe_settings()} (sensors: "
         f"{', '.join(PROX_NAMES)}; groups: {', '.join(PROX_GROUPS)}, all)"
     )
 
 
-def check_path(path: str) -> str:
-    """``path`` stripped, if it names something; else :class:`ProfileError` (one line)."""
-    _resolve(path)
-    return str(path).strip()
+def check_setting(setting: str) -> str:
+    """``setting`` stripped, if it names something; else :class:`ProfileError` (one line)."""
+    _resolve(setting)
+    return str(setting).strip()
 
 
-def path_unit(path: str) -> str:
-    """The SI unit of ``path``'s values: ``m``, ``rad``, ``rad/s``, ``1`` or ``raw``."""
-    return _resolve(path).field.unit
+def setting_unit(setting: str) -> str:
+    """The SI unit of ``setting``'s values: ``m``, ``rad``, ``rad/s``, ``1`` or ``raw``."""
+    return _resolve(setting).field.unit
 
 
-def check_value(path: str, value: Any) -> float:
-    """``value`` for ``path`` as an SI float, within the path's hard bounds.
+def check_value(setting: str, value: Any) -> float:
+    """``value`` for ``setting`` as an SI float, within the setting's hard bounds.
 
     Numbers are SI; a string may carry a unit (``"31mm"``, ``"17deg"``). Wrong type,
-    wrong unit or a value out of bounds is a :class:`ProfileError` naming the path, the
+    wrong unit or a value out of bounds is a :class:`ProfileError` naming the setting, the
     value and the allowed interval.
     """
-    target = _resolve(path)
+    target = _resolve(setting)
     spec = target.field
-    number = _number(path, value, spec.unit)
+    number = _number(setting, value, spec.unit)
     low, high = spec.low, spec.high
     if target.suffix in PROX_GROUPS and spec.pairs_mirror:
         low = 0.0  # a pair's heading is the left sensor's, which looks left
@@ -282,7 +282,7 @@ def check_value(path: str, value: Any) -> float:
     if too_low or too_high or not math.isfinite(number):
         interval = dataclasses.replace(spec, low=low).interval()
         raise ProfileError(
-            f"{path} = {_given(value)}: outside {interval} ({spec.meaning}); "
+            f"{setting} = {_given(value)}: outside {interval} ({spec.meaning}); "
             f"give a value in that interval"
         )
     return number
@@ -292,20 +292,22 @@ def _given(value: Any) -> str:
     return value if isinstance(value, str) else f"{value!r}"
 
 
-def _number(path: str, value: Any, unit: str) -> float:
+def _number(setting: str, value: Any, unit: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise ProfileError(f"{path} = {value!r}: expected a number ({_unit_words(unit)})")
+        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
     if not isinstance(value, str):
         return float(value)
     match = _NUMBER_WITH_UNIT.match(value)
     if match is None:
-        raise ProfileError(f"{path} = {value!r}: expected a number ({_unit_words(unit)})")
+        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
     number, suffix = match.group(1), match.group(2)
     if not suffix:
         return float(number)
     factors = _UNITS[unit]
     if suffix not in factors:
-        raise ProfileError(f"{path} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}")
+        raise ProfileError(
+            f"{setting} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}"
+        )
     return factors[suffix](number)
 
 
@@ -321,19 +323,19 @@ def _unit_words(unit: str) -> str:
     return unit
 
 
-def expand_path(path: str) -> tuple[str, ...]:
-    """The single-number paths ``path`` sets: ``prox_radius.side`` →
-    (``prox_radius.right``, ``prox_radius.left``); a plain path is itself."""
-    target = _resolve(path)
+def expand_setting(setting: str) -> tuple[str, ...]:
+    """The single-number settings ``setting`` sets: ``prox_radius.side`` →
+    (``prox_radius.right``, ``prox_radius.left``); a plain setting is itself."""
+    target = _resolve(setting)
     if target.sensors:
         return tuple(f"{target.head}.{PROX_NAMES[i]}" for i in sorted(target.sensors))
     return (target.head if not target.suffix else f"{target.head}.{target.suffix}",)
 
 
-def path_value(profile: RobotProfile, path: str) -> float:
-    """The value of ``path`` on ``profile`` (a pair gives its left sensor's value, a
-    whole-ring path ps0's)."""
-    target = _resolve(path)
+def setting_value(profile: RobotProfile, setting: str) -> float:
+    """The value of ``setting`` on ``profile`` (a pair gives its left sensor's value, a
+    whole-ring setting ps0's)."""
+    target = _resolve(setting)
     head = target.head
     if target.sensors:
         index = target.sensors[0] if target.rank else 0
@@ -354,11 +356,11 @@ def path_value(profile: RobotProfile, path: str) -> float:
 
 
 def _numbers(record: list[tuple[str, float]]) -> dict[str, float | None]:
-    """Each single number the ``record`` sets, by its single-number path: the last entry
+    """Each single number the ``record`` sets, by its single-number setting: the last entry
     (broad to specific) covering it wins; ``None`` for a wheel that follows the nominal."""
     out: dict[str, float | None] = {}
-    for path, value in record:
-        target = _resolve(path)
+    for setting, value in record:
+        target = _resolve(setting)
         if target.head == "wheel_radius" and not target.suffix:
             out.update(
                 {"wheel_radius": value, "wheel_radius.left": None, "wheel_radius.right": None}
@@ -369,13 +371,15 @@ def _numbers(record: list[tuple[str, float]]) -> dict[str, float | None]:
             for i in target.sensors:
                 out[f"{target.head}.{PROX_NAMES[i]}"] = -value if mirror and i != left else value
         else:
-            out[expand_path(path)[0]] = value
+            out[expand_setting(setting)[0]] = value
     return out
 
 
-def _set(profile: Any, path: str, value: float | None) -> dict[str, Any]:
-    """The field changes that give ``profile`` ``value`` at the single-number ``path``."""
-    target = _resolve(path)
+def _set(
+    profile: Any, setting: str, value: float | None
+) -> dict[str, Any]:  # Any: a RobotProfile's fields as a SimpleNamespace (checked once, at the end)
+    """The field changes that give ``profile`` ``value`` at the single-number ``setting``."""
+    target = _resolve(setting)
     head = target.head
     if head == "wheel_radius":
         return {f"wheel_radius_{target.suffix}" if target.suffix else head: value}
@@ -397,7 +401,7 @@ def _set(profile: Any, path: str, value: float | None) -> dict[str, Any]:
         return {head: tuple(values)}
     if head == "ground_spacing":
         poses = profile.ground_poses
-        now = path_value(profile, "ground_spacing")
+        now = setting_value(profile, "ground_spacing")
         if value == now:
             return {}
         centre = poses[len(poses) // 2].y
@@ -412,25 +416,25 @@ def _set(profile: Any, path: str, value: float | None) -> dict[str, Any]:
     return {head: value}
 
 
-def _source_of(source: str | Mapping[str, str], path: str) -> str:
+def _source_of(source: str | Mapping[str, str], setting: str) -> str:
     if isinstance(source, str):
         return source
-    return str(source.get(path, source.get("", "")))
+    return str(source.get(setting, source.get("", "")))
 
 
 def _merge(
-    record: list[tuple[str, float]], path: str, value: float, sources: dict[str, str]
+    record: list[tuple[str, float]], setting: str, value: float, sources: dict[str, str]
 ) -> list[tuple[str, float]]:
-    """``record`` with ``path = value`` added, dropping the older changes it replaces."""
-    target = _resolve(path)
+    """``record`` with ``setting = value`` added, dropping the older changes it replaces."""
+    target = _resolve(setting)
     kept = []
-    for old_path, old_value in record:
-        old = _resolve(old_path)
+    for old_setting, old_value in record:
+        old = _resolve(old_setting)
         if old.head == target.head and old.cover <= target.cover:
-            sources.pop(old_path, None)
+            sources.pop(old_setting, None)
         else:
-            kept.append((old_path, old_value))
-    return [*kept, (path, value)]
+            kept.append((old_setting, old_value))
+    return [*kept, (setting, value)]
 
 
 def apply_overrides(
@@ -439,15 +443,15 @@ def apply_overrides(
     *,
     source: str | Mapping[str, str],
 ) -> RobotProfile:
-    """A new profile: ``profile`` with ``{path: value}`` set, each change checked.
+    """A new profile: ``profile`` with ``{setting: value}`` set, each change checked.
 
-    ``source`` says where the values come from (one text for all, or one per path;
+    ``source`` says where the values come from (one text for all, or one per setting;
     ``""`` in a mapping is the default), and lands in the new profile's ``sources`` under
-    each path. The result keeps ``profile``'s name, names its shipped ``base`` and adds
+    each setting. The result keeps ``profile``'s name, names its shipped ``base`` and adds
     the changes to ``overrides`` (a later change of the same number replaces an earlier
     one), so ``base`` + ``overrides`` rebuild it: every number is set once, on the base,
     to the value of the most specific change naming it. Errors are
-    :class:`ProfileError`, one line naming the path, the value and what is allowed.
+    :class:`ProfileError`, one line naming the setting, the value and what is allowed.
     """
     from .shipped import PROFILES
 
@@ -455,9 +459,9 @@ def apply_overrides(
     checked.sort(key=lambda item: _resolve(item[0]).order())
     sources = dict(profile.sources)
     record = list(profile.overrides)
-    for path, value, _ in checked:
-        record = _merge(record, path, value, sources)
-        sources[path] = _source_of(source, path)
+    for setting, value, _ in checked:
+        record = _merge(record, setting, value, sources)
+        sources[setting] = _source_of(source, setting)
     record.sort(key=lambda item: _resolve(item[0]).order())
     if profile.overrides:
         base = profile.base
@@ -471,7 +475,7 @@ def apply_overrides(
     current = SimpleNamespace(**{f.name: getattr(start, f.name) for f in dataclasses.fields(start)})
     for single, number in numbers.items():
         vars(current).update(_set(current, single, number))
-    _check_detection(current, [(path, given) for path, _, given in checked])
+    _check_detection(current, [(setting, given) for setting, _, given in checked])
     return dataclasses.replace(
         start,
         **{k: v for k, v in vars(current).items() if getattr(start, k) is not v},
@@ -484,34 +488,36 @@ def apply_overrides(
 
 
 def recorded_numbers(profile: RobotProfile) -> dict[str, float | None]:
-    """The single numbers ``profile``'s overrides set, by single-number path."""
+    """The single numbers ``profile``'s overrides set, by single-number setting."""
     return _numbers(list(profile.overrides))
 
 
-def _check_detection(profile: Any, given: list[tuple[str, Any]]) -> None:
-    """0 <= prox_min_distance < prox_max_distance <= prox_range, named by the path set."""
+def _check_detection(
+    profile: Any, given: list[tuple[str, Any]]
+) -> None:  # Any: a RobotProfile's fields as a SimpleNamespace (checked once, at the end)
+    """0 <= prox_min_distance < prox_max_distance <= prox_range, named by the setting set."""
     lo, hi, rng = profile.prox_min_distance, profile.prox_max_distance, profile.prox_range
     if lo < hi <= rng:
         return
     named = dict(given)
     if "prox_max_distance" in named or "prox_min_distance" not in named:
-        path = "prox_max_distance"
+        setting = "prox_max_distance"
         allowed = (
             f"({lo:g} m, {rng:g} m]: beyond prox_min_distance and within prox_range, the "
             "distance a reading of nothing reports"
         )
     else:
-        path = "prox_min_distance"
+        setting = "prox_min_distance"
         allowed = f"[0, {hi:g} m): short of prox_max_distance"
-    value = _given(named[path]) if path in named else f"{getattr(profile, path):g}"
-    raise ProfileError(f"{path} = {value}: outside {allowed}")
+    value = _given(named[setting]) if setting in named else f"{getattr(profile, setting):g}"
+    raise ProfileError(f"{setting} = {value}: outside {allowed}")
 
 
-def is_set(profile: RobotProfile, path: str) -> bool:
-    """Whether ``profile``'s overrides already fix every number ``path`` names."""
-    target = _resolve(path)
-    for old_path, _ in profile.overrides:
-        old = _resolve(old_path)
+def is_set(profile: RobotProfile, setting: str) -> bool:
+    """Whether ``profile``'s overrides already fix every number ``setting`` names."""
+    target = _resolve(setting)
+    for old_setting, _ in profile.overrides:
+        old = _resolve(old_setting)
         if old.head == target.head and target.cover <= old.cover:
             return True
     return False

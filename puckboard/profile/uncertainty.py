@@ -26,12 +26,12 @@ from .model import RobotProfile
 from .setting_names import (
     PROX_GROUPS,
     apply_overrides,
-    check_path,
-    concrete_paths,
-    expand_path,
+    check_setting,
+    concrete_settings,
+    expand_setting,
     is_set,
-    path_value,
     recorded_numbers,
+    setting_value,
 )
 
 __all__ = [
@@ -235,7 +235,7 @@ _RANGES: dict[str, dict[str, Range]] = {
 }
 for _table in _RANGES.values():
     for _path in _table:
-        check_path(_path)
+        check_setting(_path)
 
 
 def uncertainty(profile: RobotProfile) -> dict[str, Range]:
@@ -256,7 +256,7 @@ def _sensor_paths(path: str) -> list[tuple[str, bool]]:
     if head == "prox_heading" and group in PROX_GROUPS:
         left, right = PROX_GROUPS[group]
         return [(f"{head}.{PROX_NAMES[right]}", True), (f"{head}.{PROX_NAMES[left]}", False)]
-    return [(p, False) for p in expand_path(path)]
+    return [(p, False) for p in expand_setting(path)]
 
 
 def profile_values(profile: RobotProfile) -> dict[str, float]:
@@ -268,7 +268,7 @@ def profile_values(profile: RobotProfile) -> dict[str, float]:
         for single, _ in _sensor_paths(path):
             if single not in paths:
                 paths.append(single)
-    order = {p: i for i, p in enumerate(concrete_paths())}
+    order = {p: i for i, p in enumerate(concrete_settings())}
     paths.sort(key=lambda p: order.get(p, len(order)))
     # a number set by hand or drawn is reported as it was given, so that setting it again
     # rebuilds the very same robot (a radius read back from a moved pose may differ in
@@ -277,7 +277,7 @@ def profile_values(profile: RobotProfile) -> dict[str, float]:
     out: dict[str, float] = {}
     for path in paths:
         value = given.get(path)
-        out[path] = path_value(profile, path) if value is None else value
+        out[path] = setting_value(profile, path) if value is None else value
     return out
 
 

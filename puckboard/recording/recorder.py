@@ -55,7 +55,7 @@ import zipfile
 import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,11 @@ import numpy.typing as npt
 from .._version import __version__
 from .atomic import create_beside
 from .decisions import DecisionRecorder, Decisions
+
+if TYPE_CHECKING:
+    from ..behaviours.controller import Controller
+    from ..blackboard import Blackboard
+    from ..scenario.scene import Scene
 
 __all__ = [
     "FORMAT_VERSION",
@@ -86,6 +91,37 @@ RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels
 """Blackboard keys (relative to each robot's namespace) a :class:`Recorder` reads."""
 
 _PROX_RANGE_DEFAULT = 0.05
+
+
+class RecordedRun(Protocol):
+    """What a recorder needs of a run: a :class:`~puckboard.control.episode.Episode`, or
+    anything with its blackboard, connection and observers. (The recording sits below
+    the control loop, so it names what it reads instead of importing the class;
+    :meth:`Recorder.for_episode` reads the rest, the controllers, scene, loop, seed,
+    backend and judge, where the run has them.)"""
+
+    @property
+    def blackboard(self) -> Blackboard: ...
+
+    @property
+    def connection(self) -> Any: ...  # a backends.base.Connection: backends sit above
+
+    def add_observer(self, observer: Callable[[Any], None]) -> None: ...
+
+    def add_close_observer(self, observer: Callable[[Any], Any]) -> None: ...
+
+
+#: The recorded arrays, by name, in the order a file stores them: their type and, for
+#: the per-robot ones, each robot's row shape (the array is T×N×shape; ``None``: T only).
+#: Every place that handles the arrays goes through this table.
+_ARRAYS: dict[str, tuple[type[np.generic], tuple[int, ...] | None]] = {
+    "time": (np.float64, None),
+    "pose": (np.float64, (3,)),
+    "wheels": (np.float64, (2,)),
+    "layer": (np.int16, ()),
+    "proximity": (np.float32, (8,)),
+    "ground": (np.float32, (3,)),
+}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -134,14 +170,9 @@ class Recording:
         self.robot_names: tuple[str, ...] = tuple(self.meta.get("robots", ()))
         self.layer_names: tuple[str, ...] = tuple(self.meta.get("layer_names", ()))
         t, n = len(self.time), len(self.robot_names)
-        for name, arr, tail in (
-            ("pose", self.pose, (3,)),
-            ("wheels", self.wheels, (2,)),
-            ("layer", self.layer, ()),
-            ("proximity", self.proximity, (8,)),
-            ("ground", self.ground, (3,)),
-        ):
-            if arr.shape != (t, n, *tail):
+        for name, arr in self.arrays().items():
+            tail = _ARRAYS[name][1]
+            if tail is not None and arr.shape != (t, n, *tail):
                 raise ValueError(
                     f"recording array {name!r} has shape {arr.shape}, expected {(t, n, *tail)} "
                     f"for {t} cycles of {n} robots"
@@ -155,6 +186,10 @@ class Recording:
     # -- convenient access -----------------------------------------------------------------
     def __len__(self) -> int:
         return len(self.time)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The recorded arrays by name (the recording's own, not copies)."""
+        return {name: getattr(self, name) for name in _ARRAYS}
 
     @property
     def duration(self) -> float:
@@ -233,20 +268,16 @@ class Recording:
                 {"proximity": self.proximity, "ground": self.ground}
             )
             meta.update(decided)
+        # the file's members in this order: the arrays, the metadata, the decisions
+        members: dict[str, Any] = {
+            **self.arrays(),
+            "meta": np.array(json.dumps(meta, default=_json_default)),
+            **extra,
+        }
         fd, tmp = create_beside(path)
         try:
             with os.fdopen(fd, "wb") as fh:
-                np.savez_compressed(
-                    fh,
-                    time=self.time,
-                    pose=self.pose,
-                    wheels=self.wheels,
-                    layer=self.layer,
-                    proximity=self.proximity,
-                    ground=self.ground,
-                    meta=np.array(json.dumps(meta, default=_json_default)),
-                    **extra,  # type: ignore[arg-type]
-                )
+                np.savez_compressed(fh, **members)
             os.replace(tmp, path)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
@@ -316,9 +347,6 @@ def load_recording(path: str | os.PathLike[str]) -> Recording:
         raise ValueError(f"{str(path)!r} is a damaged puckboard recording: {exc}") from None
 
 
-_ARRAYS = ("time", "pose", "wheels", "layer", "proximity", "ground")
-
-
 class Recorder:
     """Records the robots of a run from the blackboard, one row per control cycle.
 
@@ -334,7 +362,7 @@ class Recorder:
         robot_names: Sequence[str],
         *,
         path: str | os.PathLike[str] | None = None,
-        scene: Any = None,
+        scene: Scene | None = None,
         meta: Mapping[str, Any] | None = None,
         robot_layers: Mapping[str, Sequence[str]] | None = None,
         capacity: int = 1024,
@@ -359,12 +387,11 @@ class Recorder:
         self._prox_range: float | None = None
         self._n = 0
         cap = max(16, int(capacity))
-        self._time = np.empty(cap)
-        self._pose = np.empty((cap, n, 3))
-        self._wheels = np.empty((cap, n, 2))
-        self._layer = np.empty((cap, n), dtype=np.int16)
-        self._prox = np.empty((cap, n, 8), dtype=np.float32)
-        self._ground = np.empty((cap, n, 3), dtype=np.float32)
+        #: the arrays being filled, by name (:data:`_ARRAYS`), ``cap`` rows each
+        self._data = {
+            name: np.empty((cap,) if tail is None else (cap, n, *tail), dtype=dtype)
+            for name, (dtype, tail) in _ARRAYS.items()
+        }
         #: the arbiters' decisions, when the controllers are known (see .decisions)
         self._decisions = (
             None if not controllers else DecisionRecorder(self.robot_names, controllers, cap)
@@ -375,7 +402,11 @@ class Recorder:
     # -- building from an episode ---------------------------------------------------------
     @classmethod
     def for_episode(
-        cls, episode: Any, path: str | os.PathLike[str] | None = None, *, decisions: bool = True
+        cls,
+        episode: RecordedRun,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        decisions: bool = True,
     ) -> Recorder:
         """A recorder for every robot of ``episode``, with its scene and run metadata and,
         unless ``decisions`` is false, what each robot's arbiter decided every tick."""
@@ -419,57 +450,60 @@ class Recorder:
             controllers=controllers if decisions else None,
         )
 
-    def attach(self, episode: Any) -> Recorder:
+    def attach(self, episode: RecordedRun) -> Recorder:
         """Register as ``episode``'s cycle observer and close observer; returns ``self``."""
         episode.add_observer(self)
         episode.add_close_observer(self.close)
         return self
 
     # -- sampling --------------------------------------------------------------------------
-    def __call__(self, episode: Any) -> None:
+    def __call__(self, episode: RecordedRun) -> None:
         board = episode.blackboard
         loop = getattr(episode, "loop", None)
         self.sample(board, fallback_time=getattr(loop, "time", None))
 
-    def sample(self, board: Any, *, fallback_time: float | None = None) -> None:
+    def sample(self, board: Blackboard, *, fallback_time: float | None = None) -> None:
         """Append one row read from ``board`` (a :class:`~puckboard.blackboard.Blackboard`)."""
         if self._closed:
             return
         i = self._n
-        if i == len(self._time):
+        data = self._data
+        if i == len(data["time"]):
             self._grow()
+        pose, prox, ground = data["pose"], data["proximity"], data["ground"]
+        wheels, layer = data["wheels"], data["layer"]
         stamp = math.nan
         for r, name in enumerate(self.robot_names):
             snap = board.namespace(name).snapshot(RECORDED_KEYS)
             rec = snap.record("pose")
             if rec is not None:
                 p = rec.value
-                self._pose[i, r] = (p.x, p.y, p.theta)
+                pose[i, r] = (p.x, p.y, p.theta)
             else:
-                self._pose[i, r] = math.nan
+                pose[i, r] = math.nan
             rec = snap.record("proximity")
             if rec is not None:
-                self._prox[i, r] = rec.value.distance
+                prox[i, r] = rec.value.distance
                 if self._prox_range is None:
                     self._prox_range = self.meta["prox_range"] = float(rec.value.range)
                 stamp = rec.stamp if math.isnan(stamp) else stamp
             else:
-                self._prox[i, r] = math.nan
+                prox[i, r] = math.nan
             rec = snap.record("ground")
-            self._ground[i, r] = rec.value.value if rec is not None else math.nan
+            ground[i, r] = rec.value.value if rec is not None else math.nan
             rec = snap.record("command/wheels")
             if rec is not None:
-                self._wheels[i, r] = (rec.value.left, rec.value.right)
+                wheels[i, r] = (rec.value.left, rec.value.right)
                 stamp = rec.stamp if math.isnan(stamp) else stamp
             else:
-                self._wheels[i, r] = math.nan
+                wheels[i, r] = math.nan
             rec = snap.record("command/layer")
-            self._layer[i, r] = -1 if rec is None else self._layer_index(rec.value)
+            layer[i, r] = -1 if rec is None else self._layer_index(rec.value)
         if self._decisions is not None:
             self._decisions.sample(i)
         if math.isnan(stamp):
             stamp = fallback_time if fallback_time is not None else float(i)
-        self._time[i] = stamp
+        data["time"][i] = stamp
         self._n = i + 1
 
     def _layer_index(self, name: str) -> int:
@@ -479,12 +513,11 @@ class Recorder:
         return idx
 
     def _grow(self) -> None:
-        new = 2 * len(self._time)
-        for attr in ("_time", "_pose", "_wheels", "_layer", "_prox", "_ground"):
-            old = getattr(self, attr)
+        new = 2 * len(self._data["time"])
+        for name, old in self._data.items():
             arr = np.empty((new, *old.shape[1:]), dtype=old.dtype)
             arr[: len(old)] = old
-            setattr(self, attr, arr)
+            self._data[name] = arr
         if self._decisions is not None:
             self._decisions.grow(new)
 
@@ -500,14 +533,7 @@ class Recorder:
     def arrays(self) -> dict[str, np.ndarray]:
         """Read-only views of the rows so far (no copies; valid until the next row)."""
         n = self._n
-        out: dict[str, np.ndarray] = {
-            "time": self._time[:n],
-            "pose": self._pose[:n],
-            "wheels": self._wheels[:n],
-            "layer": self._layer[:n],
-            "proximity": self._prox[:n],
-            "ground": self._ground[:n],
-        }
+        out = {name: arr[:n] for name, arr in self._data.items()}
         for view in out.values():
             view.flags.writeable = False
         return out
@@ -534,17 +560,12 @@ class Recorder:
             except Exception:
                 log.exception("could not read the run's events for the recording")
         return Recording(
-            time=self._time[:n].copy(),
-            pose=self._pose[:n].copy(),
-            wheels=self._wheels[:n].copy(),
-            layer=self._layer[:n].copy(),
-            proximity=self._prox[:n].copy(),
-            ground=self._ground[:n].copy(),
+            **{name: arr[:n].copy() for name, arr in self._data.items()},
             meta=meta,
             decisions=None if self._decisions is None else self._decisions.decisions(n),
         )
 
-    def close(self, _episode: Any = None) -> Recording:
+    def close(self, _episode: RecordedRun | None = None) -> Recording:
         """Stop recording and, if a ``path`` was given, save. Idempotent; returns the
         recording."""
         rec = self.recording()
@@ -556,18 +577,10 @@ class Recorder:
         return rec
 
 
-def controller_layers(controller: Any) -> tuple[str, ...]:
-    """Names of every layer of ``controller`` in priority order (tree order)."""
-    root = getattr(controller, "root", None)
-    if root is None:
-        return ()
-    names = []
-    for node in root.iterate():
-        if node is root or node.children:
-            continue  # composites and decorators never propose commands themselves
-        if node.name not in names:
-            names.append(node.name)
-    return tuple(names)
+def controller_layers(controller: Controller) -> tuple[str, ...]:
+    """Names of every layer of ``controller`` in priority order (tree order), each once:
+    the controller's own :attr:`~puckboard.behaviours.controller.Controller.every_layer`."""
+    return tuple(dict.fromkeys(layer.name for layer in controller.every_layer))
 
 
 # -- scenes as JSON ------------------------------------------------------------------------
@@ -579,27 +592,10 @@ def _json_default(value: Any) -> Any:
         return value.tolist()
     if isinstance(value, (np.floating, np.integer)):
         return value.item()
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return _encode(value)
     raise TypeError(f"cannot store {type(value).__name__} in a recording's metadata")
 
 
-def _encode(value: Any) -> Any:
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        out: dict[str, Any] = {"type": type(value).__name__}
-        for f in dataclasses.fields(value):
-            out[f.name] = _encode(getattr(value, f.name))
-        return out
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, (list, tuple)):
-        return [_encode(v) for v in value]
-    if isinstance(value, (np.floating, np.integer)):
-        return value.item()
-    return value
-
-
-def scene_to_json(scene: Any) -> dict[str, Any]:
+def scene_to_json(scene: Scene) -> dict[str, Any]:
     """The scene as stored in a recording: the scene file's own JSON form."""
     from ..scenario.conversion import scene_to_dict
 

@@ -62,6 +62,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..geometry import project_on_segments
 from ..profile import get_profile, profile_values
 from .scene import CircleObstacle, PolygonObstacle, Scene
 
@@ -166,14 +167,10 @@ class _TrackProjector:
 
     def project(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(arc position, distance to the line, track heading there) for P×2 points."""
-        wx = points[:, 0:1] - self.ax
-        wy = points[:, 1:2] - self.ay
-        t = wx * self.dx
-        t += wy * self.dy
-        t *= self.inv_len2
-        np.clip(t, 0.0, 1.0, out=t)
-        wx -= t * self.dx
-        wy -= t * self.dy
+        t, wx, wy = project_on_segments(
+            points[:, 0:1] - self.ax, points[:, 1:2] - self.ay, self.dx, self.dy,
+            inv_len2=self.inv_len2,
+        )  # fmt: skip
         wx *= wx
         wy *= wy
         wx += wy  # squared distance
@@ -632,5 +629,6 @@ def _point_polygon_distance(
     wy = y - start[:, 1]
     if np.all(vec[:, 0] * wy - vec[:, 1] * wx >= 0):  # left of every CCW edge: inside
         return 0.0
-    t = np.clip((wx * vec[:, 0] + wy * vec[:, 1]) / np.maximum((vec**2).sum(axis=1), 1e-18), 0, 1)
-    return float(np.min(np.hypot(wx - t * vec[:, 0], wy - t * vec[:, 1])))
+    len2 = np.maximum((vec**2).sum(axis=1), 1e-18)
+    _, qx, qy = project_on_segments(wx, wy, vec[:, 0], vec[:, 1], len2=len2)
+    return float(np.min(np.hypot(qx, qy)))

@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ProfileError, SceneError
-from ..profile import RobotProfile, apply_overrides, check_path, get_profile
+from ..profile import RobotProfile, apply_overrides, check_setting, get_profile
 from .conditions import CONDITIONS, apply_conditions
 from .robot_profiles import scene_profile
 from .scene import RobotSpec, Scene
@@ -265,7 +265,7 @@ def apply_profile_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene
 
 def _checked(name: str, path: str) -> str:
     try:
-        return check_path(path)
+        return check_setting(path)
     except ProfileError as exc:
         raise ProfileError(f"override {name!r}: {exc}") from None
 

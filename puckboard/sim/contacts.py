@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..geometry import project_on_segment
 from ..scenario.scene import Arena, CircleObstacle, PolygonObstacle
 from .broadphase import close_pairs
 
@@ -82,9 +83,7 @@ class _Polygon:
             s = wx * nx + wy * ny
             if s > best_s:
                 best_s, best_n = s, (nx, ny)
-            t = (wx * ex + wy * ey) / len2
-            t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
-            qx, qy = wx - t * ex, wy - t * ey
+            _, qx, qy = project_on_segment(wx, wy, ex, ey, len2)
             d2 = qx * qx + qy * qy
             if d2 < closest_d2:
                 closest_d2, closest = d2, (qx, qy)

@@ -32,6 +32,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
+from ..geometry import project_on_segments
 from ..scenario.scene import Colour, Scene
 
 __all__ = ["Floor", "luminance"]
@@ -72,31 +73,31 @@ def _towards(floor: Colour, line: Colour, share: float) -> Colour:
 class _Near:
     """Track segments prepared for the ground-sensor distance query.
 
-    Points and segments are complex numbers (x + iy): the point–segment distance then
-    takes half as many numpy calls, and at a few hundred elements the calls, not the
-    arithmetic, are what cost. Segments lie along the first axis (S×1 columns) and
-    points along the second, so each point's nearest segment is a minimum over the
-    first axis: an elementwise minimum of a few rows, cheaper than a minimum over a
-    short last axis.
+    Segments lie along the first axis (S×1 columns) and points along the second, so
+    each point's nearest segment is a minimum over the first axis: an elementwise
+    minimum of a few rows, cheaper than a minimum over a short last axis. The squared
+    lengths' reciprocals are kept: a query multiplies by them.
     """
 
-    __slots__ = ("count", "inv_len2", "start", "vector", "vector_conj")
+    __slots__ = ("ax", "ay", "count", "ex", "ey", "inv_len2")
 
     def __init__(self, seg_start: FloatArray, seg_vector: FloatArray) -> None:
         self.count = int(seg_start.shape[0])
-        self.start = (seg_start[:, 0] + 1j * seg_start[:, 1])[:, None]
-        self.vector = (seg_vector[:, 0] + 1j * seg_vector[:, 1])[:, None]
-        self.vector_conj = self.vector.conj()
-        len2 = (self.vector * self.vector_conj).real
+        self.ax = seg_start[:, 0:1].copy()
+        self.ay = seg_start[:, 1:2].copy()
+        self.ex = seg_vector[:, 0:1].copy()
+        self.ey = seg_vector[:, 1:2].copy()
+        len2 = self.ex * self.ex + self.ey * self.ey
         self.inv_len2 = 1.0 / np.where(len2 > 0.0, len2, 1.0)
 
     def take(self, index: npt.NDArray[np.intp]) -> _Near:
         """The segments at ``index`` (repeats do no harm to a minimum), values unchanged."""
         subset = object.__new__(_Near)
         subset.count = int(index.shape[0])
-        subset.start = self.start[index]
-        subset.vector = self.vector[index]
-        subset.vector_conj = self.vector_conj[index]
+        subset.ax = self.ax[index]
+        subset.ay = self.ay[index]
+        subset.ex = self.ex[index]
+        subset.ey = self.ey[index]
         subset.inv_len2 = self.inv_len2[index]
         return subset
 
@@ -166,17 +167,20 @@ class Floor:
         """
         if near is None:
             near = self._all
-        if points.dtype.kind != "c":
-            points = points[:, 0] + 1j * points[:, 1]
+        if points.dtype.kind == "c":
+            px, py = points.real, points.imag
+        else:
+            px, py = points[:, 0], points[:, 1]
         if near.count == 0:
             return np.full(points.shape[0], np.inf)
-        w = points[None, :] - near.start  # S×P
-        t = (w * near.vector_conj).real
-        t *= near.inv_len2
-        np.maximum(t, 0.0, out=t)  # two ufuncs: cheaper than np.clip's wrapper
-        np.minimum(t, 1.0, out=t)
-        w -= t * near.vector
-        d = np.abs(w)
+        _, qx, qy = project_on_segments(
+            px[None, :] - near.ax,
+            py[None, :] - near.ay,
+            near.ex,
+            near.ey,
+            inv_len2=near.inv_len2,
+        )  # S×P
+        d = np.hypot(qx, qy)
         return d[0] if near.count == 1 else d.min(axis=0)  # type: ignore[no-any-return]
 
     def coverage(

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..geometry import project_on_segment, project_on_segments
 from ..ir_response import _D, _RAW, _SIGMA, TABLE_RANGE, raw_from_distance, relative_sigma
 from ..profile import RobotProfile
 from .broadphase import close_pairs
@@ -267,17 +268,6 @@ class ProximitySensors:
         self._wall_segments = np.array([w[5] for w in walls], dtype=np.intp)
 
     # -- broad phase -----------------------------------------------------------------------
-    def near(self, poses: Sequence[Sequence[float]]) -> tuple[list[int], list[int], list[int]]:
-        """Which robots can see anything, and which circles and segments any of them may
-        see (the union of :meth:`candidates`).
-
-        Circle indices count static circles first, then robots.
-        """
-        robots, circles_of, segments_of = self.candidates(poses)
-        circles = sorted({c for i in robots for c in circles_of[i]})
-        segments = sorted({k for i in robots for k in segments_of[i]})
-        return robots, circles, segments
-
     def candidates(
         self, poses: Sequence[Sequence[float]]
     ) -> tuple[list[int], list[list[int]], list[list[int]]]:
@@ -320,10 +310,7 @@ class ProximitySensors:
                 if dx * dx + dy * dy < plimit:
                     segments.extend(poly_segments)
             for ax, ay, ex, ey, len2, k in self.walls:
-                wx, wy = x - ax, y - ay
-                t = (wx * ex + wy * ey) / len2
-                t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
-                qx, qy = wx - t * ex, wy - t * ey
+                _, qx, qy = project_on_segment(x - ax, y - ay, ex, ey, len2)
                 if qx * qx + qy * qy < reach2:
                     segments.append(k)
             if circles or segments:
@@ -401,13 +388,7 @@ class ProximitySensors:
                 seg_hit[:, self._poly_segments] = bound_hit[:, self._poly_owner]
         if self._wall_segments.shape[0]:
             ax, ay, ex, ey, len2 = self._walls
-            wx = x[:, None] - ax
-            wy = y[:, None] - ay
-            t = (wx * ex + wy * ey) / len2
-            np.maximum(t, 0.0, out=t)
-            np.minimum(t, 1.0, out=t)
-            qx = wx - t * ex
-            qy = wy - t * ey
+            _, qx, qy = project_on_segments(x[:, None] - ax, y[:, None] - ay, ex, ey, len2=len2)
             seg_hit[:, self._wall_segments] = qx * qx + qy * qy < self._wall_reach2
         circle_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
         circle_cols = np.concatenate(cols) if cols else np.zeros(0, dtype=np.intp)

@@ -149,10 +149,10 @@ def check_parameter(name: str) -> str:
     if name.startswith(LABEL_PREFIX) and len(name) > len(LABEL_PREFIX):
         return name
     if _is_profile_param(name):
-        from ..profile import check_path
+        from ..profile import check_setting
 
         try:
-            check_path(_profile_path(name))
+            check_setting(_profile_path(name))
         except ValueError as exc:
             raise PlanError(f"parameter {name}: {exc}") from None
         return name

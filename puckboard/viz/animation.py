@@ -18,12 +18,15 @@ import os
 import time as _time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import PuckboardError
 from ..recording.recorder import Recording
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = [
     "ANIMATION_SUFFIXES",
@@ -135,7 +138,7 @@ def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
     )
 
 
-def _bounds(scene: Any, xy: np.ndarray) -> tuple[float, float, float, float]:
+def _bounds(scene: Scene | None, xy: np.ndarray) -> tuple[float, float, float, float]:
     """The scene's extent, grown to show where the robots went, but never more than half
     the scene's size again (a robot driving off must not shrink the scene to a dot)."""
     from .scene_art import scene_bounds

@@ -21,9 +21,14 @@ import os
 import signal
 import threading
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..recording.recorder import Recorder
+
+if TYPE_CHECKING:
+    from types import FrameType
+
+    from ..control.episode import Episode
 
 __all__ = ["RunOutputs", "attach"]
 
@@ -42,7 +47,7 @@ class RunOutputs:
         self.plot_format = "png"
         self.written: list[Path] = []
 
-    def finish(self, episode: Any = None) -> None:
+    def finish(self, episode: Episode | None = None) -> None:
         """Write the outputs; each failure is logged and does not stop the others."""
         if self.recorder is None:
             return
@@ -110,7 +115,7 @@ class _FirstCtrlC:
         self._installed = False
         self._previous: Any = None
 
-    def _on_sigint(self, signum: int, frame: Any) -> None:
+    def _on_sigint(self, signum: int, frame: FrameType | None) -> None:
         if self.pressed:
             raise KeyboardInterrupt
         self.pressed = True
@@ -131,7 +136,7 @@ class _FirstCtrlC:
 
 
 def attach(
-    episode: Any,
+    episode: Episode,
     *,
     view: bool = False,
     record: str | os.PathLike[str] | None = None,

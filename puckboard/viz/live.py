@@ -17,11 +17,14 @@ from __future__ import annotations
 import logging
 import sys
 import time as _time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..recording.recorder import Recorder
+
+if TYPE_CHECKING:
+    from ..control.episode import Episode
 
 __all__ = ["LiveView"]
 
@@ -107,13 +110,13 @@ class LiveView:
         self._set_hint()
 
     # -- observer --------------------------------------------------------------------------
-    def attach(self, episode: Any) -> LiveView:
+    def attach(self, episode: Episode) -> LiveView:
         """Register as ``episode``'s cycle and close observer (after the recorder)."""
         episode.add_observer(self)
         episode.add_close_observer(self.close)
         return self
 
-    def __call__(self, _episode: Any = None) -> None:
+    def __call__(self, _episode: Episode | None = None) -> None:
         if self._closed_window or len(self.recorder) == 0:
             return
         arrays = self.recorder.arrays()
@@ -236,7 +239,7 @@ class LiveView:
         log.info("live view closed; the run goes on without it")
 
     # -- end -------------------------------------------------------------------------------
-    def close(self, _episode: Any = None) -> None:
+    def close(self, _episode: Episode | None = None) -> None:
         """Draw the final state; in a window, keep it open until the user closes it
         (unless the run ended with an error or Ctrl-C)."""
         if self._closed_window or len(self.recorder) == 0:

@@ -18,7 +18,11 @@ import math
 import time as _time
 from collections import deque
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..blackboard import Blackboard
+    from ..control.episode import Episode
 
 __all__ = ["SensorMonitor", "format_value"]
 
@@ -79,7 +83,7 @@ class SensorMonitor:
 
     def __init__(
         self,
-        board: Any,
+        board: Blackboard,
         robots: Sequence[str],
         *,
         console: Any = None,
@@ -101,7 +105,7 @@ class SensorMonitor:
         self._closed = False
 
     @classmethod
-    def for_episode(cls, episode: Any, **options: Any) -> SensorMonitor:
+    def for_episode(cls, episode: Episode, **options: Any) -> SensorMonitor:
         robots = list(getattr(episode, "controllers", {}) or episode.connection.adapters)
         scene = getattr(episode, "scene", None)
         title = " · ".join(
@@ -115,7 +119,7 @@ class SensorMonitor:
         )
         return cls(episode.blackboard, robots, title=title, **options)
 
-    def attach(self, episode: Any) -> SensorMonitor:
+    def attach(self, episode: Episode) -> SensorMonitor:
         episode.add_observer(self)
         episode.add_close_observer(self.close)
         return self
@@ -148,7 +152,7 @@ class SensorMonitor:
         end = max(t1, self.board.clock()) if stale else t1
         return (s1 - s0) / (end - t0) if end > t0 else None
 
-    def __call__(self, _episode: Any = None) -> None:
+    def __call__(self, _episode: Episode | None = None) -> None:
         if self._closed:
             return
         self.sample()
@@ -171,7 +175,7 @@ class SensorMonitor:
             self._flush()
             self._last_render = wall
 
-    def close(self, _episode: Any = None) -> None:
+    def close(self, _episode: Episode | None = None) -> None:
         """Show the final table (and leave it on screen)."""
         if self._closed:
             return

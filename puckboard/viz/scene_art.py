@@ -8,16 +8,21 @@ or beside it. Everything is drawn in the world frame (x right, y up, metres).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .style import LINE, rgb01
 
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+
 __all__ = ["draw_scene", "label_obstacles", "scene_bounds"]
 
 
-def scene_bounds(scene: Any, poses: np.ndarray | None = None, margin: float = 0.08) -> tuple:
+def scene_bounds(
+    scene: Scene | None, poses: np.ndarray | None = None, margin: float = 0.08
+) -> tuple:
     """(xmin, xmax, ymin, ymax) that show the whole scene (and ``poses``, N×2+) with a margin."""
     xs: list[float] = []
     ys: list[float] = []
@@ -73,7 +78,7 @@ def track_path(track: Any) -> Any:
     return MplPath.make_compound_path(*pieces)
 
 
-def draw_scene(ax: Any, scene: Any, *, labels: bool = True) -> None:
+def draw_scene(ax: Any, scene: Scene | None, *, labels: bool = True) -> None:
     """Draw ``scene``'s floor, track, obstacles and walls on ``ax`` (equal aspect, metres)."""
     from matplotlib.patches import Circle, PathPatch, Polygon, Rectangle
 
@@ -154,7 +159,7 @@ def _name(
     return text
 
 
-def label_obstacles(ax: Any, scene: Any, avoid: Sequence[Any] = ()) -> list[Any]:
+def label_obstacles(ax: Any, scene: Scene, avoid: Sequence[Any] = ()) -> list[Any]:
     """Name every obstacle of ``scene`` beside it, where the name covers nothing else.
 
     Each name goes to the first of below, above, right and left of its obstacle where it

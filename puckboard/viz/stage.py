@@ -17,13 +17,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..profile import EPUCK2, get_profile
 from .scene_art import draw_scene, scene_bounds
 from .style import FONT, LINE, event_label, layer_colour, layer_colours
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["Stage"]
 
@@ -45,7 +48,7 @@ class Stage:
     def __init__(
         self,
         fig: Any,
-        scene: Any,
+        scene: Scene | None,
         robot_names: Sequence[str],
         *,
         colours: Mapping[str, str],
@@ -412,7 +415,7 @@ class Stage:
         return np.stack([gx, gy], axis=-1)
 
 
-def _profile_of(scene: Any, name: str) -> Any:
+def _profile_of(scene: Scene | None, name: str) -> Any:
     """Robot ``name`` as built (its drawn truth if it has one): what the stage draws."""
     if scene is not None:
         for spec in getattr(scene, "robots", ()):

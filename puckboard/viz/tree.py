@@ -12,9 +12,14 @@ from __future__ import annotations
 import platform
 import shutil
 import subprocess
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..errors import PuckboardError
+
+if TYPE_CHECKING:
+    from py_trees.behaviour import Behaviour
+
+    from ..behaviours.controller import Controller
 
 __all__ = [
     "TREE_FORMATS",
@@ -53,7 +58,7 @@ _BRANCHES = {
 }
 
 
-def tree_text(controller: Any, *, unicode: bool = False) -> str:
+def tree_text(controller: Controller, *, unicode: bool = False) -> str:
     """The tree as indented text: each layer's priority (1 = highest) and the keys it reads.
 
     py_trees' own text display shows the tree's shape but neither the priority order a
@@ -65,7 +70,7 @@ def tree_text(controller: Any, *, unicode: bool = False) -> str:
     root = controller.root
     rows: list[tuple[str, str]] = []  # (branch and label, keys read), aligned below
 
-    def walk(node: Any, prefix: str, rank: int | None, is_last: bool) -> None:
+    def walk(node: Behaviour, prefix: str, rank: int | None, is_last: bool) -> None:
         label = f"{rank}. {node.name}" if rank is not None else node.name
         reads = tuple(getattr(node, "reads", ()))
         rows.append((f"{prefix}{last if is_last else mid}{label}", ", ".join(reads)))
@@ -83,7 +88,7 @@ def tree_text(controller: Any, *, unicode: bool = False) -> str:
     return "\n".join(lines)
 
 
-def tree_dot(controller: Any) -> str:
+def tree_dot(controller: Controller) -> str:
     """The tree as Graphviz dot source, layers labelled with priority and keys read."""
     import py_trees
 
@@ -122,7 +127,7 @@ def dot_executable() -> str | None:
     return shutil.which("dot")
 
 
-def render_tree(controller: Any, fmt: str = "unicode") -> str | bytes:
+def render_tree(controller: Controller, fmt: str = "unicode") -> str | bytes:
     """The tree in ``fmt`` (see :data:`TREE_FORMATS`): text for ascii/unicode/dot/svg,
     bytes for png."""
     fmt = fmt.lower()

@@ -22,13 +22,18 @@ from __future__ import annotations
 
 import html
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
+    from ..control.episode import Episode
+    from ..recording.recorder import Recording
 
 __all__ = ["show_replay", "watch_episode", "watch_server"]
 
 
 def watch_episode(
-    episode: Any, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
+    episode: Episode, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
 ) -> Any:
     """Serve a live view of ``episode`` (before :meth:`run`); returns the started
     :class:`~puckboard.web.server.WebView`. ``speed`` paces the run to the wall clock
@@ -49,7 +54,7 @@ def watch_episode(
     return view
 
 
-def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
+def watch_server(server: RemoteApiServer, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
     """Serve a live view of a
     :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`'s world;
     returns the started :class:`~puckboard.web.server.WebView`."""
@@ -57,13 +62,13 @@ def watch_server(server: Any, *, host: str = "127.0.0.1", port: int = 8080) -> A
     from .state import ServerFollower
 
     view = WebView(host=host, port=port).start()
-    follower = ServerFollower(server, view.publish)
+    follower = ServerFollower(server.view(), view.publish)
     view.follow(follower)
     server.add_step_observer(follower)
     return view
 
 
-def show_replay(recording: Any, *, height: int = 720) -> Any:
+def show_replay(recording: Recording | str | os.PathLike[str], *, height: int = 720) -> Any:
     """Show ``recording`` (a :class:`~puckboard.recording.recorder.Recording` or the path
     of one) in the web view's player, inline in a Jupyter notebook: the one-file export
     of ``puckboard replay --html`` in an iframe, so it needs no server. Returns an

@@ -14,10 +14,13 @@ import json
 import os
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..recording.atomic import write_atomically
 from .replay import replay_data
+
+if TYPE_CHECKING:
+    from ..recording.recorder import Recording
 
 __all__ = ["HTML_SUFFIXES", "replay_html", "write_replay_html"]
 
@@ -40,7 +43,7 @@ def _script(code: str) -> str:
     return f"<script>\n{code}</script>"
 
 
-def replay_html(recording: Any) -> str:
+def replay_html(recording: Recording | dict[str, Any]) -> str:
     """The player for ``recording`` (a :class:`~puckboard.recording.recorder.Recording`, or
     a replay document) as one HTML document."""
     data = recording if isinstance(recording, dict) else replay_data(recording)
@@ -69,7 +72,7 @@ def replay_html(recording: Any) -> str:
     return page
 
 
-def write_replay_html(recording: Any, path: str | os.PathLike[str]) -> Path:
+def write_replay_html(recording: Recording | dict[str, Any], path: str | os.PathLike[str]) -> Path:
     """Write :func:`replay_html` to ``path`` (``.html``/``.htm``); returns the path."""
     path = Path(path)
     if path.suffix.lower() not in HTML_SUFFIXES:

@@ -22,9 +22,12 @@ import json
 import logging
 import threading
 from importlib import resources
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aiohttp import web
+
+if TYPE_CHECKING:
+    from .state import EpisodeFollower, ServerFollower
 
 __all__ = ["DEFAULT_WEB_PORT", "WebView"]
 
@@ -152,7 +155,7 @@ class WebView:
             await self._runner.cleanup()
 
     # -- publishing (any thread) ---------------------------------------------------------------
-    def follow(self, follower: Any) -> None:
+    def follow(self, follower: EpisodeFollower | ServerFollower) -> None:
         """Show what ``follower`` (a :mod:`.state` follower) publishes; ``/trails.json``
         answers its trails so far."""
         self.follower = follower

@@ -19,9 +19,10 @@ The page draws three things, each sent as it changes:
 
 :class:`EpisodeFollower` builds them from a :class:`~puckboard.control.episode.Episode`
 (``puckboard run --web``) reading only the blackboard and the scene, like every other
-visual tool; :class:`ServerFollower` from a
+visual tool; :class:`ServerFollower` from the
+:class:`~puckboard.backends.coppeliasim.server.view.ServedView` of a
 :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`
-(``puckboard serve --web``), where the layer in control is what each client publishes as
+(``puckboard serve --web``: the server's typed read-only face, never its internals), where the layer in control is what each client publishes as
 the string signal ``<model>.layer``.
 Both only read: the simulation is the same with or without a page watching it.
 
@@ -46,8 +47,11 @@ from ..viz.scene_art import scene_bounds
 from ..viz.style import event_label, hex_colour, layer_colour, robot_colours
 
 if TYPE_CHECKING:
+    from ..backends.coppeliasim.server.view import ServedView
+    from ..control.episode import Episode
     from ..scenario.judge import Judge
     from ..scenario.scene import Scene
+    from ..sim.world import World
 
 __all__ = ["FRAME_RATE", "EpisodeFollower", "ServerFollower", "describe_scene", "page_nodes"]
 
@@ -288,7 +292,7 @@ class EpisodeFollower(_Follower):
     """Follows a local run; register it with ``episode.add_observer`` (and as a close
     observer, for the final frame)."""
 
-    def __init__(self, episode: Any, publish: Publish) -> None:
+    def __init__(self, episode: Episode, publish: Publish) -> None:
         super().__init__(episode.scene, publish, driver="puckboard run")
         self.episode = episode
         self.adapters = [episode.connection.adapters[n] for n in self.names]
@@ -328,14 +332,14 @@ class EpisodeFollower(_Follower):
             out[i] = (pose.x, pose.y, pose.theta)
         return out
 
-    def __call__(self, episode: Any = None) -> None:
+    def __call__(self, episode: Episode | None = None) -> None:
         for i, tr in enumerate(self.traces):  # every cycle: was the tree ticked in this one?
             if tr is not None:
                 self._ticked[i] = tr.ticks != self._ticks[i]
                 self._ticks[i] = tr.ticks
         self.update(force=False)
 
-    def close(self, episode: Any = None) -> None:
+    def close(self, episode: Episode | None = None) -> None:
         self.finished = True
         self.update(force=True)
 
@@ -401,7 +405,8 @@ class EpisodeFollower(_Follower):
 
 
 class ServerFollower(_Follower):
-    """Follows a served world; register it with ``server.add_step_observer``. The judge
+    """Follows a served world through its view (``server.view()``); register it with
+    ``server.add_step_observer``. The judge
     of the scene watches the served world too (restarted when a client restarts it).
 
     A client's ``sim.stopSimulation`` restores the scene the moment its run ends: the
@@ -413,13 +418,12 @@ class ServerFollower(_Follower):
     leaving them unlabelled would say the robots at their start had just succeeded.
     """
 
-    def __init__(self, server: Any, publish: Publish) -> None:
-        api = server.api
-        super().__init__(api.world.scene, publish, driver="puckboard serve")
-        self.server = server
-        self._world = api.world
+    def __init__(self, served: ServedView, publish: Publish) -> None:
+        super().__init__(served.scene, publish, driver="puckboard serve")
+        self.served = served
+        self._world = served.world
         self.judge = self._new_judge()
-        self._model_names = [b.name for b in api.objects.bases]
+        self._model_names = list(served.model_names)
         self._trees: dict[str, tuple[Any, dict[str, Any] | None]] = {}  # signal → parsed
 
     def _new_judge(self) -> Judge:
@@ -427,7 +431,7 @@ class ServerFollower(_Follower):
 
         return Judge(self.scene)
 
-    def _restored(self, world: Any) -> None:
+    def _restored(self, world: World) -> None:
         """The served world was replaced (``sim.stopSimulation`` restored the scene): the
         run that ended becomes the previous run, and a new one begins (not yet stepped)."""
         if self.judge.started:
@@ -444,29 +448,32 @@ class ServerFollower(_Follower):
         self.timelines = [[] for _ in self.names]
         self.t = float(world.time)
 
-    def __call__(self, server: Any) -> None:
-        api = server.api
-        world = api.world
+    def __call__(self, _server: object = None) -> None:
+        """One look at the served world (the server calls it with itself: the view is
+        all this reads)."""
+        served = self.served
+        world = served.world
         if world is not self._world:
             self._restored(world)
         if self.previous is not None and world.step_count > 0:
             self.previous = None  # the next run has begun: only its own trails and events
         poses = np.asarray(world.poses)
-        signals = api.signals.string
-        layers = [_text(signals.get(f"{m}.layer")) for m in self._model_names]
-        if api.running and world.step_count > 0:
+        layers = [served.signal(f"{m}.layer") for m in self._model_names]
+        if served.running and world.step_count > 0:
             self.judge.update(world.time, poses, world.collisions)
         self._track(float(world.time), poses, layers)
         now = time.monotonic()
         if not self._due(now):
             return
         drivers = self._drivers(now)
+        targets = served.targets
         robots = [
             _robot_entry(name, poses[i].tolist(), np.asarray(world.prox_distance[i]).tolist(),
-                         api.targets[i].tolist(), layers[i], drivers[i])
+                         targets[i].tolist(), layers[i], drivers[i])
             for i, name in enumerate(self.names)
         ]  # fmt: skip
-        status = "paused" if api.running and api.paused else "running" if api.running else "stopped"
+        running = served.running
+        status = "paused" if running and served.paused else "running" if running else "stopped"
         if self.previous is not None:
             judge: Judge | None = self.previous.judge
         else:
@@ -486,7 +493,7 @@ class ServerFollower(_Follower):
     def _tree(self, i: int, active: str | None, t: float) -> dict[str, Any]:
         """The tree the robot's client publishes (``<model>.tree``: JSON with ``nodes``
         and ``status``, one digit per node), read and checked once per change."""
-        raw = self.server.api.signals.string.get(f"{self._model_names[i]}.tree")
+        raw = self.served.signal(f"{self._model_names[i]}.tree")
         cached = self._trees.get(self._model_names[i])
         if cached is None or cached[0] != raw:
             cached = (raw, _parse_tree(raw))
@@ -498,16 +505,16 @@ class ServerFollower(_Follower):
 
     def _drivers(self, now: float) -> list[str]:
         out = ["no client"] * len(self.names)
-        for client in self.server.clients:
+        for client in self.served.clients():
             silent = now - client.last_seen
-            mode = "stepping" if client.stepping > 0 else "free-running"
-            state = "idle" if silent > 2.0 and client.parked is None else mode
-            for robot in client.robots:
+            mode = "stepping" if client.stepping else "free-running"
+            state = "idle" if silent > 2.0 and not client.waiting else mode
+            for robot in sorted(client.robots):
                 out[robot] = f"client {client.short} · {state}"
         return out
 
     def _detail(self, i: int) -> dict[str, Any]:
-        w = self.server.api.world
+        w = self.served.world
         prox = ", ".join(
             f"{n} {100 * d:.1f}" for n, d in zip(PROX_NAMES, w.prox_distance[i].tolist())
             if d < w.profiles[i].prox_range

@@ -14,12 +14,14 @@ from puckboard.behaviours import (
     ClearanceGuard,
     Controller,
     Cruise,
+    FrontObstacleLeftTurn,
     LineFollow,
     LineSearch,
     load_controller,
     robust,
 )
 from puckboard.behaviours.layer import Frame
+from puckboard.behaviours.overrides import apply_layer_overrides
 from puckboard.blackboard import Blackboard
 from puckboard.records import Ground, Proximity
 
@@ -169,6 +171,47 @@ def test_robust_always_turns_left_first_even_when_very_close():
     cmd = ctl.tick(ns)
     assert ctl.active_layer == "FrontObstacleLeftTurn"
     assert cmd.left < 0 < cmd.right
+
+
+@pytest.mark.parametrize("touching", [0.0, 0.004])
+def test_without_its_fallback_the_left_turn_never_becomes_braitenberg(touching):
+    """``braitenberg_fallback=False`` turns left whatever the front sensors read, even
+    both at 0 m, where ``close_fraction=0`` (the old spelling) would still fall back."""
+    f = frame(prox(front_left=touching, front_right=touching))
+    layer = FrontObstacleLeftTurn(MAX, braitenberg_fallback=False)
+    assert layer.applies(f)
+    cmd = layer.command(f)
+    assert (cmd.left, cmd.right) == (pytest.approx(-MAX / 2), pytest.approx(MAX))
+    assert FrontObstacleLeftTurn(MAX).command(f) != cmd  # the default does fall back here
+
+
+def test_robust_has_one_line_threshold_shared_by_following_and_search():
+    ctl = robust(MAX)
+    follow, search = ctl.find("LineFollow"), ctl.find("LineSearch")
+    assert "threshold" in follow.parameters()
+    assert "threshold" not in search.parameters()  # tuned once, on LineFollow
+    apply_layer_overrides({"r": ctl}, {"layer.LineFollow.threshold": 0.3})
+    assert search.threshold == follow.threshold == 0.3
+    search.threshold = 0.4  # set on either: both move
+    assert follow.threshold == 0.4
+
+
+@pytest.mark.parametrize("reading", [0.3, 0.5, 0.55, 0.59, 0.6, 0.7])
+def test_a_tuned_line_threshold_leaves_no_band_where_neither_line_layer_applies(reading):
+    ctl = robust(MAX)
+    apply_layer_overrides({"r": ctl}, {"layer.LineFollow.threshold": 0.6})
+    f = frame(g=ground(centre=reading))
+    follows, searches = ctl.find("LineFollow").applies(f), ctl.find("LineSearch").applies(f)
+    assert follows != searches  # exactly one of the two: never a gap for Cruise
+
+
+def test_a_search_of_its_own_keeps_its_own_threshold():
+    search = LineSearch(threshold=0.3)
+    assert search.parameters()["threshold"] == 0.3
+    search.threshold = 0.2
+    assert search.parameters()["threshold"] == 0.2
+    assert not search.applies(frame(g=ground(centre=0.1)))
+    assert search.applies(frame(g=ground(centre=0.25)))
 
 
 # -- acceptance: plausible physical robots, where every earlier controller failed --------

@@ -151,3 +151,16 @@ def test_bad_parameters_are_refused_with_the_field_named():
         OdometryNoise(travel_variance=-1.0)
     with pytest.raises(ValueError, match="initial_cov"):
         OdometryFilter(initial_cov=np.eye(2))
+
+
+def test_a_step_is_filterpys_predict_with_the_motion_models_mean():
+    """One way to use filterpy: its ``predict`` (nonlinear mean through ``predict_x``,
+    then ``P = F P Fᵀ + Q`` with the step's ``F`` and ``Q``), priors kept as filterpy keeps them."""
+    f = OdometryFilter(EPUCK2, initial=(0.0, 0.0, math.pi - 0.01), initial_cov=np.eye(3) * 1e-4)
+    before = f.cov
+    f.predict(1.0, 3.0)
+    F, Q = f.ekf.F, f.ekf.Q
+    assert np.array_equal(f.cov, F @ before @ F.T + Q)
+    assert np.array_equal(f.ekf.x_prior, f.ekf.x) and np.array_equal(f.ekf.P_prior, f.ekf.P)
+    assert -math.pi <= f.state[2] < math.pi  # the heading wrapped past ±π by predict_x
+    assert f.state[2] != pytest.approx(math.pi - 0.01)

@@ -17,7 +17,7 @@ from puckboard.profile import (
     uncertainty,
     variation_rng,
 )
-from puckboard.profile.setting_names import expand_path, path_value
+from puckboard.profile.setting_names import expand_setting, setting_value
 from puckboard.profile.uncertainty import RANGE_KINDS, VARIATION_STREAM
 from puckboard.scenario import load_scene
 from puckboard.scenario.variation import vary_scene
@@ -31,8 +31,8 @@ def test_every_range_cites_its_bounds_and_holds_the_shipped_value(name):
         assert len(plausible.source) > 20, path
         assert plausible.low < plausible.high, path
         check_value(path, plausible.low), check_value(path, plausible.high)  # physical sense
-        for single in expand_path(path):
-            value = path_value(profile, single)
+        for single in expand_setting(path):
+            value = setting_value(profile, single)
             if path.startswith("prox_heading."):
                 value = abs(value)  # a pair's range is the left sensor's heading
             assert plausible.low - 1e-12 <= value <= plausible.high + 1e-12, (path, single)
@@ -57,7 +57,7 @@ def test_a_draw_is_uniform_within_every_range_and_the_same_for_the_same_generato
     assert a == b
     values = profile_values(a)
     for path, plausible in uncertainty(EPUCK).items():
-        for single in expand_path(path):
+        for single in expand_setting(path):
             value = abs(values[single]) if path.startswith("prox_heading.") else values[single]
             assert plausible.low <= value <= plausible.high, single
     # many robots fill the range: no bound chosen by anything but the range

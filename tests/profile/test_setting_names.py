@@ -92,9 +92,9 @@ def test_a_drawn_robot_is_rebuilt_exactly_from_its_reported_values():
     [
         ("prox_max_distanse", 0.04, "did you mean prox_max_distance?"),
         ("prox_radius.frnt", 0.03, "did you mean prox_radius.front?"),
-        ("prox_radius", 0.03, "unknown profile path"),
+        ("prox_radius", 0.03, "unknown profile setting"),
         ("prox_heading.all", 0.1, "groups: front, diagonal, side, rear"),
-        ("axle_length.left", 0.05, "unknown profile path"),
+        ("axle_length.left", 0.05, "unknown profile setting"),
         ("wheel_radius", 20.5, "outside [0.005 m (5 mm), 0.05 m (50 mm)]"),
         ("ir_gain", 0.0, "outside (0, 10]"),
         ("prox_aperture", math.pi, "outside (0, 3.142 rad (180°))"),

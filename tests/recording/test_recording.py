@@ -134,3 +134,37 @@ def test_meta_is_plain_json(tmp_path):
         meta = json.loads(str(data["meta"]))
     assert meta["format"] == "puckboard-recording"
     assert meta["robots"] == ["red", "blue"]
+
+
+def test_the_file_holds_the_arrays_in_their_table_order_with_their_types(tmp_path):
+    """One table names the arrays: the file's members, their types and shapes follow it."""
+    import zipfile
+
+    from puckboard.recording.recorder import _ARRAYS
+
+    _recorded(tmp_path, 0.5)
+    members = [n.removesuffix(".npy") for n in zipfile.ZipFile(tmp_path / "run.npz").namelist()]
+    assert members[: len(_ARRAYS) + 1] == [*_ARRAYS, "meta"]
+    rec = load_recording(tmp_path / "run.npz")
+    for name, arr in rec.arrays().items():
+        dtype, tail = _ARRAYS[name]
+        assert arr.dtype == dtype, name
+        assert arr.shape == ((len(rec),) if tail is None else (len(rec), 2, *tail)), name
+
+
+def test_robot_layers_are_the_controllers_own_layers(tmp_path):
+    ep, recorder = _recorded(tmp_path, 0.2)
+    for name, controller in ep.controllers.items():
+        assert recorder.robot_layers[name] == tuple(c.name for c in controller.every_layer)
+
+
+def test_metadata_that_is_no_json_is_refused_in_one_line(tmp_path):
+    from dataclasses import dataclass
+
+    @dataclass
+    class Opaque:
+        x: int = 1
+
+    recorder = Recorder(["a"], meta={"thing": Opaque()})
+    with pytest.raises(TypeError, match="cannot store Opaque in a recording's metadata"):
+        recorder.close().save(tmp_path / "run.npz")

@@ -13,7 +13,7 @@ from sweep_helpers import DURATION, CountingExecutor
 
 from puckboard.control.episode import run_episode
 from puckboard.profile import get_profile, load_profile_file, uncertainty
-from puckboard.profile.setting_names import path_value
+from puckboard.profile.setting_names import setting_value
 from puckboard.sensitivity import (
     SensitivityResult,
     analyse,
@@ -57,7 +57,7 @@ def test_every_uncertain_field_of_each_profile_is_varied_on_its_range():
         for f in fields:
             assert (f.low, f.high) == (ranges[f.path].low, ranges[f.path].high)
             assert f.values == field_values(f.low, f.high, 7)
-            assert f.shipped == path_value(get_profile(name), f.path)
+            assert f.shipped == setting_value(get_profile(name), f.path)
 
 
 def test_each_point_sets_one_field_on_top_of_its_profile():

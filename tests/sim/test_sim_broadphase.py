@@ -76,10 +76,26 @@ def _random_swarm(n: int, seed: int):
     return dataclasses.replace(base, robots=robots)
 
 
+def _mixed_swarm(n: int, seed: int):
+    """As :func:`_random_swarm`, every other robot with V-REP's cone sensors: the broad
+    phase then serves both sensor models at once."""
+    scene = _random_swarm(n, seed)
+    robots = tuple(
+        dataclasses.replace(r, profile="epuck-vrep") if k % 2 else r
+        for k, r in enumerate(scene.robots)
+    )
+    return dataclasses.replace(scene, robots=robots)
+
+
+def _as_sets(candidates):
+    return {i: (set(circles), set(segments)) for i, (circles, segments) in candidates.items()}
+
+
+@pytest.mark.parametrize("swarm", [_random_swarm, _mixed_swarm])
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("n", [12, 30, 50])
-def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n):
-    world = World(_random_swarm(n, seed), seed=seed)
+def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n, swarm):
+    world = World(swarm(n, seed), seed=seed)
     sensors = world.sensing.proximity
     rng = np.random.default_rng(seed)
     for _ in range(5):
@@ -89,8 +105,12 @@ def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n):
         ]
         robots, circles_of, segments_of = sensors.candidates(poses)
         cones = list(sensors.cones_near)
+        # a cone's reading is a minimum over its candidates: their order does not matter
+        cone_candidates = _as_sets(sensors.cone_candidates) if cones else {}
         cast = sensors._cast_numpy(np.array(poses)[:, :2])
         assert sensors.cones_near == cones
+        if cones:  # what each cone robot may see, as the Python broad phase has it
+            assert _as_sets(sensors.cone_candidates) == cone_candidates
         if cast is None:
             assert robots == []
             continue
@@ -110,9 +130,10 @@ def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n):
         assert got_segments == [set(segments_of[i]) for i in robots]
 
 
+@pytest.mark.parametrize("swarm", [_random_swarm, _mixed_swarm])
 @pytest.mark.parametrize("n", [12, 30])
-def test_readings_do_not_depend_on_which_broad_phase_ran(n, monkeypatch):
-    scene = _random_swarm(n, 7)
+def test_readings_do_not_depend_on_which_broad_phase_ran(n, swarm, monkeypatch):
+    scene = swarm(n, 7)
     results = []
     for limit in (0, 1000):  # vectorised, then plain Python
         monkeypatch.setattr(proximity_module, "PYTHON_BROAD_PHASE_MAX", limit)

@@ -18,9 +18,12 @@ import logging
 import sys
 import threading
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ...errors import AdapterError, ConnectionLostError
+
+if TYPE_CHECKING:
+    from coppeliasim_zmqremoteapi_client import RemoteAPIClient
 
 __all__ = ["DEFAULT_PORT", "RemoteLink"]
 
@@ -156,7 +159,7 @@ class RemoteLink:
                 log.debug("closing the remote API client: %s", exc)
 
 
-def _drop_main_require(client: Any) -> None:
+def _drop_main_require(client: RemoteAPIClient) -> None:
     """The client stores its ``require`` in ``__main__``; remove it so the client (and its
     socket) is not kept alive by a global after the adapter is closed."""
     main = sys.modules.get("__main__")

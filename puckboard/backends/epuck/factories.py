@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ...blackboard import Blackboard
 from ...errors import ConnectionLostError
@@ -23,6 +23,9 @@ from .transport import SerialTransport, TcpTransport
 from .wifi_codec import DEFAULT_PORT
 from .wifi_link import WifiLink
 
+if TYPE_CHECKING:
+    from ...scenario.scene import Scene
+
 __all__ = ["EMULATOR_WIFI_PORT", "open_sercom", "open_wifi"]
 
 #: The port ``puckboard emulate --protocol wifi`` listens on by default: the robot's own
@@ -34,7 +37,7 @@ log = logging.getLogger(__name__)
 
 
 def open_wifi(
-    scene: Any = None,
+    scene: Scene | str | Path | None = None,
     *,
     seed: int = 0,
     host: str | None = None,
@@ -85,7 +88,7 @@ def open_wifi(
 
 
 def open_sercom(
-    scene: Any = None,
+    scene: Scene | str | Path | None = None,
     *,
     seed: int = 0,
     device: str | None = None,
@@ -135,7 +138,7 @@ def open_sercom(
 
 
 def _connect(
-    scene: Any,
+    scene: Scene | str | Path | None,
     link: Any,
     profile: RobotProfile,
     blackboard: Blackboard | None,
@@ -171,7 +174,7 @@ def _connect(
     return Connection(adapters={robot_name: adapter}, blackboard=board, stepper=None, world=None)
 
 
-def _as_scene(scene: Any) -> Any:
+def _as_scene(scene: Scene | str | Path | None) -> Scene | None:
     """A Scene passes through; a shipped name or file path is loaded."""
     if isinstance(scene, (str, Path)):
         from ...scenario.scenefile import load_scene
@@ -180,7 +183,7 @@ def _as_scene(scene: Any) -> Any:
     return scene
 
 
-def _first_profile(scene: Any) -> RobotProfile:
+def _first_profile(scene: Scene | str | Path | None) -> RobotProfile:
     scene = _as_scene(scene)
     robots = tuple(getattr(scene, "robots", ()) or ())
     if robots and getattr(robots[0], "profile", None):

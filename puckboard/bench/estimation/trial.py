@@ -12,7 +12,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -22,6 +22,9 @@ from ...estimation.odometry import OdometryFilter, wrap_angle
 from ...estimation.sources import OdometrySource
 from ...profile import RobotProfile
 from ...records import Sensor
+
+if TYPE_CHECKING:
+    from ...behaviours.presets import ControllerFactory
 
 __all__ = ["CHI2_95_2DOF", "VARIANTS", "Trace", "four_digits", "run_case"]
 
@@ -90,7 +93,7 @@ def run_case(
     *,
     steps: int | None = None,
     laps: float | None = None,
-    controller: Any = None,
+    controller: str | ControllerFactory | None = None,
     gyro_noise: float = 0.0,
     gyro_bias: float = 0.0,
     settle: float = 0.0,

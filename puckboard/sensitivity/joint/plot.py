@@ -15,7 +15,7 @@ import math
 import os
 from typing import Any
 
-from ...profile.setting_names import path_unit
+from ...profile.setting_names import setting_unit
 from ...sweep.summary import controller_labels
 from ...viz.figures import COLOURS, FONT, new_figure
 from ..units import shown_scale
@@ -74,7 +74,7 @@ def _outcome(analyses: list[JointAnalysis]) -> str:
 
 def _panel(ax: Any, name: str, analyses: list[JointAnalysis], outcome: str) -> None:
     robot, path = name.split(": ", 1)
-    scale, unit = shown_scale(path_unit(path))
+    scale, unit = shown_scale(setting_unit(path))
     shipped: list[tuple[float, str]] = []
     for index, a in enumerate(analyses):
         n = next((x for x in a.numbers if x.name == name), None)

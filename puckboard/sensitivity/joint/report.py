@@ -8,7 +8,7 @@ read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ...profile.setting_names import path_unit
+from ...profile.setting_names import setting_unit
 from ...sweep.summary import controller_labels, format_table
 from ..units import shown_scale
 from .analysis import JointAnalysis, JointResult, Number, verdict
@@ -25,12 +25,12 @@ def _percent(x: float) -> str:
 
 
 def _value(path: str, value: float) -> str:
-    scale, _ = shown_scale(path_unit(path))
+    scale, _ = shown_scale(setting_unit(path))
     return f"{value * scale:.4g}"
 
 
 def _unit(path: str) -> str:
-    _, unit = shown_scale(path_unit(path))
+    _, unit = shown_scale(setting_unit(path))
     return f" ({unit})" if unit else ""
 
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...profile import RobotProfile, apply_overrides, get_profile, uncertainty
-from ...profile.setting_names import is_set, path_unit, path_value
+from ...profile.setting_names import is_set, setting_unit, setting_value
 from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 
 __all__ = [
@@ -67,7 +67,7 @@ FIELD_LABEL = "label.field"
 @dataclass(frozen=True)
 class Field:
     """One uncertain path of one profile: its range, its shipped value and the values the
-    analysis sets it to (in SI; ``unit`` as :func:`~puckboard.profile.setting_names.path_unit`)."""
+    analysis sets it to (in SI; ``unit`` as :func:`~puckboard.profile.setting_names.setting_unit`)."""
 
     profile: str
     path: str
@@ -170,10 +170,10 @@ def _fields_of(profile: RobotProfile, count: int) -> list[Field]:
             Field(
                 profile=_label(profile),
                 path=path,
-                unit=path_unit(path),
+                unit=setting_unit(path),
                 low=spread.low,
                 high=spread.high,
-                shipped=path_value(profile, path),
+                shipped=setting_value(profile, path),
                 values=field_values(spread.low, spread.high, count),
                 source=spread.source,
                 kind=spread.kind,

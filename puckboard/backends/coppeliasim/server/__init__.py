@@ -17,7 +17,8 @@ One concept per module:
 * :mod:`.api` — the served ``sim.*`` functions, one module per group of CoppeliaSim's manual;
 * :mod:`.simapi` — the dispatch table: the only ``sim.*`` functions a client can reach;
 * :mod:`.clients` — per-client state and the stepping gate;
-* :mod:`.socket_loop` — the ZeroMQ socket loop (:class:`RemoteApiServer`).
+* :mod:`.socket_loop` — the ZeroMQ socket loop (:class:`RemoteApiServer`);
+* :mod:`.view` — what a watcher reads of a served world (:class:`~.view.ServedView`).
 
 The thesis's performance scenarios are the ``coppeliasim`` benchmark suite
 (:mod:`puckboard.bench.coppeliasim`). Nothing here is imported by ``import puckboard``;

@@ -48,6 +48,7 @@ from .codec import (
     wait_reply,
 )
 from .simapi import SimApi
+from .view import ServedView
 
 if TYPE_CHECKING:
     from ....scenario.scene import Scene
@@ -157,6 +158,11 @@ class RemoteApiServer:
         observer is kept.
         """
         self._observers.append(observer)
+
+    def view(self) -> ServedView:
+        """What this server serves, read-only and typed: what a watcher (the web view)
+        reads instead of the server's internals."""
+        return ServedView(self.api, self.clients)
 
     def _notify(self, now: float) -> None:
         self._last_notified = now
