@@ -21,6 +21,8 @@ from typing import Any
 
 from .common import (
     CliError,
+    OneController,
+    _first_line,
     add_variation_argument,
     add_web_arguments,
     check_port,
@@ -28,12 +30,12 @@ from .common import (
     check_speed,
     check_writable,
     connection_loss_in_one_line,
+    controller_error,
     missing_extra,
     require,
     seed_type,
     serve_until_interrupted,
     start_web_view,
-    user_code_error,
     web_url,
 )
 
@@ -61,6 +63,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--controller",
+        action=OneController,
         default=None,
         metavar="stock|improved|robust|MODULE:FACTORY",
         help="controller for every robot (default: each robot's controller in the scene, "
@@ -279,27 +282,15 @@ def _keep_web_view(web: Any) -> None:
 
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:
-    """What to raise when building the episode failed: one line for what puckboard
-    refused, the student's code as Python shows it, one line for other bad input, else
-    the error itself (a bug: its traceback)."""
-    from ..errors import PuckboardError
-
-    if isinstance(exc, PuckboardError):
-        # puckboard refused what the code built (a layer without super().__init__(),
-        # reads as a string): the line says what to write, the traceback would not
-        return CliError(_first_line(exc))
-    what = f"the controller {controller!r}" if controller else "a robot's controller"
-    shown = user_code_error(exc, what)
+    """What to raise when building the episode failed: the controller's problem as every
+    command says it (:func:`~puckboard.cli.common.controller_error`), one line for other
+    bad input (a backend's), else the error itself (a bug: its traceback)."""
+    shown = controller_error(exc, controller)
     if shown is not None:
         return shown
-    if isinstance(exc, (ValueError, TypeError, ImportError, OSError)):
+    if isinstance(exc, OSError):
         return CliError(_first_line(exc))
     return exc
-
-
-def _first_line(exc: BaseException) -> str:
-    text = str(exc).strip() or type(exc).__name__
-    return text.splitlines()[0]
 
 
 def realtime_text(factor: float | None) -> str:
@@ -326,7 +317,8 @@ def format_summary(result: Any) -> str:
     for r in d["robots"]:
         passed = "-" if alone else "yes" if r["passed_other"] else "no"
         lines.append(
-            f"{r['name']:<12}{r['profile']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
+            f"{r['name']:<12}{r['profile']:<12}{_unsigned_zero(r['progress_laps']):>7.2f}"
+            f"{r['distance_m']:>10.2f}"
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
             f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
@@ -349,6 +341,12 @@ def format_summary(result: Any) -> str:
             who = f"{e['robot']}: " if e["robot"] else ""
             lines.append(f"  {e['time_s']:7.2f} s  {who}{event_label(e['kind'])}")
     return "\n".join(lines)
+
+
+def _unsigned_zero(value: float, digits: int = 2) -> float:
+    """``value``, or 0.0 when it rounds to zero at ``digits``: a robot that slid back a
+    millimetre made no progress, and the table should not say ``-0.00``."""
+    return value if round(value, digits) != 0 else 0.0
 
 
 def _profile_value_lines(robots: list[dict[str, Any]]) -> list[str]:
