@@ -264,7 +264,7 @@ def main(args: argparse.Namespace) -> int:
         sys.stdout.write(json.dumps(result.to_dict()) + "\n")
         sys.stdout.flush()
     else:
-        print(format_summary(result))
+        print(format_summary(result, simulated=episode.loop.synchronous))
     for path in getattr(outputs, "written", None) or ():
         print(f"wrote {path}", file=sys.stderr)
     if web is not None:
@@ -301,14 +301,21 @@ def realtime_text(factor: float | None) -> str:
     return f"{factor:.0f}x" if factor >= 10 else f"{float(f'{factor:.2g}'):g}x"
 
 
-def format_summary(result: Any) -> str:
-    """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
+def format_summary(result: Any, *, simulated: bool = True) -> str:
+    """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`;
+    ``simulated=False`` for a run on a robot (real or emulated), whose time is the run's
+    own, not simulated."""
     d = result.to_dict()
+    steps = f"{d['steps']} step{'s' * (d['steps'] != 1)} of {d['dt_s'] * 1000:g} ms"
+    if simulated:
+        clock = (
+            f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
+            f"({realtime_text(d['realtime_factor'])} real time, {steps})"
+        )
+    else:
+        clock = f"{d['sim_time_s']:.1f} s on the robot ({steps})"
     lines = [
-        f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
-        f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
-        f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
-        f"of {d['dt_s'] * 1000:g} ms)",
+        f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  {clock}",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",

@@ -155,3 +155,20 @@ def test_the_table_never_shows_minus_zero_laps():
     robot["progress_laps"] = -0.25  # a robot that really went back says so
     row = next(line for line in format_summary(Result()).splitlines() if line.startswith("epuck"))
     assert row.split()[2] == "-0.25"
+
+
+def test_a_run_on_a_robot_does_not_call_its_time_simulated():
+    result = {
+        "scenario": "line-follow", "controller": "c", "seed": 0, "sim_time_s": 15.0,
+        "wall_s": 15.1, "realtime_factor": 1.0, "steps": 300, "dt_s": 0.05, "robots": [],
+        "success": True, "failure": None, "failures": [], "events": [],
+    }  # fmt: skip
+
+    class Result:
+        def to_dict(self):
+            return result
+
+    first = format_summary(Result(), simulated=False).splitlines()[0]
+    assert first.endswith("15.0 s on the robot (300 steps of 50 ms)")
+    assert "simulated" not in first
+    assert "15.0 s simulated in 15.10 s" in format_summary(Result()).splitlines()[0]
