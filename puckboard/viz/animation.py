@@ -113,13 +113,9 @@ def frame_indices(
 def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
     """A :class:`~puckboard.viz.stage.Stage` on ``fig`` set up for ``rec``'s robots."""
     from .stage import Stage
-    from .style import robot_colours
+    from .style import layer_order, robot_colours
 
-    layers: list[str] = []
-    for name in rec.robot_names:
-        for layer in rec.robot(name).layers:
-            if layer not in layers:
-                layers.append(layer)
+    layers = layer_order(rec.robot(name).layers for name in rec.robot_names)
     scene = rec.scene
     bounds = _bounds(scene, rec.pose[..., :2])
     return Stage(
