@@ -51,6 +51,18 @@ def twice():
     return [cruise, cruise]
 
 
+class NoReturn(Layer):
+    def applies(self, frame):
+        frame.time > 1.0
+
+    def command(self, frame):
+        return WheelCommand(1.0, 1.0)
+
+
+def no_return():
+    return [NoReturn(), Cruise()]
+
+
 def never():
     return [Never()]
 """
@@ -84,6 +96,16 @@ def test_a_controller_puckboard_refuses_is_one_line_in_every_command(
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
     assert lines[0].startswith(f"puckboard {command}: error: {says}"), err
+
+
+def test_an_applies_without_return_stops_the_run_in_one_line(mistakes, capsys):
+    argv = ["run", "line-follow", "--controller", f"{mistakes}:no_return", "--duration", "1"]
+    assert main(argv) == 1
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == [
+        "puckboard run: error: robot 'epuck' at t = 0.00 s, in layer 'NoReturn': applies() "
+        "returned None (is a 'return' missing?); it must return True or False (a bool)"
+    ]
 
 
 @pytest.mark.parametrize(
