@@ -122,7 +122,7 @@ class TickContext:
     #: The layer whose ``observe``, ``applies`` or ``command`` raised during this tick.
     failed_layer: str | None = None
     #: Seconds each layer's own code took, by layer name, while the loop times a slow
-    #: controller (:mod:`puckboard.control.tick_timing`); ``None``, timing nothing, else.
+    #: controller (``Controller.time_layers``); ``None``, timing nothing, else.
     timings: dict[str, float] | None = None
     #: The clock ``timings`` are read from.
     clock: Callable[[], float] = time.perf_counter

@@ -27,12 +27,12 @@ sources declare theirs when they are attached). A misspelt key would otherwise r
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import py_trees
 from py_trees.common import Status
 
-from ..blackboard import Namespace
+from ..blackboard import Namespace, Snapshot
 from ..errors import LayerError
 from ..records import WheelCommand
 from .context import ROBOT_KEYS, TickContext
@@ -145,19 +145,18 @@ class Controller:
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
-            timings = context.timings  # None unless the loop is timing a slow controller
-            for layer, frame in self._frames:  # every layer sees every tick, whoever drives
-                frame.point_at(snapshot)
-                start = context.clock() if timings is not None else 0.0
-                try:
-                    layer.observe(frame)
-                except Exception as exc:
-                    error = context.blame(layer.name, exc)
-                    if error is None:
-                        raise
-                    raise error from exc
-                if timings is not None:
-                    timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
+            if context.timings is None:
+                for layer, frame in self._frames:  # every layer sees every tick, whoever drives
+                    frame.point_at(snapshot)
+                    try:
+                        layer.observe(frame)
+                    except Exception as exc:
+                        error = context.blame(layer.name, exc)
+                        if error is None:
+                            raise
+                        raise error from exc
+            else:
+                self._observe_timed(snapshot, context.timings)
             self.tree.tick()
             self.asked_ticks += 1
             proposal = context.proposal
@@ -174,6 +173,42 @@ class Controller:
             writer=self.name,
         )
         return cmd
+
+    def _observe_timed(self, snapshot: Snapshot, timings: dict[str, float]) -> None:
+        """Every layer observes, as in :meth:`tick`, each adding its seconds to
+        ``timings``."""
+        context = self.context
+        for layer, frame in self._frames:
+            frame.point_at(snapshot)
+            start = context.clock()
+            try:
+                layer.observe(frame)
+            except Exception as exc:
+                error = context.blame(layer.name, exc)
+                if error is None:
+                    raise
+                raise error from exc
+            finally:
+                timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
+
+    def time_layers(
+        self, timings: dict[str, float] | None, clock: Callable[[], float] | None = None
+    ) -> None:
+        """From the next tick on, add the seconds each layer's own code takes
+        (``observe``, ``applies``, ``command``) to ``timings[layer name]``, read from
+        ``clock`` (default ``time.perf_counter``); ``None`` stops timing. Timing is done
+        where the controller calls the layers (its tick, each layer's node), never on
+        the layer objects, and an untimed tick pays nothing for it."""
+        context = self.context
+        context.timings = timings
+        if clock is not None:
+            context.clock = clock
+        for node in self.root.iterate():
+            if isinstance(node, LayerNode):
+                if timings is None:
+                    vars(node).pop("update", None)
+                else:  # py_trees calls the node's update(): this node's, timed
+                    node.update = node.timed_update  # type: ignore[method-assign]
 
     def check_keys(self, ns: Namespace) -> None:
         """Refuse a key read by a layer (or in ``requires``) that robot ``ns`` cannot have.

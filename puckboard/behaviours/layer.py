@@ -152,27 +152,34 @@ class LayerNode(py_trees.behaviour.Behaviour):
         current_frame(context, self.name)
         assert context is not None
         layer, frame = self.layer, self.frame
-        timings = context.timings  # None unless the loop is timing a slow controller
-        start = context.clock() if timings is not None else 0.0
-        command = None
         try:
             applies = layer.applies(frame)
             if applies is not True and applies is not False:
                 applies = _checked_applies(applies, context, self.name)
-            if applies:
-                command = layer.command(frame)
+            if not applies:
+                return Status.FAILURE
+            command = layer.command(frame)
         except Exception as exc:
             error = context.blame(self.name, exc)  # so the error report can name the layer
             if error is None:
                 raise
             raise error from exc
-        finally:
-            if timings is not None:
-                timings[self.name] = timings.get(self.name, 0.0) + context.clock() - start
-        if not applies:
-            return Status.FAILURE
         context.propose(self.name, command)
         return Status.RUNNING
+
+    def timed_update(self) -> Status:
+        """:meth:`update`, adding the seconds it took (the layer's ``applies`` and
+        ``command``) to the tick context's ``timings``. The controller ticks its nodes
+        with it while the loop times a slow controller
+        (:meth:`~puckboard.behaviours.Controller.time_layers`); ``update`` itself
+        times nothing, so a run that is not timed pays nothing for it."""
+        context = self.context
+        assert context is not None and context.timings is not None
+        timings, start = context.timings, context.clock()
+        try:
+            return LayerNode.update(self)
+        finally:
+            timings[self.name] = timings.get(self.name, 0.0) + context.clock() - start
 
 
 _BOOL = "it must return True or False (a bool)"

@@ -9,10 +9,10 @@ the period, the next tick is run with every layer's ``observe``, ``applies`` and
 layer and its time per tick.
 
 The layers are timed where the controller calls them (``Controller.tick`` for
-``observe``, the layer's node for ``applies`` and ``command``): for that one tick the
-controller's :class:`~puckboard.behaviours.context.TickContext` holds a dict to add the
-seconds to; otherwise it holds ``None`` and nothing is timed. The student's layer
-objects are never touched, and the calls, their order and the run are the same.
+``observe``, each layer's node for ``applies`` and ``command``), for that one tick
+(:meth:`~puckboard.behaviours.Controller.time_layers`); the ticks before and after run
+the untimed code, which pays nothing for the timing. The student's layer objects are
+never touched, and the calls, their order and the run are the same.
 """
 
 from __future__ import annotations
@@ -76,13 +76,14 @@ class TickTimer:
 @contextmanager
 def _timed_layers(controller: Any, spent: dict[str, float]) -> Iterator[None]:
     """Within the block the controller adds each layer's seconds to ``spent[layer name]``
-    (a controller of another kind, without a tick context, times nothing)."""
-    context = getattr(controller, "context", None)
-    if context is None or not hasattr(context, "timings"):
+    (:meth:`~puckboard.behaviours.Controller.time_layers`; a controller of another kind
+    is timed as a whole only)."""
+    time_layers = getattr(controller, "time_layers", None)
+    if time_layers is None:
         yield
         return
-    context.timings, context.clock = spent, time.perf_counter
+    time_layers(spent, time.perf_counter)
     try:
         yield
     finally:
-        context.timings = None
+        time_layers(None)
