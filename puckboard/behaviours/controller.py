@@ -22,6 +22,12 @@ The first tick against a namespace checks that every key the layers read is one 
 robot can have: a sensor key, or a key declared or written on its namespace (knowledge
 sources declare theirs when they are attached). A misspelt key would otherwise read as
 "no value" for ever, and the layer would silently never apply.
+
+What can be checked without a robot is checked once, when the controller is built: every
+layer has a ``command`` of its own, no layer object is in two places, and no two layers
+share a name (``--set layer.NAME.attr``, traces and colours tell layers apart by name).
+Each mistake is one :class:`~puckboard.errors.LayerError` line naming the layer and the
+fix, rather than a failure at the first tick the layer is asked (or never).
 """
 
 from __future__ import annotations
