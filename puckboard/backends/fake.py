@@ -131,7 +131,13 @@ class FakeAdapter(RobotAdapter):
                 raise ValueError(
                     f"unknown proximity sensor {name!r}; names: {', '.join(PROX_NAMES)}"
                 )
-            d[PROX_NAMES.index(name)] = min(max(float(value), 0.0), rng)
+            distance = float(value)
+            if not (math.isfinite(distance) and distance >= 0):  # not clamped: a typo
+                raise ValueError(
+                    f"set_proximity({name}={value!r}): a distance must be a finite number "
+                    f"of metres ≥ 0 ({rng:g} or more: the sensor sees nothing)"
+                )
+            d[PROX_NAMES.index(name)] = min(distance, rng)
         # what a calibrated e-puck sends for those distances (0 for nothing)
         raw = calibrated_from_distance(np.where(d < rng, d, np.inf))
         self._prox = Proximity(d, raw, rng)

@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import difflib
 import reprlib
-from collections.abc import Iterable
+import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -82,6 +83,19 @@ class Frame:
     def ground(self) -> Ground | None:
         return self.value("ground")  # type: ignore[no-any-return]
 
+    def __getattr__(self, name: str) -> Any:
+        """Only for a name the frame does not have (``frame.proximty``): Python's own
+        message would not say what was meant; this one does, and how to read any key."""
+        public = [n for n in dir(type(self)) if not n.startswith("_")]
+        close = difflib.get_close_matches(name, public, n=1)
+        meant = f"; did you mean frame.{close[0]}?" if close else ""
+        raise AttributeError(
+            f"a Frame has no attribute {name!r}{meant} (frame.value('KEY') reads any key the "
+            "layer declares in reads)",
+            name=name,
+            obj=self,
+        )
+
 
 def _undeclared(key: str, declared: tuple[str, ...]) -> str:
     """Why a layer may not read ``key``, what it declares, and what it may have meant."""
@@ -107,6 +121,11 @@ class TickContext:
     proposal: tuple[str, WheelCommand] | None = None
     #: The layer whose ``observe``, ``applies`` or ``command`` raised during this tick.
     failed_layer: str | None = None
+    #: Seconds each layer's own code took, by layer name, while the loop times a slow
+    #: controller (``Controller.time_layers``); ``None``, timing nothing, else.
+    timings: dict[str, float] | None = None
+    #: The clock ``timings`` are read from.
+    clock: Callable[[], float] = time.perf_counter
 
     def begin(self, snapshot: Snapshot) -> Frame:
         """Start a tick: its snapshot, no proposal and no failure yet. Returns the

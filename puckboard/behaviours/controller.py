@@ -22,17 +22,23 @@ The first tick against a namespace checks that every key the layers read is one 
 robot can have: a sensor key, or a key declared or written on its namespace (knowledge
 sources declare theirs when they are attached). A misspelt key would otherwise read as
 "no value" for ever, and the layer would silently never apply.
+
+What can be checked without a robot is checked once, when the controller is built: every
+layer has a ``command`` of its own, no layer object is in two places, and no two layers
+share a name (``--set layer.NAME.attr``, traces and colours tell layers apart by name).
+Each mistake is one :class:`~puckboard.errors.LayerError` line naming the layer and the
+fix, rather than a failure at the first tick the layer is asked (or never).
 """
 
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import py_trees
 from py_trees.common import Status
 
-from ..blackboard import Namespace
+from ..blackboard import Namespace, Snapshot
 from ..errors import LayerError
 from ..records import WheelCommand
 from .context import ROBOT_KEYS, TickContext
@@ -59,6 +65,9 @@ class Controller:
     ``requires``, only once every required key is fresh.
     """
 
+    #: The controller's name: the arbiter's, and ``controller`` in results.
+    name: str
+
     def __init__(
         self,
         layers: Sequence[Layer | py_trees.behaviour.Behaviour],
@@ -66,8 +75,13 @@ class Controller:
         name: str = "Arbiter",
         requires: Iterable[str] = (),
     ) -> None:
+        if isinstance(layers, Controller):
+            raise LayerError(
+                f"got the controller {layers.name!r} where its layers belong; use it as it "
+                "is, or build a new one from layers: Controller([layer, ...])"
+            )
         if not layers:
-            raise ValueError("a Controller needs at least one layer")
+            raise LayerError("a Controller needs at least one layer: Controller([Cruise()])")
         if isinstance(requires, str):
             raise TypeError(
                 f"requires={requires!r} is one string; write a tuple: requires=({requires!r},)"
@@ -75,6 +89,7 @@ class Controller:
         if isinstance(layers, (Layer, type)):
             raise TypeError(f"a Controller takes a list of layers: Controller([{layers!r:.40}])")
         children = [as_behaviour(layer) for layer in layers]
+        _check_placed_once(children)
         self.name = name
         self.root = py_trees.composites.Selector(name, memory=False, children=children)
         self.tree = py_trees.trees.BehaviourTree(self.root)
@@ -86,10 +101,16 @@ class Controller:
         nodes = [node for node in self.root.iterate() if isinstance(node, LayerNode)]
         #: Every layer of the tree, in tree order: each observes every tick's frame.
         self.every_layer = [node.layer for node in nodes]
+        _check_layers(self.every_layer)
         #: What the behaviours of the tree are handed for each tick (see TickContext).
         self.context = TickContext()
         self.active_layer: str = NO_LAYER
         self.last_command = WheelCommand.stop()
+        #: Ticks in which a layer was asked, and in which one of them applied: a
+        #: controller none of whose layers ever applies leaves the robot standing, and
+        #: the episode says so (its layers' ``applies`` are worth a look).
+        self.asked_ticks = 0
+        self.driven_ticks = 0
         self._checked: Namespace | None = None  # the namespace whose keys were checked
         self.tree.setup(context=self.context)
         #: Each layer with the frame it reads through (made at setup, see LayerNode).
@@ -130,21 +151,26 @@ class Controller:
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
-            for layer, frame in self._frames:  # every layer sees every tick, whoever drives
-                frame.point_at(snapshot)
-                try:
-                    layer.observe(frame)
-                except Exception as exc:
-                    error = context.blame(layer.name, exc)
-                    if error is None:
-                        raise
-                    raise error from exc
+            if context.timings is None:
+                for layer, frame in self._frames:  # every layer sees every tick, whoever drives
+                    frame.point_at(snapshot)
+                    try:
+                        layer.observe(frame)
+                    except Exception as exc:
+                        error = context.blame(layer.name, exc)
+                        if error is None:
+                            raise
+                        raise error from exc
+            else:
+                self._observe_timed(snapshot, context.timings)
             self.tree.tick()
+            self.asked_ticks += 1
             proposal = context.proposal
             if proposal is None:
                 layer_name, cmd = NO_LAYER, WheelCommand.stop()
             else:
                 layer_name, cmd = proposal
+                self.driven_ticks += 1
         self.active_layer = layer_name
         self.last_command = cmd
         ns.put_many(
@@ -153,6 +179,42 @@ class Controller:
             writer=self.name,
         )
         return cmd
+
+    def _observe_timed(self, snapshot: Snapshot, timings: dict[str, float]) -> None:
+        """Every layer observes, as in :meth:`tick`, each adding its seconds to
+        ``timings``."""
+        context = self.context
+        for layer, frame in self._frames:
+            frame.point_at(snapshot)
+            start = context.clock()
+            try:
+                layer.observe(frame)
+            except Exception as exc:
+                error = context.blame(layer.name, exc)
+                if error is None:
+                    raise
+                raise error from exc
+            finally:
+                timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
+
+    def time_layers(
+        self, timings: dict[str, float] | None, clock: Callable[[], float] | None = None
+    ) -> None:
+        """From the next tick on, add the seconds each layer's own code takes
+        (``observe``, ``applies``, ``command``) to ``timings[layer name]``, read from
+        ``clock`` (default ``time.perf_counter``); ``None`` stops timing. Timing is done
+        where the controller calls the layers (its tick, each layer's node), never on
+        the layer objects, and an untimed tick pays nothing for it."""
+        context = self.context
+        context.timings = timings
+        if clock is not None:
+            context.clock = clock
+        for node in self.root.iterate():
+            if isinstance(node, LayerNode):
+                if timings is None:
+                    vars(node).pop("update", None)
+                else:  # py_trees calls the node's update(): this node's, timed
+                    node.update = node.timed_update  # type: ignore[method-assign]
 
     def check_keys(self, ns: Namespace) -> None:
         """Refuse a key read by a layer (or in ``requires``) that robot ``ns`` cannot have.
@@ -173,8 +235,12 @@ class Controller:
         self._checked = ns
 
     def reset(self) -> None:
-        """Stop every layer (they forget held state) and clear the last decision."""
+        """Start afresh: stop every behaviour of the tree, let every layer forget what it
+        holds (:meth:`Layer.reset`) and clear the last decision."""
         self.root.stop(Status.INVALID)
+        for layer in self.every_layer:
+            layer.reset()
+        self.asked_ticks = self.driven_ticks = 0
         self.active_layer = NO_LAYER
         self.last_command = WheelCommand.stop()
 
@@ -187,6 +253,51 @@ class Controller:
 
     def __repr__(self) -> str:
         return f"<Controller {self.name!r}: {' > '.join(n.name for n in self.layers)}>"
+
+
+def _check_placed_once(children: list[py_trees.behaviour.Behaviour]) -> None:
+    """Refuse a layer (or behaviour) given twice, or one already in another tree: a
+    layer object is one place in one controller (py_trees would say "already has
+    parent", which names neither the layer's class nor the fix)."""
+    seen: set[int] = set()
+    for child in children:
+        layer = layer_of(child)
+        what = type(layer).__name__ if layer is not None else type(child).__name__
+        if id(child) in seen:
+            where = "twice in this controller"
+        elif child.parent is not None:
+            where = f"already in {child.parent.name!r}"
+        else:
+            seen.add(id(child))
+            continue
+        raise LayerError(
+            f"the same {what} object is {where}; each place needs an object of its own: "
+            f"build another ({what}(...)) for this one",
+            child.name,
+        )
+
+
+def _check_layers(layers: list[Layer]) -> None:
+    """Refuse, when the controller is built, a layer that could only fail once it runs:
+    one with no ``command`` of its own, and two layers of one name (``--set
+    layer.NAME.attr``, traces and colours tell layers apart by name)."""
+    names: dict[str, Layer] = {}
+    for layer in layers:
+        cls = type(layer).__name__
+        if type(layer).command is Layer.command:
+            raise LayerError(
+                f"{cls} has no command(frame); write one that returns WheelCommand(left, "
+                "right), the wheel speeds in rad/s",
+                layer.name,
+            )
+        if layer.name in names:
+            raise LayerError(
+                f"two layers are called {layer.name!r} ({type(names[layer.name]).__name__} "
+                f"and {cls}); give one a name of its own: {cls}(..., name="
+                f"{layer.name + '2'!r})",
+                layer.name,
+            )
+        names[layer.name] = layer
 
 
 def keys_read(node: py_trees.behaviour.Behaviour) -> tuple[str, ...]:

@@ -64,6 +64,10 @@ class GoHome(Layer):
         self.max_sd = max_sd
         self.arrived = False
 
+    def reset(self) -> None:
+        """A new start: not home yet."""
+        self.arrived = False
+
     def position_sd(self, frame: Frame) -> float | None:
         """√(σx² + σy²) of the current estimate (m), or ``None`` without a covariance."""
         cov = frame.value("estimate/pose_cov")

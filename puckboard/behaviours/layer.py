@@ -32,13 +32,25 @@ the tree ticks and which calls the layer. py_trees behaviours carry many plain n
 ``iterate`` ...) that the tree calls; a layer of its own keeps those free, so a helper
 method a student names ``stop`` is the student's, not a hook the tree calls with other
 arguments. A layer's namespace holds ``name``, ``reads``, ``observe``, ``applies``,
-``command`` and ``parameters``; everything else on it is its author's.
+``command``, ``reset`` and ``parameters``; everything else on it is its author's.
+
+What py_trees calls ``initialise`` and ``terminate`` (a behaviour starting and ending a
+run of ticks) a layer meets as one hook, ``reset()``: the controller starts afresh (a new
+episode, the robot put back at its start) and the layer forgets what it remembers. Being
+pre-empted by a higher layer is not a reset: a layer keeps observing while suppressed.
+
+The node checks what the layer hands back: ``applies`` must return a bool (``None``, a
+missing ``return``, would read as "never"; ``"no"`` as "always"), ``command`` a
+:class:`~puckboard.records.WheelCommand`; either mistake is a
+:class:`~puckboard.errors.LayerError` naming the layer and the fix.
 """
 
 from __future__ import annotations
 
+import reprlib
 from typing import Any, ClassVar
 
+import numpy as np
 import py_trees
 from py_trees.common import Status
 
@@ -93,6 +105,12 @@ class Layer:
         """The wheel speeds (rad/s) this layer wants."""
         raise NotImplementedError(f"{type(self).__name__} must implement command(frame)")
 
+    def reset(self) -> None:
+        """Forget what the layer remembers, as if it had just been built: called by
+        :meth:`Controller.reset <puckboard.behaviours.Controller.reset>` when the robot
+        starts afresh. Override it in a layer that keeps state between ticks (the side
+        the line was last seen on, say). Default: nothing."""
+
     def parameters(self) -> dict[str, Any]:
         """The layer's tunable parameters (public attributes that are numbers or strings)."""
         return {
@@ -135,7 +153,10 @@ class LayerNode(py_trees.behaviour.Behaviour):
         assert context is not None
         layer, frame = self.layer, self.frame
         try:
-            if not layer.applies(frame):
+            applies = layer.applies(frame)
+            if applies is not True and applies is not False:
+                applies = _checked_applies(applies, context, self.name)
+            if not applies:
                 return Status.FAILURE
             command = layer.command(frame)
         except Exception as exc:
@@ -145,6 +166,37 @@ class LayerNode(py_trees.behaviour.Behaviour):
             raise error from exc
         context.propose(self.name, command)
         return Status.RUNNING
+
+    def timed_update(self) -> Status:
+        """:meth:`update`, adding the seconds it took (the layer's ``applies`` and
+        ``command``) to the tick context's ``timings``. The controller ticks its nodes
+        with it while the loop times a slow controller
+        (:meth:`~puckboard.behaviours.Controller.time_layers`); ``update`` itself
+        times nothing, so a run that is not timed pays nothing for it."""
+        context = self.context
+        assert context is not None and context.timings is not None
+        timings, start = context.timings, context.clock()
+        try:
+            return LayerNode.update(self)
+        finally:
+            timings[self.name] = timings.get(self.name, 0.0) + context.clock() - start
+
+
+_BOOL = "it must return True or False (a bool)"
+
+
+def _checked_applies(value: object, context: TickContext, layer: str) -> bool:
+    """``value`` as the bool ``applies`` meant (numpy's bool counts), else the
+    :class:`LayerError` saying what it returned: ``None`` would silently read as "never
+    applies" (a missing ``return``), any other object by its truth ("no" as "always")."""
+    if isinstance(value, np.bool_):
+        return bool(value)
+    context.failed_layer = layer
+    if value is None:
+        raise LayerError(f"applies() returned None (is a 'return' missing?); {_BOOL}", layer)
+    raise LayerError(
+        f"applies() returned {reprlib.repr(value)}, a {type(value).__name__}; {_BOOL}", layer
+    )
 
 
 def layer_node(layer: Layer) -> LayerNode:

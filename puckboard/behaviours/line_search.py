@@ -10,7 +10,8 @@ following drive and this layer is suppressed.
 
 It applies while no ground sensor sees the line, and curves towards the remembered
 side: the outer wheel at ``speed``, the inner at ``ratio * speed``. Before it has seen
-the line at all it curves towards ``default_side``.
+the line at all it curves towards ``default_side``, and so again after
+:meth:`~puckboard.behaviours.Controller.reset` (its :meth:`reset` forgets the side).
 
 "Off the line" must mean what the line-following layer means by it: were their two
 thresholds different, a band of readings would be dark to one and light to the other,
@@ -90,6 +91,10 @@ class LineSearch(Layer):
     def last_side(self) -> str:
         """The side the line was last seen on (``default_side`` before it was seen)."""
         return self._last_side or self.default_side
+
+    def reset(self) -> None:
+        """A new start: the line has not been seen yet (curve towards ``default_side``)."""
+        self._last_side = None
 
     def observe(self, frame: Frame) -> None:
         ground = frame.ground

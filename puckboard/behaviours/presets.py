@@ -183,8 +183,25 @@ def split_file_spec(spec: str) -> tuple[Path, str] | None:
 
 def resolve_factory(spec: str | ControllerFactory) -> ControllerFactory:
     """Turn a controller spec into its factory, with errors that say how to fix the spec."""
+    if isinstance(spec, Controller):  # run_episode(..., controller=make()): one object for all
+        raise TypeError(
+            f"got the controller {spec.name!r} itself where its factory belongs (every robot, "
+            "every episode gets a fresh one): pass the function that builds it, "
+            "controller=make rather than controller=make()"
+        )
+    if isinstance(spec, (list, tuple)):
+        raise TypeError(
+            "got a list of layers where a controller factory belongs (every robot needs "
+            "layers of its own): pass a function that returns the list, e.g. "
+            "def make(): return [LineFollow(), Cruise()] and controller=make"
+        )
     if callable(spec):
         return spec
+    if not isinstance(spec, str):
+        raise TypeError(
+            f"a controller is given by name (stock, improved, robust, MODULE:FACTORY) or "
+            f"as a factory function, got {type(spec).__name__} {spec!r:.40}"
+        )
     if spec in CONTROLLERS:
         return CONTROLLERS[spec]
     if ":" not in spec:

@@ -9,6 +9,7 @@ import only ``argparse`` at the top and load the heavy parts inside ``func``, so
 from __future__ import annotations
 
 import argparse
+import difflib
 import importlib
 import logging
 import os
@@ -65,9 +66,16 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, extras = parser.parse_known_args(argv)
     except _ArgumentError as exc:
         print(f"{exc.prog}: error: {exc}", file=sys.stderr)
+        return 2
+    if extras:
+        command = getattr(args, "command", None)
+        if command is None:
+            parser.error(f"unrecognized arguments: {' '.join(extras)}")
+        print(f"puckboard {command}: error: {_unrecognized(parser, command, extras)}",
+              file=sys.stderr)  # fmt: skip
         return 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
@@ -91,6 +99,24 @@ def main(argv: Sequence[str] | None = None) -> int:
         # do, and keep Python from complaining again when it flushes stdout at exit
         _silence_stdout()
         return 0
+
+
+def _unrecognized(parser: argparse.ArgumentParser, command: str, extras: list[str]) -> str:
+    """What the subcommand did not take, said by the subcommand (argparse leaves it to the
+    top-level parser, whose usage names no option of the command): an unknown option
+    with the one that was probably meant, an extra value as one too many (``run A B``)."""
+    options: list[str] = []
+    for action in parser._actions:  # the subcommand's own options
+        if isinstance(action, argparse._SubParsersAction):
+            options = [o for a in action.choices[command]._actions for o in a.option_strings]
+    help_hint = f"see 'puckboard {command} --help'"
+    first = extras[0]
+    if first.startswith("-"):
+        close = difflib.get_close_matches(first.split("=")[0], options, n=1)
+        meant = f" (did you mean {close[0]}?)" if close else ""
+        return f"no option {first}{meant}; {help_hint}"
+    many = "s" if len(extras) > 1 else ""
+    return f"unexpected argument{many} {' '.join(map(repr, extras))} (one too many); {help_hint}"
 
 
 def _silence_stdout() -> None:

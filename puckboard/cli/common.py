@@ -23,6 +23,7 @@ from .._extras import missing_package_message
 
 __all__ = [
     "CliError",
+    "OneController",
     "add_variation_argument",
     "add_web_arguments",
     "bind_error_message",
@@ -33,6 +34,7 @@ __all__ = [
     "check_writable",
     "connection_loss_in_one_line",
     "connection_lost_error",
+    "controller_error",
     "first_line",
     "help_text",
     "missing_extra",
@@ -93,6 +95,30 @@ class _SubcommandParser(argparse.ArgumentParser):
         if sep and flag.startswith("argument ") and detail.startswith(flag[9:] + " "):
             message = detail  # the type's message names the option already (seed_type)
         raise _ArgumentError(self.prog, message)
+
+
+class OneController(argparse.Action):
+    """``--controller`` of a command that runs one controller: given twice it is refused
+    (argparse would keep the last and run it without a word), pointing to ``sweep``,
+    which runs several side by side."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        seen = "_controller_given"
+        if getattr(namespace, seen, None) is not None:
+            first = getattr(namespace, seen)
+            parser.error(
+                f"--controller given twice ({first}, then {values}); "
+                f"{parser.prog} takes one controller: run it once per controller, or compare "
+                f"them with puckboard sweep SCENE --controller {first} --controller {values}"
+            )
+        setattr(namespace, seen, values)
+        setattr(namespace, self.dest, values)
 
 
 # -- shared checks and messages ---------------------------------------------------------------
@@ -286,6 +312,29 @@ def first_line(exc: BaseException) -> str:
     one-line error shows of an exception whose message runs on."""
     text = str(exc).strip() or type(exc).__name__
     return text.splitlines()[0]
+
+
+def controller_error(exc: BaseException, spec: str | None) -> CliError | None:
+    """What every command that builds a controller from ``spec`` (``None``: each robot's
+    from the scene) says when that failed; ``None`` for an error that is not about the
+    controller (a bug, shown with its traceback).
+
+    What puckboard refused in what the code built (a class where an object belongs, a
+    layer without ``command``, an empty controller) is one line saying what to write: a
+    traceback through the user's factory would add nothing to it. An exception of the
+    user's own code is shown as Python shows it (:func:`user_code_error`); any other bad
+    spec (no such file or factory) is one line.
+    """
+    from ..errors import PuckboardError
+
+    if isinstance(exc, PuckboardError):
+        return CliError(first_line(exc))
+    shown = user_code_error(exc, f"the controller {spec!r}" if spec else "a robot's controller")
+    if shown is not None:
+        return shown
+    if isinstance(exc, (ValueError, TypeError, ImportError)):
+        return CliError(first_line(exc))
+    return None
 
 
 def user_code_error(exc: BaseException, what: str, *loaders: Any) -> CliError | None:

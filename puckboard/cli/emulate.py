@@ -153,28 +153,30 @@ def main(args: argparse.Namespace) -> int:
         if serial == "pty":  # no socket involved: the system's reason says it all
             raise CliError(str(exc)) from None
         raise CliError(bind_error_message(exc, args.host, port or 0)) from None
+    emulation.start()  # listening before the banner says where to connect
     info = emulation.info
     banner = sys.stderr if args.json else sys.stdout
-    print(
-        f"emulating robot {emulation.robot.name!r} of scene {emulation.scene.name!r} over "
-        f"{'Wi-Fi (TCP)' if args.protocol == 'wifi' else 'advanced sercom'} at {info.endpoint}",
-        file=banner,
-    )
-    print(f"connect with: {info.command_line(args.scenario)}", file=banner)
-    if emulation.link is not None:
-        low, high = (round(v * 1000, 1) for v in emulation.link.latency)
+    interrupted = False
+    try:  # from the banner on, Ctrl-C ends the emulation with its verdict (or none)
         print(
-            f"every reply is held back {low:g}-{high:g} ms, as on {emulation.link.name}",
+            f"emulating robot {emulation.robot.name!r} of scene {emulation.scene.name!r} over "
+            f"{'Wi-Fi (TCP)' if args.protocol == 'wifi' else 'advanced sercom'} at "
+            f"{info.endpoint}",
             file=banner,
         )
-    print(
-        "the clock starts with the first command; the run ends when the client is done, "
-        "or on Ctrl-C",
-        file=banner,
-        flush=True,
-    )
-    interrupted = False
-    try:
+        print(f"connect with: {info.command_line(args.scenario)}", file=banner)
+        if emulation.link is not None:
+            low, high = (round(v * 1000, 1) for v in emulation.link.latency)
+            print(
+                f"every reply is held back {low:g}-{high:g} ms, as on {emulation.link.name}",
+                file=banner,
+            )
+        print(
+            "the clock starts with the first command; the run ends when the client is done, "
+            "or on Ctrl-C",
+            file=banner,
+            flush=True,
+        )
         result = emulation.run(args.duration)
     except KeyboardInterrupt:
         interrupted = True
@@ -184,12 +186,13 @@ def main(args: argparse.Namespace) -> int:
     data = result.to_dict()
     if args.json:
         print(json.dumps(data, indent=2))
+    elif interrupted and not emulation.robot.commands:  # no verdict: nothing was run
+        print(f"{data['scenario']}: no run (interrupted by Ctrl-C before any client connected)")
     else:
         verdict = "success" if data["success"] else f"failure: {data['failure']}"
         ended = emulation.ended_by or "no client"
         if interrupted:
-            client = "a client was driving" if emulation.robot.commands else "no client yet"
-            ended = f"interrupted by Ctrl-C; {client}"
+            ended = "interrupted by Ctrl-C; a client was driving"
         print(
             f"{data['scenario']}: {verdict} after {data['sim_time_s']:.1f} s of robot time "
             f"(ended: {ended})"

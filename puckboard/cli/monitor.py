@@ -6,12 +6,13 @@ import argparse
 
 from .common import (
     CliError,
+    OneController,
     check_seconds,
     check_speed,
     connection_loss_in_one_line,
+    controller_error,
     require,
     seed_type,
-    user_code_error,
 )
 
 
@@ -32,7 +33,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--backend", default="embedded", help="embedded (default), coppeliasim, epuck2-wifi, sercom"
     )
     p.add_argument(
-        "--controller", default=None, metavar="SPEC", help="override every robot's controller"
+        "--controller",
+        action=OneController,
+        default=None,
+        metavar="SPEC",
+        help="override every robot's controller",
     )
     p.add_argument(
         "--still",
@@ -91,11 +96,10 @@ def main(args: argparse.Namespace) -> int:
             **options,
         )
     except Exception as exc:
-        what = f"the controller {args.controller!r}" if args.controller else "a robot's controller"
-        shown = user_code_error(exc, what)
+        shown = controller_error(exc, args.controller)
         if shown is not None:
             raise shown from None
-        if isinstance(exc, (ValueError, KeyError, TypeError, ImportError, PuckboardError)):
+        if isinstance(exc, (KeyError, PuckboardError)):
             raise CliError(str(exc)) from exc  # a backend's missing extra is named by the registry
         raise
     try:

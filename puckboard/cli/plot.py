@@ -98,9 +98,12 @@ def main(args: argparse.Namespace) -> int:
             w, h = (int(v) for v in args.size.lower().split("x"))
         except ValueError:
             raise CliError(f"--size must look like 800x450, got {args.size!r}") from None
-        if w < 160 or h < 90:
-            raise CliError("--size must be at least 160x90 pixels")
-        size = (w, h)
+        from ..viz.animation import check_size
+
+        try:
+            size = check_size(w, h)
+        except ValueError as exc:
+            raise CliError(f"--{exc}") from None
     # last of the checks (they create a missing folder), before anything is shown or written
     if args.out is not None:
         check_writable(args.out, "--out", folder=True)

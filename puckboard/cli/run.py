@@ -21,6 +21,7 @@ from typing import Any
 
 from .common import (
     CliError,
+    OneController,
     add_variation_argument,
     add_web_arguments,
     check_port,
@@ -28,13 +29,13 @@ from .common import (
     check_speed,
     check_writable,
     connection_loss_in_one_line,
+    controller_error,
     first_line,
     missing_extra,
     require,
     seed_type,
     serve_until_interrupted,
     start_web_view,
-    user_code_error,
     web_url,
 )
 
@@ -62,6 +63,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--controller",
+        action=OneController,
         default=None,
         metavar="stock|improved|robust|MODULE:FACTORY",
         help="controller for every robot (default: each robot's controller in the scene, "
@@ -264,7 +266,7 @@ def main(args: argparse.Namespace) -> int:
         sys.stdout.write(json.dumps(result.to_dict()) + "\n")
         sys.stdout.flush()
     else:
-        print(format_summary(result))
+        print(format_summary(result, simulated=episode.loop.synchronous))
     for path in getattr(outputs, "written", None) or ():
         print(f"wrote {path}", file=sys.stderr)
     if web is not None:
@@ -282,20 +284,13 @@ def _keep_web_view(web: Any) -> None:
 
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:
-    """What to raise when building the episode failed: one line for what puckboard
-    refused, the student's code as Python shows it, one line for other bad input, else
-    the error itself (a bug: its traceback)."""
-    from ..errors import PuckboardError
-
-    if isinstance(exc, PuckboardError):
-        # puckboard refused what the code built (a layer without super().__init__(),
-        # reads as a string): the line says what to write, the traceback would not
-        return CliError(first_line(exc))
-    what = f"the controller {controller!r}" if controller else "a robot's controller"
-    shown = user_code_error(exc, what)
+    """What to raise when building the episode failed: the controller's problem as every
+    command says it (:func:`~puckboard.cli.common.controller_error`), one line for other
+    bad input (a backend's), else the error itself (a bug: its traceback)."""
+    shown = controller_error(exc, controller)
     if shown is not None:
         return shown
-    if isinstance(exc, (ValueError, TypeError, ImportError, OSError)):
+    if isinstance(exc, OSError):
         return CliError(first_line(exc))
     return exc
 
@@ -333,14 +328,27 @@ def _condition_lines(conditions: dict[str, Any] | None) -> list[str]:
     return lines
 
 
-def format_summary(result: Any) -> str:
-    """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
+def format_summary(result: Any, *, simulated: bool = True) -> str:
+    """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`;
+    ``simulated=False`` for a run on a robot (real or emulated), whose time is the run's
+    own, not simulated."""
     d = result.to_dict()
+    steps = (
+        f"{d['steps']} step{'s' * (d['steps'] != 1)} of {d['dt_s'] * 1000:g} ms{_loop_timing(d)}"
+    )
+    if simulated:
+        clock = (
+            f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
+            f"({realtime_text(d['realtime_factor'])} real time, {steps})"
+        )
+    else:
+        clock = f"{d['sim_time_s']:.1f} s on the robot ({steps})"
     lines = [
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
         f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
         f"of {d['dt_s'] * 1000:g} ms{_loop_timing(d)})",
+        f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  {clock}",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",
@@ -349,7 +357,8 @@ def format_summary(result: Any) -> str:
     for r in d["robots"]:
         passed = "-" if alone else "yes" if r["passed_other"] else "no"
         lines.append(
-            f"{r['name']:<12}{r['profile']:<12}{r['progress_laps']:>7.2f}{r['distance_m']:>10.2f}"
+            f"{r['name']:<12}{r['profile']:<12}{_unsigned_zero(r['progress_laps']):>7.2f}"
+            f"{r['distance_m']:>10.2f}"
             f"{r['collisions']:>12d}{r['on_line_fraction'] * 100:>8.0f}%"
             f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
@@ -373,6 +382,12 @@ def format_summary(result: Any) -> str:
             who = f"{e['robot']}: " if e["robot"] else ""
             lines.append(f"  {e['time_s']:7.2f} s  {who}{event_label(e['kind'])}")
     return "\n".join(lines)
+
+
+def _unsigned_zero(value: float, digits: int = 2) -> float:
+    """``value``, or 0.0 when it rounds to zero at ``digits``: a robot that slid back a
+    millimetre made no progress, and the table should not say ``-0.00``."""
+    return value if round(value, digits) != 0 else 0.0
 
 
 def _profile_value_lines(robots: list[dict[str, Any]]) -> list[str]:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .common import CliError, check_writable, user_code_error
+from .common import CliError, OneController, check_writable, controller_error
 
 FORMATS = ("ascii", "unicode", "dot", "png", "svg")
 
@@ -23,6 +23,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--controller",
+        action=OneController,
         default="improved",
         metavar="SPEC",
         help="stock, improved, robust, MODULE:FACTORY or path/file.py:FACTORY (default: improved)",
@@ -55,11 +56,9 @@ def main(args: argparse.Namespace) -> int:
     try:
         controller = load_controller(args.controller)
     except Exception as exc:
-        shown = user_code_error(exc, f"the controller {args.controller!r}")
+        shown = controller_error(exc, args.controller)
         if shown is not None:
             raise shown from None
-        if isinstance(exc, (ValueError, TypeError)):
-            raise CliError(str(exc)) from None
         raise
     try:
         result = render_tree(controller, fmt)

@@ -28,6 +28,8 @@ builds each robot from numbers drawn within its profile's plausible ranges.
 from __future__ import annotations
 
 import dataclasses
+import difflib
+import inspect
 import json
 import logging
 import math
@@ -38,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from ..backends.registry import default_backend, open_backend
+from ..backends.registry import default_backend, open_backend, resolve_backend
 from ..behaviours.controller import Controller
 from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 from ..behaviours.presets import load_controller
@@ -120,6 +122,8 @@ class Episode:
         variation: str = "none",
         **backend_options: Any,
     ) -> None:
+        self.backend = backend if backend is not None else default_backend()
+        _check_call(seed, self.backend, backend_options)
         overrides = dict(overrides or {})
         variation = str(overrides.pop("variation", variation))
         # a generated scene (generated-pass) draws its track from the episode's seed
@@ -136,7 +140,6 @@ class Episode:
         )
         self.scene = vary_scene(self.scene, int(seed), variation, fixed)
         self.seed = int(seed)
-        self.backend = backend if backend is not None else default_backend()
         if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
             self.scene = link_control(self.scene)  # a profile file's measured link timing
         specs = {
@@ -252,6 +255,12 @@ class Episode:
             except Exception:
                 log.exception("episode close observer %r failed", obs)
 
+    def _note_idle_controllers(self) -> None:
+        for name, controller in self.controllers.items():
+            note = _idle_note(name, controller)
+            if note is not None:
+                log.warning("%s", note)
+
     # -- running ---------------------------------------------------------------------------
     def check_duration(self, duration: float | None = None) -> float:
         """``duration`` (default: the scene's) if this episode can run that long: a finite
@@ -294,6 +303,7 @@ class Episode:
             self.wall_s = time.perf_counter() - t0
             self.connection.close()
         self.judge.finish()
+        self._note_idle_controllers()
         steps = (
             self.world.step_count
             if self.world is not None
@@ -338,6 +348,51 @@ def _loop_period(scene: Scene, world: Any) -> float | None:
             "so leave control.latency at 0 on this backend"
         )
     return control.period
+
+
+#: The keywords of :func:`run_episode` itself; the rest go to the backend.
+_OWN_KEYWORDS = (
+    "controller", "seed", "duration", "overrides", "backend", "stop_early", "variation"
+)  # fmt: skip
+
+
+def _check_call(seed: Any, backend: str, options: Mapping[str, Any]) -> None:
+    """Refuse, in the caller's words, a seed numpy would refuse with its own and a
+    misspelt keyword (``seeed=3``), which would otherwise travel on to the backend and
+    come back as "World.__init__() got an unexpected keyword argument"."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a whole number ≥ 0, got {seed!r}")
+    if not options:
+        return
+    try:
+        params = inspect.signature(resolve_backend(backend)).parameters.values()
+    except (ImportError, TypeError, ValueError):
+        return  # the backend itself is the problem: opening it says so
+    named = [p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    open_ended = any(p.kind is p.VAR_KEYWORD for p in params)
+    for key in options:
+        meant = difflib.get_close_matches(key, [*_OWN_KEYWORDS, *named], n=1)
+        if key in named or (open_ended and not (meant and meant[0] in _OWN_KEYWORDS)):
+            continue  # the backend's own option (or one it hands on and checks itself)
+        guess = f" (did you mean {meant[0]}=?)" if meant else ""
+        raise TypeError(
+            f"unexpected keyword {key}={options[key]!r}{guess}; run_episode takes "
+            f"{', '.join(_OWN_KEYWORDS)} and the {backend} backend's options"
+        )
+
+
+def _idle_note(robot: str, controller: Controller) -> str | None:
+    """What to say of a controller none of whose layers ever applied (the robot stood
+    still all run, and the judge can only call it stuck), else ``None``."""
+    if controller.asked_ticks == 0 or controller.driven_ticks:
+        return None
+    names = ", ".join(layer.name for layer in controller.every_layer)
+    return (
+        f"robot {robot!r}: no layer of controller {controller.name!r} applied in any of its "
+        f"{controller.asked_ticks} ticks, so the robot stood still; check what applies() "
+        f"returns in {names} (a bottom layer that always applies, such as Cruise, keeps it "
+        "moving)"
+    )
 
 
 def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:

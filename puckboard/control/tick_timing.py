@@ -5,16 +5,21 @@ simulation the run slows below real time, on a robot the cycles overrun. Without
 the user sees only "0.12x real time" and cannot tell which of their layers is slow. The
 loop times every controller tick (two clock reads); after the first tick longer than
 the period, the next tick is run with every layer's ``observe``, ``applies`` and
-``command`` timed (what a layer's own code spends),
-and one warning names the slowest layer and its time per tick. The timing wraps the
-same calls in the same order, so the run is the same with it.
+``command`` timed (what a layer's own code spends), and one warning names the slowest
+layer and its time per tick.
+
+The layers are timed where the controller calls them (``Controller.tick`` for
+``observe``, each layer's node for ``applies`` and ``command``), for that one tick
+(:meth:`~puckboard.behaviours.Controller.time_layers`); the ticks before and after run
+the untimed code, which pays nothing for the timing. The student's layer objects are
+never touched, and the calls, their order and the run are the same.
 """
 
 from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
@@ -68,32 +73,17 @@ class TickTimer:
         )  # fmt: skip
 
 
-#: What a layer's own code runs in a tick; the node around it is puckboard's.
-_TIMED_METHODS = ("observe", "applies", "command")
-
-
 @contextmanager
 def _timed_layers(controller: Any, spent: dict[str, float]) -> Iterator[None]:
-    """Within the block each layer's ``observe``, ``applies`` and ``command`` add their seconds to
-    ``spent[layer name]`` (instance attributes shadowing the methods, removed after)."""
-    layers = list(getattr(controller, "every_layer", ()))
-    for layer in layers:
-        for method in _TIMED_METHODS:
-            setattr(layer, method, _timed(getattr(layer, method), layer.name, spent))
+    """Within the block the controller adds each layer's seconds to ``spent[layer name]``
+    (:meth:`~puckboard.behaviours.Controller.time_layers`; a controller of another kind
+    is timed as a whole only)."""
+    time_layers = getattr(controller, "time_layers", None)
+    if time_layers is None:
+        yield
+        return
+    time_layers(spent, time.perf_counter)
     try:
         yield
     finally:
-        for layer in layers:
-            for method in _TIMED_METHODS:
-                layer.__dict__.pop(method, None)
-
-
-def _timed(call: Callable[..., Any], name: str, spent: dict[str, float]) -> Callable[..., Any]:
-    def timed(*args: Any, **kwargs: Any) -> Any:
-        t0 = time.perf_counter()
-        try:
-            return call(*args, **kwargs)
-        finally:
-            spent[name] = spent.get(name, 0.0) + time.perf_counter() - t0
-
-    return timed
+        time_layers(None)

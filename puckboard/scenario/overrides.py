@@ -113,7 +113,10 @@ def parse_override(item: str) -> tuple[str, Any]:
     name = name.strip()
     if not sep or not name:
         raise ValueError(f"--set {item!r}: expected NAME=VALUE, e.g. --set noise.wheel_speed=0.05")
-    return name, parse_value(text)
+    value = parse_value(text)
+    if isinstance(value, float) and not math.isfinite(value):  # would reach a wheel or a sum
+        raise ValueError(f"--set {item!r}: {name} must be a finite number, got {text.strip()}")
+    return name, value
 
 
 def parse_overrides(items: Iterable[str]) -> dict[str, Any]:

@@ -30,8 +30,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ANIMATION_SUFFIXES",
+    "MAX_SIZE",
     "VideoSupportError",
     "check_animation_path",
+    "check_size",
     "frame_indices",
     "render_animation",
     "stage_for_recording",
@@ -43,6 +45,11 @@ ANIMATION_SUFFIXES = (".gif", ".mp4")
 
 GIF_SIZE = (800, 450)
 MP4_SIZE = (1280, 720)
+MIN_SIZE = (160, 90)
+MAX_SIZE = (3840, 2160)
+"""The largest animation (pixels): 4K UHD, the largest common screen. Each frame is held
+as RGBA (33 MB at this size); a size of 100000x100000 would ask for 40 GB per frame and
+end in the allocator's own error after a long wait."""
 GIF_COLOURS = 64
 """Palette size of GIFs: the pictures are flat colours, and 64 instead of 256 makes a
 file about a quarter smaller with no visible difference."""
@@ -116,13 +123,9 @@ def frame_indices(
 def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
     """A :class:`~puckboard.viz.stage.Stage` on ``fig`` set up for ``rec``'s robots."""
     from .stage import Stage
-    from .style import robot_colours
+    from .style import layer_order, robot_colours
 
-    layers: list[str] = []
-    for name in rec.robot_names:
-        for layer in rec.robot(name).layers:
-            if layer not in layers:
-                layers.append(layer)
+    layers = layer_order(rec.robot(name).layers for name in rec.robot_names)
     scene = rec.scene
     bounds = _bounds(scene, rec.pose[..., :2])
     return Stage(
@@ -169,6 +172,21 @@ def draw_row(stage: Any, rec: Recording, i: int, trail_start: int = 0) -> None:
     )  # fmt: skip
 
 
+def check_size(width: int, height: int) -> tuple[int, int]:
+    """``(width, height)`` if an animation can be that size (:data:`MIN_SIZE` to
+    :data:`MAX_SIZE` pixels), else a ``ValueError`` saying what fits; checked before
+    anything is allocated."""
+    (w_min, h_min), (w_max, h_max) = MIN_SIZE, MAX_SIZE
+    if width < w_min or height < h_min:
+        raise ValueError(f"size must be at least {w_min}x{h_min} pixels, got {width}x{height}")
+    if width > w_max or height > h_max:
+        raise ValueError(
+            f"size must be at most {w_max}x{h_max} pixels (4K; each frame is held in memory), "
+            f"got {width}x{height}"
+        )
+    return width, height
+
+
 def render_animation(
     rec: Recording,
     path: str | os.PathLike[str],
@@ -195,7 +213,7 @@ def render_animation(
     from matplotlib.figure import Figure
 
     gif = path.suffix.lower() == ".gif"
-    width, height = size or (GIF_SIZE if gif else MP4_SIZE)
+    width, height = check_size(*(size or (GIF_SIZE if gif else MP4_SIZE)))
     dpi = 100.0 * width / 1280.0  # the layout is designed at 1280×720, 100 dpi
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
     FigureCanvasAgg(fig)

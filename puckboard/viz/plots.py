@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..recording.recorder import Recording
-from .style import FONT, LINE, event_label, layer_colours, robot_colours
+from .style import FONT, LINE, event_label, layer_colours, layer_order, robot_colours
 
 __all__ = [
     "PLOT_FORMATS",
@@ -49,12 +49,8 @@ def _colours(rec: Recording) -> dict[str, str]:
 
 def _all_layers(rec: Recording) -> list[str]:
     """Every layer in priority order, then any others that took control."""
-    names: list[str] = []
-    for r in rec.robot_names:
-        names += [n for n in rec.robot(r).layers if n not in names]
     used = {rec.layer_names[k] for k in np.unique(rec.layer) if k >= 0}
-    names += sorted(used - set(names))
-    return names
+    return layer_order((rec.robot(r).layers for r in rec.robot_names), sorted(used))
 
 
 def _style_axes(ax: Any) -> None:

@@ -11,7 +11,7 @@ Nothing here imports matplotlib: colours are ``#rrggbb`` strings any library acc
 from __future__ import annotations
 
 import zlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from .figures import OKABE_ITO
@@ -25,6 +25,7 @@ __all__ = [
     "hex_colour",
     "layer_colour",
     "layer_colours",
+    "layer_order",
     "robot_colours",
     "text_colour",
 ]
@@ -61,6 +62,8 @@ _BY_KEYWORD: tuple[tuple[str, str], ...] = (
     ("wander", _BROWN),
 )
 _EXTRA = (_PURPLE, _SKY, _YELLOW, _GREEN, "#7F7F7F", "#BCBD22", "#17BECF", "#9467BD")
+#: What a layer takes when its role's colour is taken in its run.
+_SPARE = (*_EXTRA, _VERMILLION, _BLUE, _ORANGE, _BROWN)
 
 _ROBOT_PALETTE = ("#2ca02c", "#1f77b4", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2")
 
@@ -106,18 +109,32 @@ def layer_colour(name: str | None) -> str:
 
 
 def layer_colours(names: Sequence[str]) -> dict[str, str]:
-    """Colours for several layers at once; two different unknown layers in one set never
-    share a colour when the palette has room."""
+    """Colours for the layers of one run, each its own: a layer keeps its role's colour
+    (:func:`layer_colour`) unless a layer before it in ``names`` has it already, and then
+    takes the first colour no layer has (``LineFollow`` blue, ``LineSearch`` below it
+    another). Pass the layers in priority order, robot by robot
+    (:func:`layer_order`), and every view of the run colours them alike."""
     out: dict[str, str] = {}
     used: set[str] = set()
-    spare = [c for c in _EXTRA]
     for name in names:
+        if name in out:  # the same layer of another robot's controller
+            continue
         colour = layer_colour(name)
-        if colour in _EXTRA and colour in used:
-            colour = next((c for c in spare if c not in used), colour)
+        if not name.startswith("("):  # "(none)" and "(stale inputs)" keep theirs
+            if colour in used:
+                colour = next((c for c in _SPARE if c not in used), colour)
+            used.add(colour)
         out[name] = colour
-        used.add(colour)
     return out
+
+
+def layer_order(per_robot: Iterable[Sequence[str]], others: Iterable[str] = ()) -> list[str]:
+    """Every robot's layers in priority order (robot by robot, each name once), then
+    ``others``: the order :func:`layer_colours` is handed in every view."""
+    names: list[str] = []
+    for layers in per_robot:
+        names += [n for n in layers if n not in names]
+    return names + [n for n in others if n not in names]
 
 
 def robot_colours(names: Sequence[str], given: Mapping[str, Any] | None = None) -> dict[str, str]:

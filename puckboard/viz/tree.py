@@ -93,8 +93,9 @@ def tree_dot(controller: Controller) -> str:
     import py_trees
 
     graph = py_trees.display.dot_tree(controller.root)
-    from .style import layer_colour, text_colour
+    from .style import layer_colours, text_colour
 
+    colours = layer_colours([layer.name for layer in controller.every_layer])
     graph.set_name("controller")
     priority = {child.name: k for k, child in enumerate(controller.root.children, start=1)}
     by_name = {node.name: node for node in controller.root.iterate()}
@@ -116,8 +117,9 @@ def tree_dot(controller: Controller) -> str:
         node.set("fontsize", "14")
         node.set("fontname", "Helvetica")
         if not behaviour.children:  # a layer: its colour in every other view
-            node.set("fillcolor", f'"{layer_colour(name)}"')
-            node.set("fontcolor", f'"{text_colour(layer_colour(name))}"')
+            colour = colours.get(name, "#e6e6e6")
+            node.set("fillcolor", f'"{colour}"')
+            node.set("fontcolor", f'"{text_colour(colour)}"')
             node.set("shape", "box")
             node.set("style", '"filled,rounded"')
     return graph.to_string()  # type: ignore[no-any-return]

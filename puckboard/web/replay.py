@@ -24,7 +24,7 @@ from ..profile import get_profile
 from ..recording.recorder import Recording
 from ..records import PROX_NAMES
 from ..viz.scene_art import scene_bounds
-from ..viz.style import event_label, layer_colours, robot_colours
+from ..viz.style import event_label, layer_colours, layer_order, robot_colours
 from .state import describe_scene
 
 __all__ = ["REPLAY_FORMAT", "replay_data", "serve_replay"]
@@ -161,7 +161,12 @@ def replay_data(rec: Recording) -> dict[str, Any]:
         "prox_range": rec.meta.get("prox_range"),
         "t": _flat(rec.time, 3),
         "layer_names": layer_names,
-        "layer_colours": layer_colours([*layer_names, "(none)", "(stale inputs)"]),
+        "layer_colours": layer_colours(
+            layer_order(
+                (rec.robot(n).layers for n in rec.robot_names),
+                [*layer_names, "(none)", "(stale inputs)"],
+            )
+        ),
         "tree_status": list(STATUS_NAMES),
         "reads": []
         if d is None

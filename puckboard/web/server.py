@@ -41,6 +41,8 @@ _STATIC = {"/": ("index.html", "text/html"), "/view.js": ("view.js", "text/javas
 #: Messages the page fetches when it needs them instead of receiving them on the stream.
 _FETCHED = frozenset({"details", "replay"})
 _KEEPALIVE_S = 15.0
+#: The page's title as index.html has it: a served replay's page says "replay" instead.
+_LIVE_TITLE = "<title>puckboard — live view</title>".encode()
 
 
 class WebView:
@@ -183,6 +185,8 @@ class WebView:
     # -- handlers (web thread) -----------------------------------------------------------------
     async def _static_file(self, request: web.Request) -> web.Response:
         body, kind = self._static[request.path]
+        if request.path == "/" and "replay" in self._latest:  # the tab names what it shows
+            body = body.replace(_LIVE_TITLE, "<title>puckboard — replay</title>".encode())
         return web.Response(body=body, content_type=kind, headers={"Cache-Control": "no-cache"})
 
     def _message(self, kind: str) -> Any:

@@ -44,7 +44,7 @@ from ..behaviours.tracing import TreeTrace, trace
 from ..profile import get_profile
 from ..records import PROX_NAMES
 from ..viz.scene_art import scene_bounds
-from ..viz.style import event_label, hex_colour, layer_colour, robot_colours
+from ..viz.style import event_label, hex_colour, layer_colour, layer_colours, robot_colours
 
 if TYPE_CHECKING:
     from ..backends.coppeliasim.server.view import ServedView
@@ -158,6 +158,9 @@ class _Follower:
         ]
         #: per robot, the layer changes so far: [time (s), layer]
         self.timelines: list[list[tuple[float, str]]] = [[] for _ in self.names]
+        #: The colour of each layer of this run's controllers, where they are known (a
+        #: local run's): the colours of the run's plots and recordings.
+        self.layer_colours: dict[str, str] = {}
         self._next_frame = 0.0
         self._next_detail = 0.0
         self._rtf_window: deque[tuple[float, float]] = deque(maxlen=int(2 * FRAME_RATE))
@@ -248,8 +251,13 @@ class _Follower:
         """Robot ``i``'s layer changes: this run's, or the previous run's while it is
         shown (the details then say when it ended: ``end``)."""
         line = self.timelines[i] if self.previous is None else self.previous.timelines[i]
-        return [{"t": t, "layer": layer, "colour": layer_colour(layer)}
+        return [{"t": t, "layer": layer, "colour": self.colour_of(layer)}
                 for t, layer in list(line)]  # fmt: skip
+
+    def colour_of(self, layer: str | None) -> str:
+        """``layer``'s colour in this run (its own colour where the controllers are not
+        known)."""
+        return (self.layer_colours.get(layer) if layer else None) or layer_colour(layer)
 
 
 class PreviousRun:
@@ -275,7 +283,7 @@ class PreviousRun:
 
 def _robot_entry(
     name: str, pose: Sequence[float], prox: Sequence[float] | None, wheels: Sequence[float] | None,
-    layer: str | None, driver: str,
+    layer: str | None, driver: str, colour: str | None = None,
 ) -> dict[str, Any]:  # fmt: skip
     return {
         "name": name,
@@ -283,7 +291,7 @@ def _robot_entry(
         "prox": None if prox is None else [_r(d) for d in prox],
         "wheels": None if wheels is None else [_r(w, 3) for w in wheels],
         "layer": layer,
-        "layer_colour": layer_colour(layer),
+        "layer_colour": colour or layer_colour(layer),
         "driver": driver,
     }
 
@@ -302,7 +310,17 @@ class EpisodeFollower(_Follower):
         self.traces: list[TreeTrace | None] = [
             trace(controllers[n]) if n in controllers else None for n in self.names
         ]
-        self._nodes = [None if t is None else page_nodes(t.nodes) for t in self.traces]
+        self.layer_colours = layer_colours(
+            [
+                layer.name
+                for n in self.names
+                if n in controllers
+                for layer in controllers[n].every_layer
+            ]
+        )
+        self._nodes = [
+            None if t is None else page_nodes(t.nodes, self.layer_colours) for t in self.traces
+        ]
         self._ticks = [0 if t is None else t.ticks for t in self.traces]
         self._ticked = [False] * len(self.names)
 
@@ -360,6 +378,7 @@ class EpisodeFollower(_Follower):
             robots.append(_robot_entry(
                 name, poses[i].tolist(), None if prox is None else prox.distance.tolist(),
                 None if cmd is None else (cmd.left, cmd.right), layers[i], "puckboard run",
+                self.colour_of(layers[i]),
             ))  # fmt: skip
         status = "finished" if self.finished else "running"
         self.publish("frame", self._frame(t, now, robots, ep.judge, status))

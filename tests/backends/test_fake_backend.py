@@ -38,3 +38,21 @@ def test_an_unknown_backend_in_the_environment_is_named_in_the_error(monkeypatch
         default_backend()
     assert main(["run", "line-follow", "--duration", "1"]) == 2
     assert "PUCKBOARD_BACKEND='simulink'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value", [-1, float("nan"), float("-inf")])
+def test_a_distance_no_sensor_can_read_is_refused_naming_the_sensor(value):
+    from puckboard.records import PROX_NAMES
+
+    robot = FakeAdapter()
+    with pytest.raises(ValueError) as caught:
+        robot.set_proximity(front_left=value)
+    assert str(caught.value).startswith(
+        f"set_proximity(front_left={value!r}): a distance must be a finite number of metres ≥ 0"
+    )
+    robot.set_proximity(front_left=1.0, right=0.01)  # beyond the range: sees nothing
+    robot.sense_all()
+    distance = robot.ns.get("proximity").value.distance
+    assert distance[PROX_NAMES.index("front_left")] == robot.profile.prox_range
+    assert distance[PROX_NAMES.index("right")] == 0.01
+    robot.close()

@@ -222,6 +222,9 @@ def test_a_layer_reads_every_key_it_declares_and_another_layer_s_only_if_declare
             seen["both"] = (frame.ground is not None, frame.proximity is not None)
             return False
 
+        def command(self, frame):
+            return WheelCommand.stop()
+
     robot = FakeAdapter()
     robot.sense_all()
     controller = Controller([Both(), Misread(("ground",), lambda f: f.ground), Cruise()])

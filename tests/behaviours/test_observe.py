@@ -113,6 +113,9 @@ class Counter(Layer):
     def applies(self, frame):
         return False
 
+    def command(self, frame):
+        return WheelCommand.stop()
+
 
 def test_every_layer_observes_every_tick_inside_decorators_and_composites():
     clock = Clock()

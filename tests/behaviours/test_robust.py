@@ -237,3 +237,17 @@ def test_robust_passes_plausible_physical_robots(scene, seed):
         variation="plausible",
     )
     assert result.success, (result.failure, result.events[-3:])
+
+
+def test_line_search_forgets_the_side_when_the_controller_is_reset():
+    search = LineSearch(MAX, ratio=0.5, default_side="right")
+    ctl = Controller([LineFollow(MAX), search, Cruise(MAX)])
+    ns = Blackboard(clock=Clock()).namespace("r")
+    ns.put("ground", ground(left=0.1))  # seen on the left
+    ctl.tick(ns)
+    assert search.last_side == "left"
+    ctl.reset()
+    assert search.last_side == "right"  # default_side again: a new start
+    ns.put("ground", ground())
+    cmd = ctl.tick(ns)
+    assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(0.5 * MAX))

@@ -230,6 +230,8 @@ def test_a_layer_that_raises_ends_with_a_line_saying_robot_time_and_layer(tmp_pa
         "        if frame.time > 2.0:\n"
         "            raise ZeroDivisionError('the student divided by zero')\n"
         "        return False\n"
+        "    def command(self, frame):\n"
+        "        return None\n"
         "def make():\n"
         "    return Controller([Fragile(), Cruise()])\n",
         encoding="utf-8",

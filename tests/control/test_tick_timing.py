@@ -67,3 +67,60 @@ def test_timing_the_layers_changes_no_result(monkeypatch):
 )
 def test_the_real_time_factor_keeps_two_significant_figures(factor, shown):
     assert realtime_text(factor) == shown
+
+
+def test_timing_leaves_the_layer_objects_alone_and_ends_with_the_tick(monkeypatch, caplog):
+    """The layers are timed where the controller calls them: nothing is set on the
+    student's objects (their methods are theirs in the timed tick too), and outside the
+    timed tick nothing is timed."""
+    clock = Clock()
+    monkeypatch.setattr(tick_timing, "time", types.SimpleNamespace(perf_counter=clock.perf_counter))
+    shadowed: list[set[str]] = []
+
+    class Watched(Layer):
+        def applies(self, frame):  # type: ignore[no-untyped-def]
+            clock.now += 0.3
+            shadowed.append(set(vars(self)) & {"observe", "applies", "command"})
+            return False
+
+        def command(self, frame):  # type: ignore[no-untyped-def]
+            return WheelCommand.stop()
+
+    controller = Controller([Watched(), Cruise()], name="watched")
+    with caplog.at_level(logging.WARNING, logger="puckboard.control.tick_timing"):
+        Episode("line-follow", controller=lambda: controller).run(0.5)
+    assert "its slowest layer, Watched, takes 300 ms" in caplog.text  # the tick was timed
+    assert len(shadowed) > 2 and shadowed == [set()] * len(shadowed)
+    assert controller.context.timings is None
+
+
+def test_time_layers_adds_each_layer_s_seconds_and_stops_when_told():
+    from puckboard.backends import FakeAdapter
+    from puckboard.behaviours.layer import LayerNode
+
+    clock = Clock()
+
+    class Slow(Layer):
+        def observe(self, frame):  # type: ignore[no-untyped-def]
+            clock.now += 0.1
+
+        def applies(self, frame):  # type: ignore[no-untyped-def]
+            clock.now += 0.2
+            return False
+
+        def command(self, frame):  # type: ignore[no-untyped-def]
+            return WheelCommand.stop()
+
+    robot = FakeAdapter()
+    robot.sense_all()
+    controller = Controller([Slow(), Cruise()])
+    spent: dict[str, float] = {}
+    controller.time_layers(spent, clock.perf_counter)
+    controller.tick(robot.ns)
+    assert spent == pytest.approx({"Slow": 0.3, "Cruise": 0.0})
+    controller.time_layers(None)
+    controller.tick(robot.ns)
+    assert spent == pytest.approx({"Slow": 0.3, "Cruise": 0.0})  # untimed: nothing added
+    nodes = [n for n in controller.root.iterate() if isinstance(n, LayerNode)]
+    assert all("update" not in vars(n) for n in nodes)
+    robot.close()

@@ -46,6 +46,9 @@ class SeesDerived(Layer):
         self.seen.append((frame.value("derived/mean_angle"), (enc.left + enc.right) / 2))
         return False
 
+    def command(self, frame: Frame) -> WheelCommand:
+        return WheelCommand.stop()
+
 
 def _loop(*layers: Layer, names=("epuck",)):
     clock = FakeClock(dt=0.05)

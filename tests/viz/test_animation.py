@@ -149,3 +149,26 @@ def test_a_robot_without_a_pose_is_still_shown_robot_centred(rec):
     assert "cm wide" in stage.closeups[1].xaxis.label.get_text()
     ox0, ox1 = stage.overview.get_xlim()
     assert ox1 < 100  # the overview still shows the scene, not the stand-in spot
+
+
+@pytest.mark.parametrize(
+    ("size", "says"),
+    [
+        ("100000x100000", "--size must be at most 3840x2160 pixels (4K; each frame is held in "
+                          "memory), got 100000x100000"),
+        ("100x50", "--size must be at least 160x90 pixels, got 100x50"),
+    ],
+)  # fmt: skip
+def test_an_animation_size_that_cannot_fit_is_refused_before_anything_is_drawn(
+    rec, tmp_path, capsys, size, says
+):
+    from puckboard.cli import main
+
+    rec.save(tmp_path / "run.npz")
+    gif = tmp_path / "clip.gif"
+    argv = ["plot", str(tmp_path / "run.npz"), "--animate", str(gif), "--size", size]
+    assert main([*argv, "--to", "1"]) == 2
+    assert capsys.readouterr().err.strip() == f"puckboard plot: error: {says}"
+    assert not gif.exists()
+    with pytest.raises(ValueError, match="at most 3840x2160"):
+        render_animation(rec, gif, size=(4000, 100))

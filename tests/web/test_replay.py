@@ -78,6 +78,7 @@ def test_the_served_replay_is_the_document_and_stays_read_only(recording):
     try:
         status, page = get(view.url)
         assert status == 200 and b'id="slider"' in page and b"/replay.js" in page
+        assert "<title>puckboard — replay</title>".encode() in page  # not "live view"
         assert get(view.url + "replay.js")[0] == 200
         served = json.loads(get(view.url + "replay.json")[1])
         assert served == json.loads(json.dumps(replay_data(recording)))
@@ -94,6 +95,7 @@ def test_the_live_view_serves_no_replay(recording):
     try:
         episode.run(3.0)
         assert json.loads(get(view.url + "replay.json")[1]) is None
+        assert "<title>puckboard — live view</title>".encode() in get(view.url)[1]
     finally:
         view.close()
 

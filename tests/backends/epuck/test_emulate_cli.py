@@ -177,3 +177,25 @@ def test_ctrl_c_on_emulate_with_a_client_driving_says_it_was_interrupted() -> No
     assert len(verdict) == 1, out
     assert "(ended: interrupted by Ctrl-C; a client was driving)" in verdict[0]
     assert "duration" not in verdict[0]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="Ctrl-C is not a signal one can send there")
+def test_ctrl_c_on_emulate_before_any_client_gives_no_verdict() -> None:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "puckboard", "emulate", "line-follow", "--port", "0"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert proc.stdout is not None
+        banner = [proc.stdout.readline() for _ in range(3)]  # the last is said as it waits
+        assert "at 127.0.0.1:" in banner[0] and "Ctrl-C" in banner[2], banner
+        proc.send_signal(signal.SIGINT)  # Ctrl-C with nobody connected
+        out, err = proc.communicate(timeout=10)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    verdict = [line for line in out.splitlines() if line.startswith("line-follow: ")]
+    assert verdict == [
+        "line-follow: no run (interrupted by Ctrl-C before any client connected)"
+    ], out
+    assert "timeout" not in out and "failure" not in out
