@@ -23,10 +23,10 @@ import datetime
 import re
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, MutableSequence, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Protocol
 
 import numpy as np
 
@@ -88,8 +88,28 @@ class LinkMeasurement:
         return self.cycle.p95
 
 
+class _TimedLink(Protocol):
+    """A link that keeps its round trips (s), as the e-puck links do."""
+
+    @property
+    def round_trips(self) -> MutableSequence[float]: ...
+
+
+class _TimedAdapter(Protocol):
+    """What :func:`measure_link` needs of an adapter: its link and the two calls it
+    times. (The e-puck's ``Link`` protocol leaves its round trips out, so the consumer
+    names them here.)"""
+
+    @property
+    def link(self) -> _TimedLink: ...
+
+    def sense_all(self) -> object: ...
+
+    def stop_wheels(self) -> None: ...
+
+
 def measure_link(
-    adapter: Any,
+    adapter: _TimedAdapter,
     rounds: int,
     *,
     clock: Callable[[], float] = time.perf_counter,

@@ -34,9 +34,18 @@ import re
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .common import CliError, check_port, check_writable, help_text, missing_extra
+
+if TYPE_CHECKING:
+    from collections.abc import Callable, Sequence
+
+    from ..backends.base import Connection
+    from ..calibration.fit import SensorFit
+    from ..calibration.plan import CalibrationPlan
+    from ..calibration.readings import Measurements, PoseReading, Progress
+    from ..calibration.response import WallModel
 
 #: The backends that reach a real (or emulated) e-puck.
 ROBOT_BACKENDS = ("epuck2-wifi", "sercom")
@@ -121,7 +130,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.set_defaults(func=main)
 
 
-def _plan(args: argparse.Namespace) -> Any:
+def _plan(args: argparse.Namespace) -> CalibrationPlan:
     from ..calibration.plan import make_plan
     from ..errors import PuckboardError
     from ..profile import get_profile, resolve_profile
@@ -191,7 +200,7 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _open(backend: str, options: dict[str, Any]) -> Any:
+def _open(backend: str, options: dict[str, Any]) -> Connection:
     from ..backends.registry import open_backend
     from ..errors import PuckboardError
 
@@ -268,10 +277,10 @@ def _fit_what_was_measured(
     args: argparse.Namespace,
     out: Path,
     where: str,
-    plan: Any,
-    measurements: Any,
-    model: Any,
-    fit_all: Any,
+    plan: CalibrationPlan,
+    measurements: Measurements,
+    model: WallModel,
+    fit_all: Callable[[Sequence[PoseReading], WallModel], list[SensorFit]],
 ) -> None:
     """After Ctrl-C: fit the poses measured so far and write the profile from them, or
     say why they are too few. The stops already measured took minutes of a robot's
@@ -303,10 +312,10 @@ def _write_and_report(
     args: argparse.Namespace,
     out: Path,
     where: str,
-    plan: Any,
-    measurements: Any,
-    model: Any,
-    fits: list[Any],
+    plan: CalibrationPlan,
+    measurements: Measurements,
+    model: WallModel,
+    fits: list[SensorFit],
 ) -> int:
     import datetime
 
@@ -372,7 +381,7 @@ class _Display:
     """Which stop, which sensor and how far, on stderr: one line rewritten on a terminal,
     a line per stop otherwise."""
 
-    def __init__(self, *, enabled: bool, plan: Any) -> None:
+    def __init__(self, *, enabled: bool, plan: CalibrationPlan) -> None:
         self.enabled = enabled
         self.tty = sys.stderr.isatty()
         self.t0 = time.monotonic()
@@ -380,7 +389,7 @@ class _Display:
         self.last_stop = -1
         self.shown = False
 
-    def update(self, progress: Any) -> None:
+    def update(self, progress: Progress) -> None:
         if not self.enabled:
             return
         if not self.tty and progress.stop == self.last_stop:

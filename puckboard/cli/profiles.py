@@ -5,9 +5,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .common import CliError
+
+if TYPE_CHECKING:
+    from ..profile import RobotProfile
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -155,7 +158,7 @@ _TABLE_ROWS: tuple[tuple[str, str, str], ...] = (
 )
 
 
-def markdown_table(profiles: list[Any]) -> str:
+def markdown_table(profiles: list[RobotProfile]) -> str:
     """One row per model number, one column per profile: the value and where it comes from.
 
     docs/profiles.md holds this table verbatim, and a test keeps the two in step.

@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from .common import CliError, check_plot_file
 from .experiment_options import (
@@ -32,6 +33,16 @@ from .experiment_options import (
     scene_or_error,
     with_executor,
 )
+
+if TYPE_CHECKING:
+    from ..profile import RobotProfile
+    from ..scenario.scene import Scene
+    from ..sensitivity import SensitivityPlan
+    from ..sensitivity.joint import JointPlan, JointResult
+    from ..sweep.executors import SweepExecutor
+    from ..sweep.store import ResultStore
+
+R = TypeVar("R")  # what an analysis returns
 
 #: Seeds per value unless asked otherwise: a whole profile (the physical e-puck's 16
 #: fields × 7 values, about 2,000 episodes) of one controller in about six minutes on two
@@ -235,7 +246,7 @@ def _refuse_unused(args: argparse.Namespace) -> None:
         )
 
 
-def _run(args: argparse.Namespace, executor: Any) -> int:
+def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     from ..sensitivity import format_result, run_sensitivity
     from ..sweep.signals import interrupts_deferred
 
@@ -260,8 +271,13 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
 
 
 def _execute(
-    args: argparse.Namespace, executor: Any, store: Any, analysis: Any, plan: Any, scene: Any
-) -> Any:
+    args: argparse.Namespace,
+    executor: SweepExecutor | None,
+    store: ResultStore | None,
+    analysis: Callable[..., R],
+    plan: SensitivityPlan | JointPlan,
+    scene: Scene,
+) -> R | None:
     """Run ``analysis`` (one-at-a-time's or the joint one) on the executor with the
     options both methods share; ``None`` when it was stopped (see ``execute``)."""
     from ..sweep import make_progress
@@ -283,7 +299,7 @@ def _execute(
     )
 
 
-def _profiles(args: argparse.Namespace, scene: Any) -> list[Any]:
+def _profiles(args: argparse.Namespace, scene: Scene) -> list[str | RobotProfile]:
     """``--profile`` each as a shipped name or a profile, else the scene's one profile."""
     from ..errors import PuckboardError
     from ..scenario.robot_profiles import scene_profile
@@ -302,11 +318,11 @@ def _profiles(args: argparse.Namespace, scene: Any) -> list[Any]:
     return [scene.robots[0].profile]
 
 
-def _profile_id(profile: Any) -> Any:
+def _profile_id(profile: str | RobotProfile) -> str | list[Any]:
     return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]
 
 
-def _plan(args: argparse.Namespace, scene: Any) -> Any:
+def _plan(args: argparse.Namespace, scene: Scene) -> SensitivityPlan:
     """The analysis's points, checked before any runs as a sweep's are."""
     from ..errors import PuckboardError
     from ..sensitivity import sensitivity_plan
@@ -357,7 +373,7 @@ def _fixed(args: argparse.Namespace) -> dict[str, Any]:
     return fixed
 
 
-def _run_joint(args: argparse.Namespace, executor: Any) -> int:
+def _run_joint(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     from ..errors import PuckboardError
     from ..sensitivity.joint import joint_plan, run_joint
     from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan
@@ -383,6 +399,7 @@ def _run_joint(args: argparse.Namespace, executor: Any) -> int:
     result = _execute(args, executor, store, run_joint, plan, scene)
     if result is None:
         return 1
+    assert result.sweep is not None  # run, not read --from: it has its sweep
     _show_joint(args, result, stored=str(args.out) if store is not None else None)
     return exit_status(args, result.sweep, stored=store is not None, command="sensitivity")
 
@@ -418,7 +435,7 @@ def _from_file(args: argparse.Namespace) -> int:
     return 0
 
 
-def _show_joint(args: argparse.Namespace, result: Any, stored: str | None) -> None:
+def _show_joint(args: argparse.Namespace, result: JointResult, stored: str | None) -> None:
     from ..sensitivity.joint import format_joint
 
     if args.json:

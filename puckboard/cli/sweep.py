@@ -10,7 +10,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .common import CliError, add_variation_argument
 from .experiment_options import (
@@ -27,6 +27,12 @@ from .experiment_options import (
     wall_time,
     with_executor,
 )
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+    from ..sweep.executors import SweepExecutor
+    from ..sweep.plan import SweepPlan
+    from ..sweep.run import SweepResult
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -141,7 +147,7 @@ def _episode_count(args: argparse.Namespace) -> int | None:
     return len(plan)
 
 
-def _run(args: argparse.Namespace, executor: Any) -> int:
+def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     from ..sweep import make_progress, run_sweep
     from ..sweep.signals import interrupts_deferred
 
@@ -175,7 +181,7 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
     return exit_status(args, result, stored=store is not None)
 
 
-def _plan(args: argparse.Namespace, scene: Any) -> Any:
+def _plan(args: argparse.Namespace, scene: Scene) -> SweepPlan:
     """The grid of episodes, checked before any runs: a bad controller spec or value is an
     error, as in 'run'; a graded submission that will fail is a warning ('error' episodes)."""
     from ..sweep import PlanError, SweepPlan, check_plan, controllers_in_dir
@@ -223,7 +229,7 @@ def _profile_parameters(ref: str) -> dict[str, Any]:
         raise CliError(str(exc)) from None
 
 
-def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
+def _plot_param(args: argparse.Namespace, plan: SweepPlan) -> str | None:
     if args.plot_param is not None and args.plot is None:
         raise CliError(
             "--plot-param chooses the x axis of --plot; add --plot FILE (.png, .svg, .pdf)"
@@ -238,7 +244,12 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
 
 
 def _report(
-    args: argparse.Namespace, plan: Any, result: Any, *, stored: bool, plot_param: str | None
+    args: argparse.Namespace,
+    plan: SweepPlan,
+    result: SweepResult,
+    *,
+    stored: bool,
+    plot_param: str | None,
 ) -> None:
     """The summary table (or JSON), the ranking of several controllers, and the plot."""
     from ..sweep.plan import written_values

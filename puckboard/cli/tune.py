@@ -14,7 +14,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .common import CliError, add_variation_argument, missing_extra, user_code_error
 from .experiment_options import (
@@ -25,6 +25,14 @@ from .experiment_options import (
     scene_or_error,
     with_executor,
 )
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from ..sweep.executors import SweepExecutor
+    from ..tune import TuneResult, TuneSpec
+    from ..tune.run import TrialEvent
+    from ..tune.space import Choice, Param
 
 DEFAULT_TRIALS = 20
 
@@ -139,7 +147,7 @@ def _tune(args: argparse.Namespace) -> int:
     return with_executor(args, _run)
 
 
-def _spec(args: argparse.Namespace) -> Any:
+def _spec(args: argparse.Namespace) -> TuneSpec:
     """The study's command, checked before any runs: parameters against the controller,
     seeds, profiles and fixed settings against the scenes as a sweep checks them."""
     from ..errors import PuckboardError
@@ -202,7 +210,7 @@ def _spec(args: argparse.Namespace) -> Any:
     return spec
 
 
-def _check_space(params: Any, controller: str) -> None:
+def _check_space(params: Sequence[Param | Choice], controller: str) -> None:
     """:func:`~puckboard.tune.check_space`; an error in the user's own controller file
     shown as Python shows it, as ``run`` does."""
     from ..tune import SpaceError, check_space
@@ -227,7 +235,7 @@ def _validate_seeds(text: str) -> range:
         raise PlanError(str(exc).replace("--seeds", "--validate", 1)) from None
 
 
-def _run(args: argparse.Namespace, executor: Any) -> int:
+def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     from ..sweep.progress import make_progress
     from ..sweep.signals import interrupts_deferred
     from ..tune import Interrupted, StudyMismatch, run_tune
@@ -270,13 +278,13 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
     return 0
 
 
-def _show_trial(event: Any) -> None:
+def _show_trial(event: TrialEvent) -> None:
     from ..sweep.progress import _clock
 
     state = "pruned" if event.pruned else "complete"
     best = (
         f"best so far: trial {event.best_number}, worst cell {100 * event.best_worst:.1f} %"
-        if event.best_number is not None
+        if event.best_number is not None and event.best_worst is not None  # set together
         else "no trial complete yet"
     )
     left = "?" if event.seconds_left is None else _clock(event.seconds_left)
@@ -288,7 +296,7 @@ def _show_trial(event: Any) -> None:
     )
 
 
-def _report(args: argparse.Namespace, result: Any) -> None:
+def _report(args: argparse.Namespace, result: TuneResult) -> None:
     from ..tune import format_result, result_dict
 
     if args.json:

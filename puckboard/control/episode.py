@@ -36,14 +36,14 @@ import math
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..backends.registry import default_backend, open_backend, resolve_backend
 from ..behaviours.controller import Controller
 from ..behaviours.overrides import apply_layer_overrides, factory_keywords
-from ..behaviours.presets import load_controller
+from ..behaviours.presets import ControllerFactory, load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
@@ -57,6 +57,10 @@ from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
 from .loop import ControlLoop
+
+if TYPE_CHECKING:
+    from ..backends.base import RobotAdapter
+    from ..sim.world import World
 
 __all__ = ["MAX_STEPS", "Episode", "check_steps", "run_episode"]
 
@@ -94,7 +98,12 @@ def _resolve_scene(scene: Scene | str | Path) -> Scene:
 
 
 def _robot_controller(
-    spec: Any, robot: str, scene: Scene, keywords: Mapping[str, Any], *, from_scene: bool
+    spec: str | ControllerFactory,
+    robot: str,
+    scene: Scene,
+    keywords: Mapping[str, Any],
+    *,
+    from_scene: bool,
 ) -> Controller:
     """Robot ``robot``'s controller, its factory handed ``keywords``; a bad spec the scene
     gave names the scene's file and the robot, since the spec is not on the command line
@@ -115,7 +124,7 @@ class Episode:
         self,
         scene: Scene | str | Path,
         *,
-        controller: Any = None,
+        controller: str | ControllerFactory | None = None,
         seed: int = 0,
         backend: str | None = None,
         overrides: Mapping[str, Any] | None = None,
@@ -335,7 +344,7 @@ class Episode:
         return self.result
 
 
-def _loop_period(scene: Scene, world: Any) -> float | None:
+def _loop_period(scene: Scene, world: World | None) -> float | None:
     """The control period the scene asks for (None: the loop's default, one step or a real
     robot's 0.05 s). A latency is simulated by the embedded world, which delays each
     wheel command itself; on any other backend the delay is the link's own, so a scene
@@ -395,7 +404,7 @@ def _idle_note(robot: str, controller: Controller) -> str | None:
     )
 
 
-def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:
+def _driven_profiles(scene: Scene, adapters: Mapping[str, RobotAdapter]) -> Scene:
     """``scene`` with every robot given the profile of the robot actually driven.
 
     A simulator builds its robots from the scene, but a real robot (or the emulator
@@ -435,7 +444,7 @@ def _show_tree(tr: TreeTrace, show: Callable[[str], None]) -> None:
     tr.listeners.append(listener)
 
 
-def _label(specs: Mapping[str, Any]) -> str:
+def _label(specs: Mapping[str, str | ControllerFactory]) -> str:
     names = []
     for spec in specs.values():
         text = spec if isinstance(spec, str) else getattr(spec, "__name__", repr(spec))
@@ -447,7 +456,7 @@ def _label(specs: Mapping[str, Any]) -> str:
 def run_episode(
     scene: Scene | str | Path,
     *,
-    controller: Any = None,
+    controller: str | ControllerFactory | None = None,
     seed: int = 0,
     duration: float | None = None,
     overrides: Mapping[str, Any] | None = None,

@@ -11,7 +11,10 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .episode import Episode
 
 __all__ = ["RealTimePacer"]
 
@@ -37,7 +40,7 @@ class RealTimePacer:
         self._sleep = sleep or time.sleep
         self._start: tuple[float, float] | None = None  # (simulation time, wall time)
 
-    def __call__(self, episode: Any) -> None:
+    def __call__(self, episode: Episode) -> None:
         if not getattr(episode.loop, "synchronous", False):
             return  # a real robot: its loop already keeps wall-clock time
         now_sim, now_wall = float(episode.time), self._clock()

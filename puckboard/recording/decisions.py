@@ -37,12 +37,15 @@ import dataclasses
 import logging
 import math
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
 from ..behaviours.tracing import STATUS_NAMES, TreeTrace, trace
+
+if TYPE_CHECKING:
+    from ..behaviours.controller import Controller
 
 __all__ = ["DecisionRecorder", "Decisions"]
 
@@ -186,7 +189,7 @@ class DecisionRecorder:
     once per recorded cycle, right after the controllers ticked."""
 
     def __init__(
-        self, robot_names: Sequence[str], controllers: Mapping[str, Any], capacity: int
+        self, robot_names: Sequence[str], controllers: Mapping[str, Controller], capacity: int
     ) -> None:
         self.robot_names = tuple(robot_names)
         self.controllers = [controllers.get(name) for name in self.robot_names]

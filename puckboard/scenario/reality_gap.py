@@ -30,7 +30,7 @@ import numpy as np
 
 from ..profile.links import draw_timing, get_link
 from .conditions import apply_conditions, hand_placed, with_reflectance
-from .scene import Scene
+from .scene import CircleObstacle, PolygonObstacle, Scene
 
 __all__ = [
     "CONDITION_RANGES",
@@ -164,7 +164,7 @@ class DrawnConditions:
         return out
 
 
-def _name(obstacle: Any, index: int) -> str:
+def _name(obstacle: CircleObstacle | PolygonObstacle, index: int) -> str:
     return str(obstacle.name) or f"obstacle{index + 1}"
 
 

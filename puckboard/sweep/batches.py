@@ -24,9 +24,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .plan import EpisodeSpec
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["MAX_BATCH", "TASKS_PER_WORKER", "balance_order", "make_batches"]
 
@@ -59,7 +62,7 @@ def make_batches(
     return batches
 
 
-def step_limit(spec: EpisodeSpec, scene: Any) -> float:
+def step_limit(spec: EpisodeSpec, scene: Scene) -> float:
     """The most steps an episode of ``spec`` may take (its parameters, else the scene's)."""
     params = spec.param_dict
     duration = float(params.get("duration", scene.duration))
@@ -67,7 +70,7 @@ def step_limit(spec: EpisodeSpec, scene: Any) -> float:
     return duration / dt
 
 
-def balance_order(specs: Sequence[EpisodeSpec], scene: Any) -> list[EpisodeSpec]:
+def balance_order(specs: Sequence[EpisodeSpec], scene: Scene) -> list[EpisodeSpec]:
     """``specs`` with the longest step limit first, then group by group in turn."""
     group: dict[tuple[str, tuple[tuple[str, Any], ...]], int] = {}
     position: list[tuple[float, int, int, int]] = []

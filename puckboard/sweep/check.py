@@ -16,14 +16,17 @@ and their episodes count as ``error``.
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .plan import SCENE_CONTROLLERS, PlanError, SweepPlan, episode_overrides
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["check_plan"]
 
 
-def check_plan(plan: SweepPlan, scene: Any, *, tolerate: Collection[str] = ()) -> list[str]:
+def check_plan(plan: SweepPlan, scene: Scene, *, tolerate: Collection[str] = ()) -> list[str]:
     """Refuse, with :class:`PlanError`, a plan whose episodes would fail on their inputs.
 
     Every parameter combination is applied to ``scene`` (profiles, noise levels, ``dt``
@@ -59,12 +62,12 @@ def _describe(combo: Mapping[str, Any]) -> str:
     return f"parameters {values}" if values else "the scene"
 
 
-def _robot_specs(spec: str, scene: Any) -> dict[str, str]:
+def _robot_specs(spec: str, scene: Scene) -> dict[str, str]:
     """Each robot's controller spec in an episode of controller ``spec``."""
     return {r.name: (r.controller if spec == SCENE_CONTROLLERS else spec) for r in scene.robots}
 
 
-def _check_layer_names(plan: SweepPlan, scene: Any, tolerate: Collection[str]) -> None:
+def _check_layer_names(plan: SweepPlan, scene: Scene, tolerate: Collection[str]) -> None:
     """A ``layer.<Name>.<attr>`` that no controller of the plan has is a typo in the
     parameter, whoever's controllers are swept; say so rather than blame each one."""
     from ..behaviours import load_controller
@@ -99,7 +102,7 @@ def _check_layer_names(plan: SweepPlan, scene: Any, tolerate: Collection[str]) -
             )
 
 
-def _controller_problem(spec: str, scene: Any, combos: list[dict[str, Any]]) -> str | None:
+def _controller_problem(spec: str, scene: Scene, combos: list[dict[str, Any]]) -> str | None:
     """Why episodes of controller ``spec`` would fail on their inputs, or None.
 
     Built afresh for each combination with layer or factory parameters (their values are checked

@@ -15,7 +15,10 @@ import math
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..profile.model import RobotProfile
 
 __all__ = [
     "LABEL_PREFIX",
@@ -125,7 +128,7 @@ def params_key(params: Mapping[str, Any]) -> str:
     )
 
 
-def profile_parameters(profile: Any) -> dict[str, Any]:
+def profile_parameters(profile: str | RobotProfile) -> dict[str, Any]:
     """The episode parameters that give every robot ``profile``: a shipped profile by its
     name; a changed one (a profile file) as its base plus each value it sets, so that every
     episode's identity holds the numbers it ran with and no worker needs the file."""

@@ -18,7 +18,8 @@ import logging
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
@@ -29,6 +30,9 @@ from .signals import Terminated
 from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep"]
 
@@ -115,7 +119,7 @@ class SweepResult:
 
 def run_sweep(
     plan: SweepPlan,
-    scene: Any,
+    scene: Scene | str | Path,
     *,
     executor: SweepExecutor | None = None,
     store: ResultStore | None = None,
@@ -134,7 +138,7 @@ def run_sweep(
     """
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
-    if not hasattr(scene, "robots"):
+    if isinstance(scene, (str, Path)):  # a Scene (or anything with its fields) is used as is
         from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)

@@ -15,11 +15,17 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .plan import SCENE_CONTROLLERS, EpisodeSpec, episode_overrides
 from .rows import error_row, result_row
 from .watchdog import call_with_wall_limit
+
+if TYPE_CHECKING:
+    from multiprocessing.connection import Connection
+    from multiprocessing.synchronize import Event
+
+    from ..scenario.scene import Scene
 
 __all__ = ["LocalStopFlag", "init_local_worker", "run_batch", "run_spec", "worker_ready"]
 
@@ -27,7 +33,7 @@ log = logging.getLogger(__name__)
 
 
 def run_spec(
-    scene: Any,
+    scene: Scene,
     scenario: str,
     spec: EpisodeSpec,
     aliases: Mapping[str, str] | None = None,
@@ -66,7 +72,7 @@ def run_spec(
 
 
 def run_batch(
-    scene: Any,
+    scene: Scene,
     scenario: str,
     specs: Sequence[EpisodeSpec],
     aliases: Mapping[str, str] | None = None,
@@ -118,7 +124,7 @@ class LocalStopFlag:
         return _stop_event is not None and bool(_stop_event.is_set())
 
 
-def init_local_worker(parent_alive: Any, stop_event: Any) -> None:
+def init_local_worker(parent_alive: Connection, stop_event: Event) -> None:
     """Initializer of a local worker process.
 
     * Ignore Ctrl-C: it reaches every process of the terminal's group, but the parent

@@ -28,6 +28,8 @@ from ..sweep.rows import Outcome
 from ..sweep.stats import wilson_interval
 
 if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+    from ..sweep.executors import SweepExecutor
     from ..sweep.progress import Progress
 
 __all__ = ["Cell", "CellRate", "Interrupted", "Score", "cell_rates", "rounds", "run_cells"]
@@ -157,13 +159,13 @@ def cell_rates(outcomes: Iterable[tuple[Cell, Outcome]], cells: Sequence[Cell]) 
 
 
 def run_cells(
-    scenes: Sequence[Any],
+    scenes: Sequence[Scene],
     profiles: Sequence[str],
     controller: str,
     seeds: range,
     params: Mapping[str, Any],
     *,
-    executor: Any,
+    executor: SweepExecutor | None,
     episode_timeout: float | None = None,
     progress: Progress | None = None,
 ) -> list[tuple[Cell, Outcome]]:
@@ -207,12 +209,12 @@ class _Counted:
 
 
 def _run_scene(
-    scene: Any,
+    scene: Scene,
     profiles: Sequence[str],
     controller: str,
     seeds: range,
     params: Mapping[str, Any],
-    executor: Any,
+    executor: SweepExecutor | None,
     episode_timeout: float | None,
     progress: Progress | None,
 ) -> list[tuple[Cell, Outcome]]:

@@ -37,6 +37,13 @@ from .space import Choice, Param, shipped_values, trial_zero
 from .storage import COMMAND_ATTR, finished_trials, open_study
 
 if TYPE_CHECKING:
+    from optuna.pruners import BasePruner
+    from optuna.samplers import BaseSampler
+    from optuna.study import Study
+    from optuna.trial import FrozenTrial, Trial
+
+    from ..scenario.scene import Scene
+    from ..sweep.executors import SweepExecutor
     from ..sweep.progress import Progress
 
 __all__ = ["DEFAULT_ROUNDS", "TrialEvent", "TuneResult", "TuneSpec", "run_tune", "seeds_text"]
@@ -54,7 +61,7 @@ _VALIDATION_ATTR = "puckboard.validation"
 class TuneSpec:
     """What a study tunes and on which episodes (the command that made it)."""
 
-    scenes: tuple[Any, ...]
+    scenes: tuple[Scene, ...]
     controller: str
     params: tuple[Param | Choice, ...]
     seeds: range
@@ -156,7 +163,7 @@ class TuneResult:
         ]
 
 
-def _sampler(seed: int) -> Any:
+def _sampler(seed: int) -> BaseSampler:
     """TPE seeded with ``seed`` (wrapped into the 32 bits a numpy seed takes, so that
     the study's seed plus a trial's index never leaves them)."""
     import optuna
@@ -164,13 +171,13 @@ def _sampler(seed: int) -> Any:
     return optuna.samplers.TPESampler(seed=seed % 2**32, multivariate=True)
 
 
-def _pruner() -> Any:
+def _pruner() -> BasePruner:
     import optuna
 
     return optuna.pruners.MedianPruner(n_startup_trials=PRUNE_AFTER_TRIALS, n_warmup_steps=1)
 
 
-def _in_study_order(spec: TuneSpec, study: Any) -> TuneSpec:
+def _in_study_order(spec: TuneSpec, study: Study) -> TuneSpec:
     """``spec`` with its parameters in the order of the command that made the study: the
     same parameters given in another order are the same study, and drawing them in the
     study's order keeps its trials what they were."""
@@ -184,7 +191,7 @@ def run_tune(
     spec: TuneSpec,
     trials: int,
     *,
-    executor: Any,
+    executor: SweepExecutor | None,
     study_path: Path | None = None,
     episode_timeout: float | None = None,
     on_trial: Callable[[TrialEvent], None] | None = None,
@@ -240,10 +247,10 @@ def run_tune(
 
 def _evaluate(
     spec: TuneSpec,
-    trial: Any,
+    trial: Trial,
     values: Mapping[str, Any],
     design_rounds: Sequence[range],
-    executor: Any,
+    executor: SweepExecutor | None,
     episode_timeout: float | None,
 ) -> tuple[bool, list[CellRate], int]:
     """Run the trial round by round; ``(pruned, rates so far, rounds run)``."""
@@ -264,7 +271,7 @@ def _evaluate(
 
 
 def _event(
-    study: Any, finished: Sequence[Any], number: int, total: int, pruned: bool, ran: int,
+    study: Study, finished: Sequence[FrozenTrial], number: int, total: int, pruned: bool, ran: int,
     t0: float,
 ) -> TrialEvent:  # fmt: skip
     best = _best(study)
@@ -278,14 +285,14 @@ def _event(
         finished=done,
         total=total,
         pruned=pruned,
-        best_value=None if best is None else float(best.value),
+        best_value=None if best is None or best.value is None else float(best.value),
         best_number=None if best is None else _finished_number(finished, best),
         best_worst=worst,
         seconds_left=elapsed / ran * max(0, total - done) if ran else None,
     )
 
 
-def _best(study: Any) -> Any:
+def _best(study: Study) -> FrozenTrial | None:
     """The complete trial with the highest score (Optuna's: the earliest of equals), or
     ``None`` before any completed."""
     try:
@@ -294,12 +301,12 @@ def _best(study: Any) -> Any:
         return None
 
 
-def _finished_number(finished: Sequence[Any], trial: Any) -> int:
+def _finished_number(finished: Sequence[FrozenTrial], trial: Trial | FrozenTrial) -> int:
     """``trial``'s place among the finished trials: the number the report gives it."""
     return next(i for i, t in enumerate(finished) if t.number == trial.number)
 
 
-def _result(study: Any, spec: TuneSpec, *, ran: int, skipped: int) -> TuneResult:
+def _result(study: Study, spec: TuneSpec, *, ran: int, skipped: int) -> TuneResult:
     trials = []
     finished = finished_trials(study)
     for number, t in enumerate(finished):
@@ -330,10 +337,10 @@ def _label(spec: TuneSpec, name: str) -> str:
 
 
 def _validate(
-    study: Any,
+    study: Study,
     spec: TuneSpec,
     best: Mapping[str, Any],
-    executor: Any,
+    executor: SweepExecutor | None,
     timeout: float | None,
     progress: Progress | None,
 ) -> list[CellRate]:

@@ -27,7 +27,10 @@ import inspect
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
+
+if TYPE_CHECKING:
+    from optuna.trial import Trial
 
 __all__ = [
     "KINDS",
@@ -97,7 +100,7 @@ class Param:
             return False
         return self.low <= value <= self.high
 
-    def suggest(self, trial: Any) -> float | int:
+    def suggest(self, trial: Trial) -> float | int:
         """Draw this parameter's value for an Optuna ``trial``."""
         if self.integer:
             return int(trial.suggest_int(self.name, int(self.low), int(self.high), log=self.log))
@@ -126,8 +129,8 @@ class Choice:
     def holds(self, value: Any) -> bool:
         return any(type(value) is type(c) and value == c for c in self.choices)
 
-    def suggest(self, trial: Any) -> ChoiceValue:
-        return trial.suggest_categorical(self.name, self.choices)  # type: ignore[no-any-return]
+    def suggest(self, trial: Trial) -> ChoiceValue:
+        return trial.suggest_categorical(self.name, self.choices)  # type: ignore[return-value]  # one of choices: no None
 
 
 def _number(value: float) -> str:

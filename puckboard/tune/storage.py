@@ -28,7 +28,13 @@ import tempfile
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from optuna.pruners import BasePruner
+    from optuna.samplers import BaseSampler
+    from optuna.study import Study
+    from optuna.trial import FrozenTrial
 
 __all__ = ["COMMAND_ATTR", "STUDY_NAME", "StudyMismatch", "finished_trials", "open_study"]
 
@@ -50,7 +56,9 @@ def _quiet_optuna() -> Any:
     return optuna
 
 
-def open_study(path: Path | None, command: Mapping[str, Any], *, sampler: Any, pruner: Any) -> Any:
+def open_study(
+    path: Path | None, command: Mapping[str, Any], *, sampler: BaseSampler, pruner: BasePruner
+) -> Study:
     """The study in ``path`` (created when missing; in memory without ``path``), checked
     to have been made by ``command``."""
     optuna = _quiet_optuna()
@@ -154,7 +162,7 @@ def _finished_in(journal: bytes) -> int:
             return 0
 
 
-def finished_trials(study: Any) -> list[Any]:
+def finished_trials(study: Study) -> list[FrozenTrial]:
     """Trials that ended (complete or pruned), in the order they ran: what a resumed
     study skips."""
     from optuna.trial import TrialState

@@ -17,7 +17,7 @@ from ...errors import ConnectionLostError
 from ...profile import EPUCK1, EPUCK2, RobotProfile, get_profile
 from ..base import Connection
 from .adapter import EPuckReal
-from .link import LinkBase
+from .link import Link
 from .sercom_link import SercomLink
 from .transport import SerialTransport, TcpTransport
 from .wifi_codec import DEFAULT_PORT
@@ -130,7 +130,7 @@ def open_sercom(
     profile = EPUCK1 if model == "e-puck1" else EPUCK2
     transport = SerialTransport(device, baudrate=baudrate)
     try:
-        link: LinkBase = SercomLink(transport, model=model, timeout=timeout, retries=retries)
+        link = SercomLink(transport, model=model, timeout=timeout, retries=retries)
     except Exception:
         transport.close()
         raise
@@ -139,7 +139,7 @@ def open_sercom(
 
 def _connect(
     scene: Scene | str | Path | None,
-    link: Any,
+    link: Link,
     profile: RobotProfile,
     blackboard: Blackboard | None,
     name: str | None,

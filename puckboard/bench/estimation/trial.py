@@ -25,6 +25,7 @@ from ...records import Sensor
 
 if TYPE_CHECKING:
     from ...behaviours.presets import ControllerFactory
+    from ...control.episode import Episode
 
 __all__ = ["CHI2_95_2DOF", "VARIANTS", "Trace", "four_digits", "run_case"]
 
@@ -147,7 +148,7 @@ def run_case(
         shadows[name] = {"axle +1 mm": OdometryFilter(wrong, initial=start)}
         last_theta[name] = start[2]
 
-    def after_cycle(ep: Any) -> None:
+    def after_cycle(ep: Episode) -> None:
         for i, name in enumerate(names):
             ns = ep.connection.adapters[name].ns
             # (1) the blackboard estimate, against the truth read in the same sensing pass

@@ -27,7 +27,7 @@ import dataclasses
 import json
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -49,6 +49,15 @@ from .estimate import (
     ranking_outcome,
     strongest_interaction,
 )
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from ...profile import RobotProfile
+    from ...scenario.scene import Scene
+    from ...sweep.executors import SweepExecutor
+    from ...sweep.progress import Progress
+    from ...sweep.store import ResultStore
 
 __all__ = [
     "JointAnalysis",
@@ -85,7 +94,7 @@ class JointPlan:
 def joint_plan(
     scenario: str,
     *,
-    profiles: Sequence[Any],
+    profiles: Sequence[str | RobotProfile],
     controllers: Sequence[str],
     seeds: range,
     fixed: Mapping[str, Any] | None = None,
@@ -400,12 +409,12 @@ def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> Jo
 
 def run_joint(
     plan: JointPlan,
-    scene: Any,
+    scene: Scene | str | Path,
     *,
-    executor: Any = None,
-    store: Any = None,
+    executor: SweepExecutor | None = None,
+    store: ResultStore | None = None,
     batch_size: int | None = None,
-    progress: Any = None,
+    progress: Progress | None = None,
     episode_timeout: float | None = None,
 ) -> JointResult:
     """Run every episode of ``plan`` not yet in ``store`` (as

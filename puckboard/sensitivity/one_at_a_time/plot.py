@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ...sweep.summary import controller_labels
 from ...viz.figures import COLOURS, FONT, new_figure
 from ..units import shown_scale
 from .summary import Analysis, FieldResult, SensitivityResult
+
+if TYPE_CHECKING:
+    from ...sweep.summary import GroupSummary
 
 __all__ = ["plot_sensitivity"]
 
@@ -34,7 +37,7 @@ def _field_order(analyses: list[Analysis]) -> list[str]:
 
 
 def _label(analysis: Analysis, names: dict[str, str]) -> str:
-    def rate(g: Any) -> str:
+    def rate(g: GroupSummary | None) -> str:
         return "–" if g is None else f"{100 * g.success_rate:.0f} %"
 
     return (

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ...sweep.executors import SweepExecutor
 from ...sweep.plan import params_key, seeds_text
@@ -23,6 +23,11 @@ from ...sweep.run import SweepResult, run_sweep
 from ...sweep.store import ResultStore
 from ...sweep.summary import GroupSummary, summarise
 from .plan import PLAUSIBLE, SHIPPED, Field, SensitivityPlan
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from ...scenario.scene import Scene
 
 __all__ = [
     "Analysis",
@@ -196,7 +201,7 @@ class SensitivityResult:
 
 def run_sensitivity(
     plan: SensitivityPlan,
-    scene: Any,
+    scene: Scene | str | Path,
     *,
     executor: SweepExecutor | None = None,
     store: ResultStore | None = None,
