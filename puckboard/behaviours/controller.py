@@ -151,18 +151,7 @@ class Controller:
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
-            if context.timings is None:
-                for layer, frame in self._frames:  # every layer sees every tick, whoever drives
-                    frame.point_at(snapshot)
-                    try:
-                        layer.observe(frame)
-                    except Exception as exc:
-                        error = context.blame(layer.name, exc)
-                        if error is None:
-                            raise
-                        raise error from exc
-            else:
-                self._observe_timed(snapshot, context.timings)
+            self._observe(snapshot, context.timings)  # every layer, whoever drives
             self.tree.tick()
             self.asked_ticks += 1
             proposal = context.proposal
@@ -180,13 +169,13 @@ class Controller:
         )
         return cmd
 
-    def _observe_timed(self, snapshot: Snapshot, timings: dict[str, float]) -> None:
-        """Every layer observes, as in :meth:`tick`, each adding its seconds to
-        ``timings``."""
+    def _observe(self, snapshot: Snapshot, timings: dict[str, float] | None) -> None:
+        """Every layer observes the snapshot (subsumption: arbitration suppresses outputs,
+        not perception); with ``timings``, each adds the seconds its ``observe`` took."""
         context = self.context
         for layer, frame in self._frames:
             frame.point_at(snapshot)
-            start = context.clock()
+            start = context.clock() if timings is not None else 0.0
             try:
                 layer.observe(frame)
             except Exception as exc:
@@ -195,7 +184,8 @@ class Controller:
                     raise
                 raise error from exc
             finally:
-                timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
+                if timings is not None:
+                    timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
 
     def time_layers(
         self, timings: dict[str, float] | None, clock: Callable[[], float] | None = None
