@@ -29,6 +29,7 @@ COMMANDS: tuple[str, ...] = (
     "sweep",
     "sensitivity",
     "tune",
+    "transfer",
     "plot",
     "replay",
     "monitor",
