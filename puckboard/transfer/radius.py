@@ -66,7 +66,7 @@ class GridPoint:
         if self.episodes == 0:
             return False
         if by == "estimate":
-            return self.successes >= threshold * self.episodes
+            return self.successes >= threshold * self.episodes - 1e-9  # 19 of 20 is 95 %
         return self.interval[0] >= threshold
 
 
