@@ -19,11 +19,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "can use, with their headline numbers (--markdown: where each comes from). "
             "'profiles show NAME|FILE.toml' prints every number you can set "
             "(--set profile.PATH=VALUE) with its value, its plausible range and the sources; "
-            "a profile file beside the shipped profile it changes."
+            "a profile file beside the shipped profile it changes. 'profiles show links' "
+            "lists the links' control timing (period and latency, with their sources); "
+            "'profiles show LINK' one link's."
         ),
     )
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
-    parser.add_argument("name", nargs="?", help="profile to show: a name or a profile file")
+    parser.add_argument(
+        "name", nargs="?", help="profile to show: a name or a profile file; or links, or a link"
+    )
     parser.add_argument("--json", action="store_true", help="print JSON")
     parser.add_argument(
         "--markdown",
@@ -98,12 +102,16 @@ def _show(args: argparse.Namespace) -> int:
     """``profiles show NAME|FILE.toml``: every path's value, plausible range and source."""
     from ..errors import PuckboardError
     from ..profile import PROFILES, get_profile, resolve_profile
+    from ..profile.links import LINKS
     from .profile_table import path_table_json, path_table_markdown, path_table_text
 
     if not args.name:
         raise CliError(
-            f"which profile? puckboard profiles show NAME|FILE.toml ({', '.join(PROFILES)})"
+            f"which profile? puckboard profiles show NAME|FILE.toml ({', '.join(PROFILES)}), "
+            "or links"
         )
+    if args.name == "links" or args.name in LINKS:
+        return _show_links(args)
     try:
         profile = get_profile(resolve_profile(args.name))
     except PuckboardError as exc:
@@ -114,6 +122,21 @@ def _show(args: argparse.Namespace) -> int:
         print(json.dumps(path_table_json(profile), indent=2))
     else:
         print(path_table_text(profile))
+    return 0
+
+
+def _show_links(args: argparse.Namespace) -> int:
+    """``profiles show links`` (every link) or ``profiles show LINK`` (one, with sources)."""
+    from ..profile.links import LINKS
+    from .link_table import link_json, link_table_markdown, link_table_text
+
+    chosen = list(LINKS.values()) if args.name == "links" else [LINKS[args.name]]
+    if args.markdown:
+        print(link_table_markdown())
+    elif args.json:
+        print(json.dumps([link_json(link) for link in chosen], indent=2))
+    else:
+        print(link_table_text(chosen, sources=args.name != "links"))
     return 0
 
 

@@ -310,6 +310,16 @@ def realtime_text(factor: float | None) -> str:
     return f"{factor:.0f}x" if factor >= 10 else f"{float(f'{factor:.2g}'):g}x"
 
 
+def _loop_timing(d: dict[str, Any]) -> str:
+    """``; control every 100 ms, 50 ms latency`` when the loop is not one tick per step."""
+    if "control_period_s" not in d:
+        return ""
+    return (
+        f"; control every {d['control_period_s'] * 1000:g} ms, "
+        f"{d['control_latency_s'] * 1000:g} ms latency"
+    )
+
+
 def format_summary(result: Any) -> str:
     """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
     d = result.to_dict()
@@ -317,7 +327,7 @@ def format_summary(result: Any) -> str:
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
         f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
         f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
-        f"of {d['dt_s'] * 1000:g} ms)",
+        f"of {d['dt_s'] * 1000:g} ms{_loop_timing(d)})",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
         f"{'on line':>9}{'obstacles':>11}{'passed other':>14}",

@@ -158,7 +158,7 @@ class Episode:
                 )
             self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
-            self.loop = ControlLoop(bindings)
+            self.loop = ControlLoop(bindings, period=_loop_period(self.scene, self.world))
             self.judge = Judge(self.scene)
             self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
@@ -296,12 +296,30 @@ class Episode:
             robots=self.judge.metrics(),
             events=sorted(self.judge.events, key=lambda e: e.time_s),
         )
+        if not self.scene.control.is_default(self.scene.dt):
+            self.result.control_period_s = float(self.loop.period)
+            self.result.control_latency_s = float(self.scene.control.latency)
         for obs in self.result_observers:
             try:
                 obs(self)
             except Exception:
                 log.exception("episode result observer %r failed", obs)
         return self.result
+
+
+def _loop_period(scene: Scene, world: Any) -> float | None:
+    """The control period the scene asks for (None: the loop's default, one step or a real
+    robot's 0.05 s). A latency is simulated by the embedded world, which delays each
+    wheel command itself; on any other backend the delay is the link's own, so a scene
+    asking for one there is refused rather than silently run without it."""
+    control = scene.control
+    if control.latency > 0 and world is None:
+        raise SceneError(
+            f"control.latency = {control.latency:g} s is simulated by the embedded backend "
+            "only; a real link brings its own (measure it with puckboard calibrate link), "
+            "so leave control.latency at 0 on this backend"
+        )
+    return control.period
 
 
 def _driven_profiles(scene: Scene, adapters: Mapping[str, Any]) -> Scene:

@@ -1,7 +1,7 @@
 """Scenarios: what the robots face and how they are judged.
 
 A :class:`Scene` is plain validated data (floor, track, obstacles, walls, robots, noise,
-goal) read from a scene file (:mod:`.scenefile`, TOML or JSON; the shipped ones live in
+goal, the control loop's timing) read from a scene file (:mod:`.scenefile`, TOML or JSON; the shipped ones live in
 ``scenes/``) through its dict form (:mod:`.conversion`). The engine
 (:mod:`puckboard.sim`) builds a world from it, and the :class:`~.judge.Judge` scores the
 robots' trajectories against the scene's goal. Nothing here knows the engine, an adapter
@@ -9,12 +9,23 @@ or a controller.
 """
 
 from .conversion import scene_from_dict, scene_to_dict
-from .scene import Arena, CircleObstacle, Goal, Noise, PolygonObstacle, RobotSpec, Scene, Track
+from .scene import (
+    Arena,
+    CircleObstacle,
+    Control,
+    Goal,
+    Noise,
+    PolygonObstacle,
+    RobotSpec,
+    Scene,
+    Track,
+)
 from .scenefile import load_scene, scene_names
 
 __all__ = [
     "Arena",
     "CircleObstacle",
+    "Control",
     "Goal",
     "Noise",
     "PolygonObstacle",

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..errors import SceneError
 from .placement import (
     DUMMY_KEYS,
     OBSTACLE_KEYS,
@@ -29,6 +30,7 @@ from .scene import (
     GOAL_KINDS,
     Arena,
     CircleObstacle,
+    Control,
     Goal,
     Noise,
     PolygonObstacle,
@@ -44,11 +46,12 @@ __all__ = ["scene_from_dict", "scene_to_dict"]
 #: typo names itself instead of the key it left missing (placement and tracks declare theirs).
 TOP_KEYS = frozenset(
     ("name", "description", "dt", "duration", "floor_colour", "camera_size", "profile")
-    + ("track", "arena", "obstacles", "dummies", "robots", "noise", "goal")
+    + ("track", "arena", "obstacles", "dummies", "robots", "noise", "goal", "control")
 )
 ARENA_KEYS = frozenset(("size", "centre", "xmin", "ymin", "xmax", "ymax", "colour"))
 NOISE_KEYS = frozenset(("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias"))
 GOAL_KEYS = frozenset(("kind", "laps"))
+CONTROL_KEYS = frozenset(("period", "latency"))
 
 
 # -- dict → Scene ------------------------------------------------------------------------------
@@ -77,6 +80,7 @@ def scene_from_dict(
     robots = _robots(top, frame, arena)
     noise = _noise(top)
     goal = _goal(top, track)
+    control = _control(top, dt)
     top.finish()
     return Scene(
         name=name,
@@ -92,6 +96,7 @@ def scene_from_dict(
         camera_size=camera_size,
         goal=goal,
         dummies=dummies,
+        control=control,
         source=source,
     )
 
@@ -194,6 +199,27 @@ def _goal(top: TableReader, track: Track | None) -> Goal:
     return goal
 
 
+def _control(top: TableReader, dt: float) -> Control:
+    """The ``[control]`` table: the loop's period and latency (s), each a whole number of
+    physics steps of ``dt``; one tick per step and no delay without one."""
+    reader = top.sub("control", CONTROL_KEYS)
+    if reader is None:
+        return Control()
+    period = (
+        reader.number("period", unit="s", low=0.0, high=1e3, low_open=True)
+        if reader.has("period")
+        else None
+    )
+    latency = reader.number("latency", 0.0, unit="s", low=0.0, high=1e3)
+    reader.finish()
+    control = Control(period=period, latency=latency)
+    try:
+        control.steps(dt)
+    except ValueError as exc:  # the message names control.period or control.latency
+        raise SceneError(f"{top.source}: {exc}") from None
+    return control
+
+
 # -- Scene → dict ------------------------------------------------------------------------------
 def scene_to_dict(scene: Scene) -> dict[str, Any]:
     """The explicit form of ``scene`` (points, coordinates, radians), loadable again by
@@ -215,6 +241,11 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
             "gyro_bias": scene.noise.gyro_bias,
         },
     }
+    if not scene.control.is_default(scene.dt):
+        # written only when it changes the loop, so a default scene's dict stays as it was
+        out["control"] = {"latency": scene.control.latency}
+        if scene.control.period is not None:
+            out["control"]["period"] = scene.control.period
     if scene.track is not None:
         out["track"] = {
             "shape": "points",

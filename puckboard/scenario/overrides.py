@@ -4,7 +4,8 @@ One dialect for every place a user writes them: ``puckboard run --set NAME=VALUE
 ``puckboard sweep --set NAME=V1,V2``, a sweep's or a sensitivity analysis's points and
 ``run_episode(overrides={...})``. The names:
 
-* ``robot.profile`` (every robot's profile), ``noise.<field>``, ``dt``, ``duration``:
+* ``robot.profile`` (every robot's profile), ``noise.<field>``, ``dt``, ``duration``,
+  ``control.period`` and ``control.latency`` (the loop's timing, whole numbers of ``dt``):
   the scene's, applied by :func:`apply_scene_overrides`;
 * ``profile.<path>`` and ``robot.<name>.profile.<path>``: a number of every robot's or
   one robot's profile, by the setting names of :mod:`puckboard.profile.setting_names`
@@ -59,6 +60,8 @@ OVERRIDE_NAMES = (
     "noise.gyro_bias",
     "dt",
     "duration",
+    "control.period",
+    "control.latency",
     "layer.<LayerName>.<attribute>",
     "controller.<keyword>",
     "profile.<path>",
@@ -130,6 +133,7 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     are left for the controllers and ``variation`` (checked here) for the episode, which knows the seed.
     Unknown names raise ``ValueError``."""
     noise_changes: dict[str, float] = {}
+    control_changes: dict[str, float] = {}
     scene_changes: dict[str, Any] = {}
     noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
     for name, value in overrides.items():
@@ -150,21 +154,38 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
             if number <= 0:
                 raise ValueError(f"override {name} must be positive seconds, got {value!r}")
             scene_changes[name] = number
+        elif name in ("control.period", "control.latency"):
+            number = _number(name, value)
+            if name == "control.period" and number <= 0:
+                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
+            control_changes[name.split(".", 1)[1]] = number
         elif name == "variation":
             check_variation(str(value))  # drawn by the episode, which knows the seed
         elif profile_target(name) is None:
             raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
     if noise_changes:
         scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
+    if control_changes:
+        scene_changes["control"] = dataclasses.replace(scene.control, **control_changes)  # type: ignore[arg-type]
     scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
     scene = apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
-    if "dt" in overrides:
-        check_control_step(scene, scene.dt)  # against the profiles the robots end with
+    if "dt" in overrides or control_changes:
+        try:  # the loop's timing against the step it ends with, whichever was set
+            scene.control.steps(scene.dt)
+        except ValueError as exc:
+            raise SceneError(f"override {exc}") from None
+    if "dt" in overrides or "control.period" in overrides:
+        # against the profiles the robots end with
+        if scene.control.period is None:
+            check_control_step(scene, scene.dt)
+        else:
+            check_control_step(scene, scene.control.period, name="control.period")
     return scene
 
 
-def check_control_step(scene: Scene, dt: float) -> None:
-    """Refuse a simulation step ``dt`` (s) longer than a robot's control can act on.
+def check_control_step(scene: Scene, dt: float, *, name: str = "dt") -> None:
+    """Refuse a control step ``dt`` (s) longer than a robot's control can act on: the
+    simulation step, or the control period (``name`` says which) when one is set.
 
     Each tick the layers read the IR sensors once and command the wheels once. At its
     top speed a robot crosses its IR range in ``prox_range / (max_wheel_speed ×
@@ -182,13 +203,14 @@ def check_control_step(scene: Scene, dt: float) -> None:
         )
     if not limits:
         return
-    limit, name = min(limits)
+    limit, robot_name = min(limits)
     if dt > limit:
         shown = math.floor(limit * 100) / 100  # rounded down: a dt of the number shown passes
         raise SceneError(
-            f"dt {dt:g} s is longer than the robots' control can act on: at top speed robot "
-            f"{name!r} crosses its IR range in {limit:.2f} s, so an obstacle could appear and "
-            f"be hit between two ticks; use dt ≤ {shown:.2f} s (the shipped scenes use 0.05)"
+            f"{name} {dt:g} s is longer than the robots' control can act on: at top speed robot "
+            f"{robot_name!r} crosses its IR range in {limit:.2f} s, so an obstacle could appear "
+            f"and be hit between two ticks; use {name} ≤ {shown:.2f} s (the shipped scenes "
+            "use 0.05)"
         )
 
 

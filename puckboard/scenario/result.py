@@ -33,6 +33,10 @@ class EpisodeResult:
     events: list[Event] = field(default_factory=list)
     #: every failure the judge detected, in order (``failure`` is the one reported)
     failures: list[str] = field(default_factory=list)
+    #: the control loop's period and latency (s) when they differ from one tick per
+    #: step and no delay (``None``: today's synchronous loop, and no fields in the JSON)
+    control_period_s: float | None = None
+    control_latency_s: float | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -42,11 +46,22 @@ class EpisodeResult:
     def to_dict(self) -> dict[str, Any]:
         """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
         rtf = self.realtime_factor
+        # the loop's timing only when it is not the default, so a default run's object
+        # (and every figure published from one) stays what it was
+        timing = (
+            {}
+            if self.control_period_s is None
+            else {
+                "control_period_s": self.control_period_s,
+                "control_latency_s": self.control_latency_s or 0.0,
+            }
+        )
         return {
             "scenario": self.scenario,
             "controller": self.controller,
             "seed": self.seed,
             "dt_s": self.dt_s,
+            **timing,
             "steps": self.steps,
             "sim_time_s": round(self.sim_time_s, 6),
             "wall_s": round(self.wall_s, 6),

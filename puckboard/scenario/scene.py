@@ -10,6 +10,7 @@ World frame: x to the right, y up, angles counter-clockwise from +x, seen from a
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,6 +22,7 @@ __all__ = [
     "GOAL_KINDS",
     "Arena",
     "CircleObstacle",
+    "Control",
     "Goal",
     "Noise",
     "PolygonObstacle",
@@ -193,6 +195,68 @@ class Noise:
     gyro_bias: float = 0.0
 
 
+@dataclass(frozen=True)
+class Control:
+    """The control loop's timing, apart from the physics step ``dt``.
+
+    ``period`` (s): how often each controller ticks and a wheel command is sent; the
+    physics keeps stepping at ``dt`` in between, so it must be a whole number of steps.
+    ``None`` means one step, the thesis's synchronous stepping (V-REP at its default
+    50 ms step, every tick seeing the step just taken).
+
+    ``latency`` (s): the loop's delay, from the instant the sensors were read to the
+    instant the command computed from them turns the wheels. On a link to a robot the
+    host can time only the whole round trip (it shares no clock with the robot), so
+    this is one number, the sum of the sensing's age and the command's way to the
+    wheels; the simulator applies it on the wheel side (a layer sees the step just
+    taken, its command acts ``latency`` later), which for a controller that reacts to
+    what it senses is the same loop. It too must be a whole number of steps (0: none).
+    The links' ranges and their sources: :mod:`puckboard.profile.links`.
+    """
+
+    period: float | None = None
+    latency: float = 0.0
+
+    def is_default(self, dt: float) -> bool:
+        """True for today's loop: one tick per physics step and no delay."""
+        return self.latency == 0.0 and (self.period is None or _same(self.period, dt))
+
+    def period_for(self, dt: float) -> float:
+        """The control period (s) with physics step ``dt``."""
+        return dt if self.period is None else self.period
+
+    def steps(self, dt: float) -> tuple[int, int]:
+        """(steps per tick, steps of latency) with physics step ``dt``; ``ValueError``
+        (one line, saying how to fix it) for a period or latency that is negative, not
+        finite, or not a whole number of steps."""
+        period = self.period_for(dt)
+        return (
+            _whole_steps("control.period", period, dt, minimum=1),
+            _whole_steps("control.latency", self.latency, dt, minimum=0),
+        )
+
+
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-12)
+
+
+def _whole_steps(name: str, value: float, dt: float, *, minimum: int) -> int:
+    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``."""
+    if not math.isfinite(value) or value < 0 or (minimum and value <= 0):
+        bound = "positive" if minimum else "zero or positive"
+        raise ValueError(f"{name} must be a finite, {bound} number of seconds, got {value!r}")
+    ratio = value / dt
+    steps = round(ratio)
+    if abs(ratio - steps) > 1e-6 or steps < minimum:
+        below, above = math.floor(ratio), max(minimum, math.ceil(ratio))
+        near = [f"{k * dt:g}" for k in sorted({max(minimum, below), above})]
+        raise ValueError(
+            f"{name} = {value:g} s is not a whole number of physics steps of dt = {dt:g} s "
+            f"(the physics steps at dt between ticks); use {' or '.join(near)} s, or change dt"
+        )
+    return steps
+
+
 GOAL_KINDS = ("auto", "pass", "follow", "avoid")
 """What a scene asks of its robots; the judge (:mod:`puckboard.scenario.judge`) scores it.
 
@@ -241,6 +305,8 @@ class Scene:
     camera_size: tuple[int, int] = (52, 39)  # (width, height) pixels
     goal: Goal = field(default_factory=Goal)
     dummies: tuple[Dummy, ...] = ()
+    #: the control loop's timing (default: one tick per step, no delay)
+    control: Control = field(default_factory=Control)
     #: Where the scene was read from (a file's path, a shipped scene's file name), so a
     #: message about one of its robots can name the file; not part of what it describes.
     source: str = field(default="", compare=False)

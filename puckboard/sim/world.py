@@ -4,6 +4,8 @@ A :class:`World` is built from a :class:`~puckboard.scenario.scene.Scene` and st
 synchronously (it satisfies the stepping protocol every embedded robot shares,
 :class:`~puckboard.backends.base.Stepper`). Each :meth:`World.step`:
 
+0. with a control latency (the scene's ``control.latency``, whole steps), hands the
+   wheels the commands that arrive at this step, each given that many steps before;
 1. lets the ground act on each robot's wheel command: times ``1 + σ·N(0, 1)``
    wheel-speed noise, clamped to the profile's limit;
 2. moves every robot along its exact arc (:mod:`.kinematics`), each wheel rolling its
@@ -153,6 +155,9 @@ class World:
         self._noisy = self._noise_wheel > 0 or noise.proximity > 0 or noise.ground > 0
         self._noise_gyro = float(noise.gyro)
         self._gyro_bias = float(noise.gyro_bias)
+        # the loop's latency (scene.control), in steps: a command given now turns the
+        # wheels this many steps later (0: at once, the thesis's synchronous loop)
+        self._delay = scene.control.steps(self._dt)[1]
 
         self._init_state()
 
@@ -208,6 +213,12 @@ class World:
         self._pose_list: list[list[float]] = self._poses.tolist()
         self._velocity: list[tuple[float, float]] = [(0.0, 0.0)] * n
         self._touching: list[bool] = [False] * n
+        # commands on their way to the wheels, by the step at which they arrive: slot
+        # ``step % (delay + 1)`` holds each robot's command due at that step, or None
+        # (a fixed ring, written in place: no allocation per step)
+        self._due: list[list[tuple[float, float] | None]] = [
+            [None] * n for _ in range(self._delay + 1 if self._delay else 0)
+        ]
 
     def _read_only_views(self) -> None:
         def ro(a: np.ndarray) -> np.ndarray:
@@ -294,6 +305,8 @@ class World:
         with self._lock:
             self.running = False
             self._command = [(0.0, 0.0)] * self.n
+            for row in self._due:  # nothing still on its way arrives after a stop
+                row[:] = [None] * self.n
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` steps of ``dt``; sensors then describe the new state."""
@@ -393,9 +406,15 @@ class World:
 
     def drive(self, i: int, left: float, right: float) -> None:
         """Command robot ``i``'s wheels (rad/s, floats) as given, already within its
-        profile's limit: the embedded adapter's entry, which clamped once before."""
+        profile's limit: the embedded adapter's entry, which clamped once before.
+
+        With a control latency (``scene.control.latency``) the command reaches the
+        wheels that many steps later; until then they keep the one before."""
         with self._lock:
-            self._command[i] = (left, right)
+            if self._delay:
+                self._due[(self.step_count + self._delay) % (self._delay + 1)][i] = (left, right)
+            else:
+                self._command[i] = (left, right)
 
     def set_pose(self, i: int, x: float, y: float, theta: float) -> None:
         """Place robot ``i`` (for tests and scripted set-ups); sensors are recomputed."""
@@ -418,6 +437,8 @@ class World:
     def _step_once(self) -> None:
         n = self.n
         z = self.rng.standard_normal(n * NORMALS_PER_ROBOT) if self._noisy else None
+        if self._delay:
+            self._deliver()
         # The e-puck's steppers turn the wheels exactly as commanded; the noise is the
         # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned, and
         # each wheel rolls its own true radius. So the step counters (encoders) and
@@ -439,6 +460,14 @@ class World:
         else:
             self.sensing.sense(self._pose_list, z[2 * n : 10 * n].reshape(n, 8), z[10 * n :])
         self.sensor_seconds += time.perf_counter() - t0
+
+    def _deliver(self) -> None:
+        """Hand the wheels the commands due at this step (see :meth:`drive`)."""
+        due = self._due[self.step_count % (self._delay + 1)]
+        for i, command in enumerate(due):
+            if command is not None:
+                self._command[i] = command
+                due[i] = None
 
     def _slipped(
         self, commanded: list[tuple[float, float]], z: FloatArray | None

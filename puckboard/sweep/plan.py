@@ -45,13 +45,15 @@ PARAMETERS: dict[str, str] = {
     "noise.gyro_bias": "constant offset of the gyro's yaw rate (rad/s)",
     "dt": "simulation step (s)",
     "duration": "episode length in simulated seconds",
+    "control.period": "how often the controllers tick (s; a whole number of dt)",
+    "control.latency": "sensing to wheels delay of the control loop (s; a whole number of dt)",
     "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
     "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
 
 _CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
-_POSITIVE = {"dt", "duration"}
+_POSITIVE = {"dt", "duration", "control.period"}
 
 
 class PlanError(ValueError):
@@ -206,6 +208,8 @@ def _check_value(name: str, value: Any) -> None:
         raise PlanError(f"parameter {name} must be positive (s), got {value!r}")
     if name.startswith("noise.") and value < 0:
         raise PlanError(f"parameter {name} is a standard deviation and cannot be negative")
+    if name == "control.latency" and value < 0:
+        raise PlanError(f"parameter {name} is a delay (s) and cannot be negative")
 
 
 def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:

@@ -242,12 +242,19 @@ def test_every_key_of_the_documented_scene_schema_is_accepted():
     text = page.read_text(encoding="utf-8")
     block = text[text.index('name = "my-scene"') :]
     block = block[: block.index("```")]
-    from puckboard.scenario.conversion import ARENA_KEYS, GOAL_KEYS, NOISE_KEYS, TOP_KEYS
+    from puckboard.scenario.conversion import (
+        ARENA_KEYS,
+        CONTROL_KEYS,
+        GOAL_KEYS,
+        NOISE_KEYS,
+        TOP_KEYS,
+    )
     from puckboard.scenario.placement import OBSTACLE_KEYS, ROBOT_KEYS
     from puckboard.scenario.tracks import TRACK_KEYS
 
     tables = {"": TOP_KEYS, "goal": GOAL_KEYS, "track": TRACK_KEYS, "arena": ARENA_KEYS,
-              "obstacles": OBSTACLE_KEYS, "robots": ROBOT_KEYS, "noise": NOISE_KEYS}  # fmt: skip
+              "obstacles": OBSTACLE_KEYS, "robots": ROBOT_KEYS, "noise": NOISE_KEYS,
+              "control": CONTROL_KEYS}  # fmt: skip
     table = ""
     for line in block.splitlines():
         header = re.match(r"^\[\[?(\w+)\]\]?", line)

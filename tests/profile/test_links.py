@@ -1,0 +1,94 @@
+"""The links' control timing: ranges with sources, draws quantised to the physics step,
+``puckboard profiles show links`` and the table docs/profiles.md holds."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from puckboard.cli import main
+from puckboard.cli.link_table import link_table_markdown
+from puckboard.errors import ProfileError
+from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link, timing_overrides
+from puckboard.scenario import load_scene
+from puckboard.scenario.overrides import apply_scene_overrides
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_the_links_the_issue_names_are_there_each_with_sources():
+    for name in ("coppeliasim-sync", "epuck2-wifi", "bluetooth-sercom", "usb-sercom"):
+        link = LINKS[name]
+        assert link.sources and all(s.strip() for s in link.sources)
+        assert 0 < link.period[0] <= link.period[1]
+        assert 0 <= link.latency[0] <= link.latency[1]
+
+
+def test_the_thesis_loop_is_the_default_loop():
+    link = LINKS["coppeliasim-sync"]
+    assert link.period == (0.05, 0.05) and link.latency == (0.0, 0.0) and not link.assumed
+    assert load_scene("two-robot-pass").dt == link.period[0]
+
+
+def test_the_bluetooth_lower_bound_is_the_bytes_at_115200_baud():
+    # 59 bytes of one e-puck1 cycle, 10 bits each (8N1), at 115,200 bit/s
+    assert LINKS["bluetooth-sercom"].latency[0] == pytest.approx(59 * 10 / 115_200, abs=1e-4)
+
+
+def test_a_range_upside_down_is_refused():
+    with pytest.raises(ValueError, match="latency must be 0 <= low <= high"):
+        LinkTiming("x", "", (0.05, 0.05), (0.02, 0.01), ("s",), False)
+    with pytest.raises(ValueError, match="period must be positive"):
+        LinkTiming("x", "", (0.0, 0.05), (0.0, 0.0), ("s",), False)
+
+
+@pytest.mark.parametrize("dt", [0.05, 0.01])
+def test_draws_lie_in_the_range_on_whole_steps_and_run(dt):
+    rng = np.random.default_rng(7)
+    for name, link in LINKS.items():
+        for _ in range(20):
+            period, latency = draw_timing(name, rng, dt)
+            assert period >= dt
+            for value, (low, high) in ((period, link.period), (latency, link.latency)):
+                assert abs(value / dt - round(value / dt)) < 1e-9
+                assert low - dt / 2 - 1e-12 <= value <= high + dt / 2 + 1e-12
+            scene = apply_scene_overrides(
+                load_scene("line-follow"), {"dt": dt, **timing_overrides(period, latency)}
+            )
+            assert scene.control.steps(dt)[0] >= 1
+
+
+def test_draws_are_seeded_and_take_two_numbers_whatever_the_link():
+    a = np.random.default_rng(3)
+    b = np.random.default_rng(3)
+    assert draw_timing("epuck2-wifi", a, 0.05) == draw_timing("epuck2-wifi", b, 0.05)
+    draw_timing("coppeliasim-sync", a, 0.05)
+    draw_timing("bluetooth-sercom", b, 0.05)
+    assert a.random() == b.random()
+
+
+def test_an_unknown_link_names_the_known_ones():
+    with pytest.raises(
+        ProfileError, match="unknown link 'carrier-pigeon'; links: coppeliasim-sync"
+    ):
+        get_link("carrier-pigeon")
+
+
+def test_profiles_show_lists_the_links_and_one_with_its_sources(capsys):
+    assert main(["profiles", "show", "links"]) == 0
+    out = capsys.readouterr().out
+    assert all(name in out for name in LINKS)
+    assert main(["profiles", "show", "epuck2-wifi"]) == 0
+    out = capsys.readouterr().out
+    assert "results_go_on_wifi_no_image.json" in out and "bluetooth" not in out
+    assert main(["profiles", "show", "links", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in rows] == list(LINKS)
+
+
+def test_the_docs_hold_the_links_table_of_the_code():
+    doc = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
+    assert link_table_markdown() in doc
