@@ -33,6 +33,7 @@ __all__ = [
     "check_writable",
     "connection_loss_in_one_line",
     "connection_lost_error",
+    "first_line",
     "help_text",
     "missing_extra",
     "require",
@@ -275,12 +276,14 @@ def connection_lost_error(episode: Any, exc: BaseException) -> CliError:
         wheels = "the wheels were stopped"
     return CliError(
         f"the {episode.backend} connection was lost at t = {loop.time:.2f} s of {clock} time "
-        f"and {wheels}. {_first_line(exc)}",
+        f"and {wheels}. {first_line(exc)}",
         status=1,
     )
 
 
-def _first_line(exc: BaseException) -> str:
+def first_line(exc: BaseException) -> str:
+    """The first line of ``exc``'s message (its type's name if it has none): what a
+    one-line error shows of an exception whose message runs on."""
     text = str(exc).strip() or type(exc).__name__
     return text.splitlines()[0]
 

@@ -28,6 +28,7 @@ from .common import (
     check_speed,
     check_writable,
     connection_loss_in_one_line,
+    first_line,
     missing_extra,
     require,
     seed_type,
@@ -190,7 +191,7 @@ def main(args: argparse.Namespace) -> int:
         episode.check_duration(duration)  # before any window opens or file is promised
     except ValueError as exc:
         episode.connection.close()
-        raise CliError(_first_line(exc)) from None
+        raise CliError(first_line(exc)) from None
     outputs = None
     visuals = [
         flag
@@ -214,7 +215,7 @@ def main(args: argparse.Namespace) -> int:
             raise missing_extra(exc, "/".join(visuals)) from None
         except ValueError as exc:
             episode.connection.close()
-            raise CliError(_first_line(exc)) from None
+            raise CliError(first_line(exc)) from None
     web = None
     if args.web:
         from ..web import watch_episode
@@ -287,19 +288,14 @@ def _build_error(exc: Exception, controller: str | None) -> BaseException:
     if isinstance(exc, PuckboardError):
         # puckboard refused what the code built (a layer without super().__init__(),
         # reads as a string): the line says what to write, the traceback would not
-        return CliError(_first_line(exc))
+        return CliError(first_line(exc))
     what = f"the controller {controller!r}" if controller else "a robot's controller"
     shown = user_code_error(exc, what)
     if shown is not None:
         return shown
     if isinstance(exc, (ValueError, TypeError, ImportError, OSError)):
-        return CliError(_first_line(exc))
+        return CliError(first_line(exc))
     return exc
-
-
-def _first_line(exc: BaseException) -> str:
-    text = str(exc).strip() or type(exc).__name__
-    return text.splitlines()[0]
 
 
 def realtime_text(factor: float | None) -> str:

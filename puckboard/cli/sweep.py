@@ -9,15 +9,22 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
-from .common import CliError, add_variation_argument, check_seconds, check_writable
-
-DEFAULT_SCENARIO = "two-robot-pass"
-T = TypeVar("T")
+from .common import CliError, add_variation_argument
+from .experiment_options import (
+    add_duration,
+    add_scene_and_controllers,
+    add_where_to_run,
+    check_numbers,
+    execute,
+    exit_status,
+    open_out,
+    scene_or_error,
+    wall_time,
+    with_executor,
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -45,25 +52,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_where_to_run(parser)
     _add_outputs(parser)
     parser.set_defaults(func=main)
-
-
-def add_scene_and_controllers(parser: argparse.ArgumentParser) -> None:
-    """What is judged: the scene, and the controllers compared on it."""
-    parser.add_argument(
-        "scenario",
-        nargs="?",
-        default=DEFAULT_SCENARIO,
-        metavar="SCENARIO | SCENE_FILE",
-        help=f"shipped scene name or a .toml/.json scene file (default: {DEFAULT_SCENARIO})",
-    )
-    parser.add_argument(
-        "--controller",
-        action="append",
-        default=[],
-        metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY "
-        "(repeatable; default: each robot's controller from the scene)",
-    )
 
 
 def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
@@ -101,42 +89,6 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
     add_variation_argument(parser, "each episode's seed from --seeds")
 
 
-def add_duration(parser: argparse.ArgumentParser) -> None:
-    """Every episode's simulated length (checked by :func:`check_numbers`)."""
-    parser.add_argument(
-        "--duration",
-        type=float,
-        metavar="S",
-        help="simulated seconds per episode (default: scene's)",
-    )
-
-
-def add_where_to_run(parser: argparse.ArgumentParser) -> None:
-    """Executors and their limits: local processes or a Dask cluster, batches, timeouts."""
-    where = parser.add_mutually_exclusive_group()
-    where.add_argument(
-        "--workers", type=int, metavar="N", help="local worker processes (default: all CPUs)"
-    )
-    where.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (needs puckboard[dask])",
-    )
-    parser.add_argument(
-        "--episode-timeout",
-        type=float,
-        metavar="S",
-        help="wall-clock seconds after which an episode is stopped and counted as 'error' "
-        "(guards against controllers that never return; default: no limit)",
-    )
-    parser.add_argument(
-        "--batch-size",
-        type=int,
-        metavar="N",
-        help="episodes per task (default: automatic, at most 8)",
-    )
-
-
 def _add_outputs(parser: argparse.ArgumentParser) -> None:
     """Where the rows, the summary and the plot go."""
     parser.add_argument(
@@ -158,15 +110,6 @@ def _add_outputs(parser: argparse.ArgumentParser) -> None:
         help="parameter for the plot's x axis (default: the first --set with several values)",
     )
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
-
-
-def scene_or_error(ref: str):  # type: ignore[no-untyped-def]
-    from ..scenario.scenefile import load_scene
-
-    try:
-        return load_scene(ref)
-    except (ValueError, OSError) as exc:
-        raise CliError(str(exc)) from exc
 
 
 def main(args: argparse.Namespace) -> int:
@@ -197,50 +140,6 @@ def _episode_count(args: argparse.Namespace) -> int | None:
     except (PlanError, ValueError):
         return None
     return len(plan)
-
-
-def with_executor(
-    args: argparse.Namespace,
-    run: Callable[[argparse.Namespace, Any], int],
-    *,
-    episodes: int | None = None,
-) -> int:
-    """``run(args, executor)`` with local workers, or with ``None`` for ``--scheduler``
-    (``run`` connects to the cluster only once its plan is known to be good).
-
-    No more workers start than there are ``episodes`` (when known): each is a process
-    with its own interpreter and imports, and one with no episode only costs start-up.
-    ``--workers`` above the CPUs is allowed (a machine may be shared) with a warning.
-    """
-    from ..sweep import LocalExecutor
-    from ..sweep.executors import available_cpus
-
-    args.started = time.perf_counter()  # the wall time reported counts the start-up too
-    if args.scheduler:
-        return run(args, None)
-    workers = args.workers
-    if workers is not None:
-        cpus = available_cpus()
-        if episodes is not None:
-            workers = max(1, min(workers, episodes))
-        if workers > cpus:
-            print(
-                f"puckboard {args.command}: warning: --workers {workers} is more than this "
-                f"machine's {cpus} CPUs; the workers share them, which starts slower and runs "
-                "no faster",
-                file=sys.stderr,
-            )
-    # Local workers start up (an interpreter and the imports each) while this process
-    # loads the scene, checks the plan and reads --out; on bad input they are ended.
-    local = LocalExecutor(workers)
-    try:
-        local.start()
-        return run(args, local)
-    except BaseException:
-        local.cancel()
-        raise
-    finally:
-        local.close()
 
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
@@ -275,52 +174,6 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
         return 1
     _report(args, plan, result, stored=store is not None, plot_param=plot_param)
     return exit_status(args, result, stored=store is not None)
-
-
-def open_out(args: argparse.Namespace) -> Any:
-    """The ``--out`` file's store (``None`` without ``--out``); a file that cannot be
-    used is one line."""
-    from ..sweep import open_store
-
-    try:
-        return open_store(args.out) if args.out is not None else None
-    except (ValueError, ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
-
-
-def execute(
-    args: argparse.Namespace, executor: Any, store: Any, command: str, run: Callable[[Any], T]
-) -> T | None:
-    """``run(executor)``, on the Dask cluster when ``executor`` is ``None``; ``None`` when
-    a worker was lost, said in one line. The executor and the store are closed after."""
-    from ..sweep import WorkerLostError
-
-    executor = executor or dask_executor(args)
-    try:
-        return run(executor)
-    except WorkerLostError as exc:
-        kept = f"; finished rows are in {args.out}: run again to resume" if store else ""
-        print(f"puckboard {command}: error: {exc}{kept}", file=sys.stderr)
-        return None
-    finally:
-        executor.close()
-        if store is not None:
-            store.close()
-
-
-def check_numbers(args: argparse.Namespace) -> None:
-    check_seconds(args.duration)
-    if args.batch_size is not None and args.batch_size < 1:
-        raise CliError(f"--batch-size must be at least 1, got {args.batch_size}")
-    if args.episode_timeout is not None and not args.episode_timeout > 0:
-        raise CliError(f"--episode-timeout must be positive seconds, got {args.episode_timeout}")
-    if args.workers is not None and args.workers < 1:
-        raise CliError(f"--workers must be at least 1, got {args.workers}")
-    # outputs of sweep and sensitivity alike: a plot refused after the whole run loses it
-    for flag in ("--out", "--plot"):
-        path = getattr(args, flag[2:], None)
-        if path is not None:
-            check_writable(path, flag)
 
 
 def _plan(args: argparse.Namespace, scene: Any) -> Any:
@@ -385,15 +238,6 @@ def _plot_param(args: argparse.Namespace, plan: Any) -> str | None:
     return plot_param
 
 
-def dask_executor(args: argparse.Namespace) -> Any:
-    from ..sweep import DaskExecutor
-
-    try:
-        return DaskExecutor(args.scheduler, quiet=not getattr(args, "verbose", 0))
-    except (ImportError, ConnectionError, ValueError) as exc:
-        raise CliError(str(exc)) from exc
-
-
 def _report(
     args: argparse.Namespace, plan: Any, result: Any, *, stored: bool, plot_param: str | None
 ) -> None:
@@ -426,36 +270,3 @@ def _report(
         plot_success(groups, plot_param, args.plot, title=plan.scenario)
         if not args.json:
             print(f"\nplot written to {args.plot}")
-
-
-def wall_time(args: argparse.Namespace, result: Any) -> float:
-    """Seconds since the command began (workers' start-up and the plan included), which
-    is what the user waited; the sweep's own ``wall_s`` where no start was noted."""
-    started = getattr(args, "started", None)
-    return result.wall_s if started is None else time.perf_counter() - started
-
-
-def exit_status(
-    args: argparse.Namespace, result: Any, *, stored: bool, command: str = "sweep"
-) -> int:
-    """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
-    Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""
-    errors = result.errors
-    if errors:
-        print(
-            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes raised an "
-            f"exception (counted as failure 'error'; see the error column of --out). "
-            f"First: {errors[0]}",
-            file=sys.stderr,
-        )
-    if result.interrupted:
-        print(
-            f"puckboard {command}: {'terminated' if result.terminated else 'interrupted'}; "
-            f"{result.ran} episodes of this run kept"
-            + (f" in {args.out}; run the same command again to resume" if stored else ""),
-            file=sys.stderr,
-        )
-        return 143 if result.terminated else 130
-    if result.ran and len(errors) == result.ran:
-        return 1  # nothing ran properly: a broken setup, not a bad controller
-    return 0

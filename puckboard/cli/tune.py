@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from .common import CliError, add_variation_argument, missing_extra, user_code_error
-from .sweep import (
+from .experiment_options import (
     add_duration,
     add_where_to_run,
     check_numbers,

@@ -18,8 +18,14 @@ from __future__ import annotations
 from .plan import DEFAULT_VALUES, Field, Point, SensitivityPlan, field_values, sensitivity_plan
 from .plot import plot_sensitivity
 from .report import format_result
-from .run import run_sensitivity
-from .summary import Analysis, FieldResult, SensitivityResult, ValueResult, analyse
+from .summary import (
+    Analysis,
+    FieldResult,
+    SensitivityResult,
+    ValueResult,
+    analyse,
+    run_sensitivity,
+)
 
 __all__ = [
     "DEFAULT_VALUES",

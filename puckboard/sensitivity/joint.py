@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..profile import apply_overrides, get_profile, profile_values
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
 from ..sweep.rows import Outcome
 from ..sweep.summary import GroupSummary
 from .estimate import (
@@ -47,7 +47,7 @@ from .estimate import (
     ranking_outcome,
     strongest_interaction,
 )
-from .plan import PLAUSIBLE
+from .plan import FIELD_LABEL, PLAUSIBLE
 
 __all__ = [
     "JointAnalysis",
@@ -237,7 +237,11 @@ def _shipped_values(params: Mapping[str, Any]) -> dict[str, float]:
 
 
 def _analysis(
-    controller: str, params: Mapping[str, Any], rows: list[Mapping[str, Any]], bins: int
+    controller: str,
+    params: Mapping[str, Any],
+    rows: list[Mapping[str, Any]],
+    bins: int,
+    label: str | None = None,
 ) -> JointAnalysis:
     outcomes = [Outcome.from_row(r) for r in rows]
     band = GroupSummary.of(controller, dict(params), outcomes)
@@ -273,7 +277,7 @@ def _analysis(
             )
         )
     analysis = JointAnalysis(
-        controller, str(params.get("robot.profile")), dict(params), band, tuple(numbers),
+        controller, label or profile_label(params), dict(params), band, tuple(numbers),
         ranked_by, None,
     )  # fmt: skip
     top = analysis.ranking
@@ -293,35 +297,38 @@ def analyse_rows(
     rows: Iterable[Mapping[str, Any]],
     bins: int = DEFAULT_BINS,
     wanted: Iterable[tuple[str, str]] | None = None,
+    labels: Mapping[str, str] | None = None,
 ) -> list[JointAnalysis]:
     """One analysis per controller × parameters among ``rows`` of plausible robots (rows
-    of other points are ignored; one row per key). ``wanted``: the (controller,
-    :func:`~puckboard.sweep.plan.params_key`) groups to analyse, in order (default:
-    every group, in first-seen order)."""
+    of other points, one-at-a-time's value points among them, are ignored; one row per
+    key). ``wanted``: the (controller, :func:`~puckboard.sweep.plan.params_key`) groups to
+    analyse, in order (default: every group, in first-seen order); ``labels``: the
+    profile's name per params key (default: :func:`profile_label`)."""
     groups: dict[tuple[str, str], dict[str, Mapping[str, Any]]] = {}
     params_of: dict[tuple[str, str], dict[str, Any]] = {}
     for row in rows:
         params = _params(row)
-        if params.get("variation") != PLAUSIBLE or any(
-            k.startswith("profile.") and k not in _overrides_of(params) for k in params
-        ):
-            continue
+        if params.get("variation") != PLAUSIBLE or FIELD_LABEL in params:
+            continue  # not plausible robots, or a one-at-a-time value point's
         if not _drawn(row):
             continue
         group = (str(row.get("controller", "")), params_key(params))
         groups.setdefault(group, {})[str(row["key"])] = row
         params_of[group] = params
     order = list(groups) if wanted is None else [g for g in wanted if g in groups]
-    return [_analysis(c, params_of[(c, p)], list(groups[(c, p)].values()), bins) for c, p in order]
+    names = dict(labels or {})
+    return [
+        _analysis(c, params_of[(c, p)], list(groups[(c, p)].values()), bins, names.get(p))
+        for c, p in order
+    ]
 
 
-def _overrides_of(params: Mapping[str, Any]) -> set[str]:
-    """The ``profile.`` parameters that belong to the profile (a profile file's numbers).
-    A one-at-a-time point of ``--variation plausible`` sets exactly one field and draws
-    the rest, so its rows are not a sample of plausible robots; a lone ``profile.`` key
-    is read as such a point and its rows are left out."""
-    keys = {k for k in params if k.startswith("profile.")}
-    return set() if len(keys) == 1 else keys
+def profile_label(params: Mapping[str, Any]) -> str:
+    """The profile of plausible robots' ``params`` as a reader knows it where no name came
+    with the rows: the shipped profile, and the numbers a profile file set on it."""
+    base = str(params.get("robot.profile"))
+    own = sorted(k[len("profile.") :] for k in params if k.startswith("profile."))
+    return f"{base} with {', '.join(own)} set" if own else base
 
 
 @dataclass
@@ -352,27 +359,9 @@ class JointResult:
             "episodes": sum(a.band.episodes for a in self.analyses),
         }
         if self.sweep is not None:
-            out.update(
-                planned=len(self.sweep.plan),
-                ran=self.sweep.ran,
-                skipped=self.sweep.skipped,
-                interrupted=self.sweep.interrupted,
-                errors=len(self.sweep.errors),
-                wall_s=self.sweep.wall_s,
-                episodes_per_s=self.episodes_per_s,
-            )
+            out.update(self.sweep.counts(), episodes_per_s=self.episodes_per_s)
         out["analyses"] = [a.to_dict() for a in self.analyses]
         return out
-
-
-def seeds_text(seeds: Iterable[int]) -> str:
-    """``A:B`` for consecutive seeds, else the count."""
-    s = sorted(set(seeds))
-    if not s:
-        return ""
-    if s == list(range(s[0], s[-1] + 1)):
-        return f"{s[0]}:{s[-1] + 1}"
-    return f"{len(s)} seeds"
 
 
 def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> JointResult:
@@ -422,19 +411,15 @@ def run_joint(
     )
     keys = {spec.key(plan.scenario) for spec in plan.sweep.episodes()}
     rows = [r for r in (store.rows() if store is not None else sweep.rows) if r.get("key") in keys]
-    wanted = [
-        (c, params_key({**plan.sweep.fixed, **point}))
-        for c in plan.sweep.controllers
-        for point in plan.sweep.points
-    ]
-    seeds = plan.sweep.seeds
-    step = f":{seeds.step}" if seeds.step != 1 else ""
+    point_keys = [params_key({**plan.sweep.fixed, **point}) for point in plan.sweep.points]
+    wanted = [(c, key) for c in plan.sweep.controllers for key in point_keys]
+    labels = dict(zip(point_keys, plan.profiles))
     return JointResult(
         scenario=plan.scenario,
         controllers=plan.sweep.controllers,
         profiles=plan.profiles,
-        seeds=f"{seeds.start}:{seeds.stop}{step}",
+        seeds=seeds_text(plan.sweep.seeds),
         bins=plan.bins,
-        analyses=analyse_rows(rows, plan.bins, wanted) if rows else [],
+        analyses=analyse_rows(rows, plan.bins, wanted, labels) if rows else [],
         sweep=sweep,
     )

@@ -17,9 +17,9 @@ from typing import Any
 
 from ..profile.setting_names import path_unit
 from ..sweep.summary import controller_labels
+from ..viz.figures import COLOURS, FONT, new_figure
 from .joint import JointAnalysis, JointResult
 from .plan import shown_scale
-from .plot import COLOURS, FONT, pyplot
 
 __all__ = ["ROWS", "plot_joint"]
 
@@ -104,42 +104,40 @@ def plot_joint(
     result: JointResult, path: str | os.PathLike[str], *, title: str | None = None
 ) -> None:
     """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
-    plt = pyplot()
     analyses = result.analyses
     order = _order(analyses)
     names = controller_labels(result.controllers)
     columns = min(4, max(1, math.ceil(math.sqrt(len(order)))))
     panel_rows = max(1, math.ceil(len(order) / columns))
-    fig = plt.figure(figsize=(max(15.0, 7.5 + 4.2 * columns), 2.6 + 3.4 * panel_rows))
-    try:
-        grid = fig.add_gridspec(panel_rows, columns + 2, width_ratios=[1.7, 0.3] + [1] * columns)
-        _chart(fig.add_subplot(grid[:, 0]), analyses, order)
-        for i, name in enumerate(order):
-            ax = fig.add_subplot(grid[i // columns, 2 + i % columns])
-            _panel(ax, name, analyses)
-            if i % columns == 0:
-                ax.set_ylabel("success (%)", fontsize=FONT - 1)
-        handles = [
-            plt.Line2D([], [], color=COLOURS[i % len(COLOURS)], lw=6, label=_label(a, names))
-            for i, a in enumerate(analyses)
-        ]
-        handles += [
-            plt.Line2D([], [], color="dimgrey", lw=10, label="dark bar: clear (its simultaneous "
-                       "95 % interval leaves out 0)"),
-            plt.Line2D([], [], color="dimgrey", lw=10, alpha=0.3, label="pale bar: not clear"),
-            plt.Line2D([], [], color="grey", ls="--", lw=1.5, label="shipped value"),
-            plt.Line2D([], [], color="black", lw=1.5, marker="|", ms=12,
-                       label="horizontal bar: the bin's drawn values"),
-        ]  # fmt: skip
-        heading = title or f"{result.scenario}: robots drawn all at once"
-        fig.suptitle(f"{heading} (seeds {result.seeds}, one plausible robot pair each; "
-                     f"{result.bins} bins, 95 % Wilson intervals)",
-                     fontsize=FONT + 4, fontweight="bold")  # fmt: skip
-        ncol = 2
-        fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=FONT - 1,
-                   frameon=False)  # fmt: skip
-        legend_height = math.ceil(len(handles) / ncol) * 0.32 / fig.get_figheight() * 1.3
-        fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))
-        fig.savefig(path, dpi=100, bbox_inches="tight")
-    finally:
-        plt.close(fig)
+    fig = new_figure(figsize=(max(15.0, 7.5 + 4.2 * columns), 2.6 + 3.4 * panel_rows))
+    from matplotlib.lines import Line2D  # matplotlib is there: new_figure said so
+
+    grid = fig.add_gridspec(panel_rows, columns + 2, width_ratios=[1.7, 0.3] + [1] * columns)
+    _chart(fig.add_subplot(grid[:, 0]), analyses, order)
+    for i, name in enumerate(order):
+        ax = fig.add_subplot(grid[i // columns, 2 + i % columns])
+        _panel(ax, name, analyses)
+        if i % columns == 0:
+            ax.set_ylabel("success (%)", fontsize=FONT - 1)
+    handles = [
+        Line2D([], [], color=COLOURS[i % len(COLOURS)], lw=6, label=_label(a, names))
+        for i, a in enumerate(analyses)
+    ]
+    handles += [
+        Line2D([], [], color="dimgrey", lw=10, label="dark bar: clear (its simultaneous "
+                   "95 % interval leaves out 0)"),
+        Line2D([], [], color="dimgrey", lw=10, alpha=0.3, label="pale bar: not clear"),
+        Line2D([], [], color="grey", ls="--", lw=1.5, label="shipped value"),
+        Line2D([], [], color="black", lw=1.5, marker="|", ms=12,
+                   label="horizontal bar: the bin's drawn values"),
+    ]  # fmt: skip
+    heading = title or f"{result.scenario}: robots drawn all at once"
+    fig.suptitle(f"{heading} (seeds {result.seeds}, one plausible robot pair each; "
+                 f"{result.bins} bins, 95 % Wilson intervals)",
+                 fontsize=FONT + 4, fontweight="bold")  # fmt: skip
+    ncol = 2
+    fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=FONT - 1,
+               frameon=False)  # fmt: skip
+    legend_height = math.ceil(len(handles) / ncol) * 0.32 / fig.get_figheight() * 1.3
+    fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))
+    fig.savefig(path, dpi=100, bbox_inches="tight")

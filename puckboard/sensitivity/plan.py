@@ -34,6 +34,7 @@ from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 
 __all__ = [
     "DEFAULT_VALUES",
+    "FIELD_LABEL",
     "PLAUSIBLE",
     "SHIPPED",
     "VALUE",
@@ -52,6 +53,12 @@ DEFAULT_VALUES = 7
 
 #: Kinds of point: the profile as shipped, one field at one value, all fields drawn.
 SHIPPED, VALUE, PLAUSIBLE = "shipped", "value", "plausible"
+
+#: The label (:data:`~puckboard.sweep.plan.LABEL_PREFIX`) naming the field of a value
+#: point that draws every other number (``--variation plausible``). Its rows are not a
+#: sample of plausible robots, and nothing in the parameters alone says so: a profile
+#: file setting one number has the same shape. The joint method leaves out rows with it.
+FIELD_LABEL = "label.field"
 
 
 @dataclass(frozen=True)
@@ -237,7 +244,10 @@ def sensitivity_plan(
             for value in field.values:
                 params = _value_params(profile, base, field, value, bool(background))
                 if params is not None:
-                    points.append(Point(label, VALUE, {**params, **background}, field.path, value))
+                    mark = {FIELD_LABEL: field.path} if background else {}
+                    points.append(
+                        Point(label, VALUE, {**params, **background, **mark}, field.path, value)
+                    )
     if not any(f.profile in labels for f in picked) and fields:
         raise PlanError(f"--fields: none of {list(fields)} is uncertain in {', '.join(labels)}")
     sweep = SweepPlan(

@@ -17,15 +17,11 @@ import os
 from typing import Any
 
 from ..sweep.summary import controller_labels
+from ..viz.figures import COLOURS, FONT, new_figure
 from .plan import shown_scale
 from .summary import Analysis, FieldResult, SensitivityResult
 
 __all__ = ["plot_sensitivity"]
-
-#: Colours that stay apart on a projector and for the common colour blindnesses
-#: (Okabe & Ito's palette), one per controller × profile.
-COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000")
-FONT = 15
 
 
 def _field_order(analyses: list[Analysis]) -> list[str]:
@@ -132,52 +128,36 @@ def legend_entries(analyses: list[Analysis], names: dict[str, str]) -> tuple[lis
     return handles, labels
 
 
-def pyplot() -> Any:
-    """matplotlib's pyplot drawing off screen, or an ImportError naming the extra."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError("--plot needs matplotlib: pip install 'puckboard[viz]'") from exc
-    return plt
-
-
 def plot_sensitivity(
     result: SensitivityResult, path: str | os.PathLike[str], *, title: str | None = None
 ) -> None:
     """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
-    plt = pyplot()
     analyses = result.analyses
     order = _field_order(analyses)
     names = controller_labels(result.plan.sweep.controllers)
     columns = min(4, max(1, math.ceil(math.sqrt(len(order)))))
     panel_rows = max(1, math.ceil(len(order) / columns))
     # at least as wide as the title and the legend need, with few fields too
-    fig = plt.figure(figsize=(max(15.0, 6.5 + 4.2 * columns), 2.2 + 3.4 * panel_rows))
-    try:
-        grid = fig.add_gridspec(panel_rows, columns + 2, width_ratios=[1.6, 0.25] + [1] * columns)
-        _tornado(fig.add_subplot(grid[:, 0]), analyses, order)
-        for i, field_path in enumerate(order):
-            ax = fig.add_subplot(grid[i // columns, 2 + i % columns])
-            _panel(ax, field_path, analyses)
-            if i % columns == 0:
-                ax.set_ylabel("success (%)", fontsize=FONT - 1)
-        handles, labels = legend_entries(analyses, names)
-        seeds = result.to_dict()["seeds"]
-        heading = title or f"{result.plan.scenario}: success rate, one number at a time"
-        fig.suptitle(f"{heading} (seeds {seeds}, 95 % Wilson intervals)",
-                     fontsize=FONT + 4, fontweight="bold")  # fmt: skip
-        from matplotlib.legend_handler import HandlerTuple
+    fig = new_figure(figsize=(max(15.0, 6.5 + 4.2 * columns), 2.2 + 3.4 * panel_rows))
+    grid = fig.add_gridspec(panel_rows, columns + 2, width_ratios=[1.6, 0.25] + [1] * columns)
+    _tornado(fig.add_subplot(grid[:, 0]), analyses, order)
+    for i, field_path in enumerate(order):
+        ax = fig.add_subplot(grid[i // columns, 2 + i % columns])
+        _panel(ax, field_path, analyses)
+        if i % columns == 0:
+            ax.set_ylabel("success (%)", fontsize=FONT - 1)
+    handles, labels = legend_entries(analyses, names)
+    seeds = result.to_dict()["seeds"]
+    heading = title or f"{result.plan.scenario}: success rate, one number at a time"
+    fig.suptitle(f"{heading} (seeds {seeds}, 95 % Wilson intervals)",
+                 fontsize=FONT + 4, fontweight="bold")  # fmt: skip
+    from matplotlib.legend_handler import HandlerTuple
 
-        ncol = min(3 if columns > 2 else 2, len(handles))
-        fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=FONT - 1,
-                   frameon=False, handler_map={tuple: HandlerTuple(ndivide=None)})  # fmt: skip
-        legend_rows = math.ceil(len(handles) / ncol)
-        legend_height = legend_rows * 0.32 / fig.get_figheight() * 1.3
-        fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))
-        # "tight": whatever the layout, no title, legend or label is cut at the edge
-        fig.savefig(path, dpi=100, bbox_inches="tight")
-    finally:
-        plt.close(fig)
+    ncol = min(3 if columns > 2 else 2, len(handles))
+    fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=FONT - 1,
+               frameon=False, handler_map={tuple: HandlerTuple(ndivide=None)})  # fmt: skip
+    legend_rows = math.ceil(len(handles) / ncol)
+    legend_height = legend_rows * 0.32 / fig.get_figheight() * 1.3
+    fig.tight_layout(rect=(0, legend_height + 0.01, 1, 0.95))
+    # "tight": whatever the layout, no title, legend or label is cut at the edge
+    fig.savefig(path, dpi=100, bbox_inches="tight")

@@ -15,13 +15,23 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..sweep.plan import params_key
+from ..sweep.executors import SweepExecutor
+from ..sweep.plan import params_key, seeds_text
+from ..sweep.progress import Progress
 from ..sweep.rows import Outcome
-from ..sweep.run import SweepResult
+from ..sweep.run import SweepResult, run_sweep
+from ..sweep.store import ResultStore
 from ..sweep.summary import GroupSummary, summarise
 from .plan import PLAUSIBLE, SHIPPED, Field, SensitivityPlan
 
-__all__ = ["Analysis", "FieldResult", "SensitivityResult", "ValueResult", "analyse"]
+__all__ = [
+    "Analysis",
+    "FieldResult",
+    "SensitivityResult",
+    "ValueResult",
+    "analyse",
+    "run_sensitivity",
+]
 
 
 @dataclass(frozen=True)
@@ -174,23 +184,42 @@ class SensitivityResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: counts, timing and one entry per controller × profile."""
-        seeds = self.plan.sweep.seeds
-        step = f":{seeds.step}" if seeds.step != 1 else ""
         return {
             "scenario": self.plan.scenario,
             "controllers": list(self.plan.sweep.controllers),
             "profiles": list(self.plan.profiles),
-            "seeds": f"{seeds.start}:{seeds.stop}{step}",
+            "seeds": seeds_text(self.plan.sweep.seeds),
             "values_per_field": self.plan.values,
             "variation": self.plan.variation,
             "fixed": dict(self.plan.sweep.fixed),
             "episodes": len(self.sweep.outcomes),
-            "planned": len(self.plan),
-            "ran": self.sweep.ran,
-            "skipped": self.sweep.skipped,
-            "interrupted": self.sweep.interrupted,
-            "errors": len(self.sweep.errors),
-            "wall_s": self.sweep.wall_s,
+            **self.sweep.counts(),
             "episodes_per_s": self.episodes_per_s,
             "analyses": [a.to_dict() for a in self.analyses],
         }
+
+
+def run_sensitivity(
+    plan: SensitivityPlan,
+    scene: Any,
+    *,
+    executor: SweepExecutor | None = None,
+    store: ResultStore | None = None,
+    batch_size: int | None = None,
+    progress: Progress | None = None,
+    episode_timeout: float | None = None,
+) -> SensitivityResult:
+    """Run every episode of ``plan`` not yet in ``store`` and summarise all of them. The
+    points are a :class:`~puckboard.sweep.SweepPlan`, so :func:`~puckboard.sweep.run_sweep`
+    (whose arguments these are) skips what ``--out`` holds and keeps what ran on Ctrl-C:
+    an interrupted analysis is summarised from what ran, and the same call resumes it."""
+    sweep = run_sweep(
+        plan.sweep,
+        scene,
+        executor=executor,
+        store=store,
+        batch_size=batch_size,
+        progress=progress,
+        episode_timeout=episode_timeout,
+    )
+    return SensitivityResult.of(plan, sweep)

@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping
 from typing import Any
 
-from .plan import SCENE_CONTROLLERS, PlanError, SweepPlan
+from .plan import SCENE_CONTROLLERS, PlanError, SweepPlan, episode_overrides
 
 __all__ = ["check_plan"]
 
@@ -38,7 +38,7 @@ def check_plan(plan: SweepPlan, scene: Any, *, tolerate: Collection[str] = ()) -
     combos = plan.combinations()
     for combo in combos:  # the scene's part: the same for every controller
         try:
-            variant = apply_scene_overrides(scene, combo)
+            variant = apply_scene_overrides(scene, episode_overrides(combo))
             check_steps(variant.duration, variant.dt)
         except ValueError as exc:
             raise PlanError(f"{_describe(combo)}: {exc}") from exc

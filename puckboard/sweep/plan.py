@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 __all__ = [
+    "LABEL_PREFIX",
     "PARAMETERS",
     "SCENE_CONTROLLERS",
     "EpisodeSpec",
@@ -25,10 +26,12 @@ __all__ = [
     "SweepPlan",
     "check_parameter",
     "episode_key",
+    "episode_overrides",
     "params_key",
     "parse_seeds",
     "parse_set",
     "profile_parameters",
+    "seeds_text",
 ]
 
 #: Controller spec meaning "each robot keeps the controller its scene names".
@@ -51,6 +54,12 @@ PARAMETERS: dict[str, str] = {
     "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
+
+#: Names of *labels*: text that an episode's identity (its key, its row's ``params``)
+#: carries and the episode itself is never given, so a study can say which of its points
+#: an episode belongs to where the parameters alone cannot (``puckboard sensitivity``
+#: marks its one-at-a-time points that draw the other numbers with ``label.field``).
+LABEL_PREFIX = "label."
 
 _CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
 _POSITIVE = {"dt", "duration", "control.period"}
@@ -122,8 +131,17 @@ def profile_parameters(profile: Any) -> dict[str, Any]:
     return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
 
 
+def episode_overrides(params: Mapping[str, Any]) -> dict[str, Any]:
+    """``params`` as an episode takes them: every parameter but the labels
+    (:data:`LABEL_PREFIX`)."""
+    return {k: v for k, v in params.items() if not k.startswith(LABEL_PREFIX)}
+
+
 def check_parameter(name: str) -> str:
-    """Return ``name`` if it is a parameter episodes accept, else raise :class:`PlanError`."""
+    """Return ``name`` if it is a parameter episodes accept (or a label), else raise
+    :class:`PlanError`."""
+    if name.startswith(LABEL_PREFIX) and len(name) > len(LABEL_PREFIX):
+        return name
     if _is_profile_param(name):
         from ..profile import check_path
 
@@ -180,7 +198,7 @@ def _profile_value(name: str, value: Any) -> Any:
 
 
 def _check_value(name: str, value: Any) -> None:
-    if name.startswith(("layer.", "controller.")):
+    if name.startswith(("layer.", "controller.", LABEL_PREFIX)):
         return
     if _is_profile_param(name):
         _profile_value(name, value)
@@ -275,6 +293,21 @@ def parse_seeds(spec: str) -> range:
     if min(seeds) < 0:
         raise PlanError(f"--seeds {spec!r}: seeds cannot be negative")
     return seeds
+
+
+def seeds_text(seeds: Iterable[int]) -> str:
+    """Seeds as ``--seeds`` spells them, the inverse of :func:`parse_seeds`: a range as
+    ``A:B`` (``A:B:STEP``); other seeds (those read back from rows) as ``A:B`` when they
+    are consecutive, else their count (``"12 seeds"``)."""
+    if isinstance(seeds, range):
+        step = f":{seeds.step}" if seeds.step != 1 else ""
+        return f"{seeds.start}:{seeds.stop}{step}"
+    s = sorted(set(seeds))
+    if not s:
+        return ""
+    if s == list(range(s[0], s[-1] + 1)):
+        return f"{s[0]}:{s[-1] + 1}"
+    return f"{len(s)} seeds"
 
 
 @dataclass(frozen=True)

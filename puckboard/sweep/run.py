@@ -22,7 +22,7 @@ from typing import Any
 
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
-from .plan import PlanError, SweepPlan
+from .plan import PlanError, SweepPlan, seeds_text
 from .progress import NullProgress, Progress
 from .rows import Outcome
 from .signals import Terminated
@@ -73,21 +73,27 @@ class SweepResult:
     def ranking(self) -> list[GroupSummary]:
         return rank_controllers(self.outcomes)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""
-        seeds = self.plan.seeds
-        step = f":{seeds.step}" if seeds.step != 1 else ""
+    def counts(self) -> dict[str, Any]:
+        """How the run went, as every experiment's ``--json`` says it: episodes
+        ``planned``, ``ran`` now, ``skipped`` (already in ``--out``), whether it was
+        ``interrupted``, how many ``errors`` (episodes that raised), ``wall_s``."""
         return {
-            "scenario": self.plan.scenario,
-            "episodes": len(self.outcomes),
             "planned": len(self.plan),
             "ran": self.ran,
             "skipped": self.skipped,
             "interrupted": self.interrupted,
             "errors": len(self.errors),
             "wall_s": self.wall_s,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""
+        return {
+            "scenario": self.plan.scenario,
+            "episodes": len(self.outcomes),
+            **self.counts(),
             "controllers": list(self.plan.controllers),
-            "seeds": f"{seeds.start}:{seeds.stop}{step}",
+            "seeds": seeds_text(self.plan.seeds),
             "parameters": {k: list(v) for k, v in self.plan.grid.items()},
             "fixed": dict(self.plan.fixed),
             "groups": [g.to_dict() for g in self.groups()],

@@ -17,7 +17,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from .plan import SCENE_CONTROLLERS, EpisodeSpec
+from .plan import SCENE_CONTROLLERS, EpisodeSpec, episode_overrides
 from .rows import error_row, result_row
 from .watchdog import call_with_wall_limit
 
@@ -43,7 +43,7 @@ def run_spec(
     """
     from ..control.episode import run_episode
 
-    overrides = spec.param_dict
+    overrides = episode_overrides(spec.param_dict)
     duration = overrides.pop("duration", None)
     loadable = (aliases or {}).get(spec.controller, spec.controller)
     controller = None if loadable == SCENE_CONTROLLERS else loadable

@@ -14,13 +14,13 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from ..viz.figures import COLOURS, FONT, new_figure
 from .objective import CellRate, Score
 from .run import TuneResult
 
 __all__ = ["plot_tune"]
 
-FONT = 15
-COLOUR = "#0072B2"
+COLOUR = COLOURS[0]
 
 
 def _worst(trial: dict[str, Any]) -> float:
@@ -74,20 +74,11 @@ def _importances(ax: Any, result: TuneResult) -> None:
 
 def plot_tune(result: TuneResult, path: str | os.PathLike[str]) -> None:
     """Write the figure to ``path`` (.png, .svg, .pdf)."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError("--plot needs matplotlib: pip install 'puckboard[viz]'") from exc
-    fig, (left, right) = plt.subplots(1, 2, figsize=(14, 5.5))
-    try:
-        _history(left, result)
-        _importances(right, result)
-        for ax in (left, right):
-            ax.tick_params(labelsize=FONT - 2)
-        fig.tight_layout()
-        fig.savefig(path)
-    finally:
-        plt.close(fig)
+    fig = new_figure(figsize=(14, 5.5))
+    left, right = fig.subplots(1, 2)
+    _history(left, result)
+    _importances(right, result)
+    for ax in (left, right):
+        ax.tick_params(labelsize=FONT - 2)
+    fig.tight_layout()
+    fig.savefig(path)

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..sweep.plan import seeds_text
 from .objective import Cell, CellRate, Score, cell_rates, rounds, run_cells
 from .space import Param, own_values
 from .storage import finished_trials, open_study
@@ -79,11 +80,6 @@ class TuneSpec:
             "rounds": self.rounds,
             "sampler_seed": self.sampler_seed,
         }
-
-
-def seeds_text(seeds: range) -> str:
-    step = f":{seeds.step}" if seeds.step != 1 else ""
-    return f"{seeds.start}:{seeds.stop}{step}"
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,8 @@ import zlib
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from .figures import OKABE_ITO
+
 __all__ = [
     "EVENT_LABELS",
     "FONT",
@@ -36,13 +38,13 @@ LINE = {"trail": 2.5, "trace": 2.0, "heading": 3.0, "body_edge": 3.5, "wall": 4.
 NO_DATA_COLOUR = "#d9d9d9"
 
 # Okabe-Ito, by role.
-_VERMILLION = "#D55E00"
-_BLUE = "#0072B2"
-_ORANGE = "#E69F00"
+_VERMILLION = OKABE_ITO["vermillion"]
+_BLUE = OKABE_ITO["blue"]
+_ORANGE = OKABE_ITO["orange"]
 _GREEN = "#4DAF4A"  # Set1 green: Okabe-Ito's bluish green reads as blue when small
-_PURPLE = "#CC79A7"
-_SKY = "#56B4E9"
-_YELLOW = "#F0E442"
+_PURPLE = OKABE_ITO["reddish_purple"]
+_SKY = OKABE_ITO["sky_blue"]
+_YELLOW = OKABE_ITO["yellow"]
 _GREY = "#999999"
 _DARK = "#404040"
 # Cruising is the layer that drives when nothing else does: a quiet brown, away from the

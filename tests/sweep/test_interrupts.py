@@ -224,7 +224,10 @@ def test_a_second_ctrl_c_stops_without_waiting(tmp_path):
     code, err = command.finish()
     assert code == 130
     assert any("interrupted again: not waiting for running episodes" in line for line in err)
-    assert err[-1] == "puckboard sweep: interrupted; 0 episodes of this run kept", err
+    assert err[-1] == (
+        "puckboard sweep: interrupted; 0 episodes ran and none is kept: add --out FILE (.csv "
+        "or .parquet) to keep finished episodes; the same command then resumes from it"
+    ), err
 
 
 @pytest.fixture(scope="module")

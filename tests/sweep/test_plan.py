@@ -159,3 +159,13 @@ def test_balanced_order_puts_longer_episodes_first_and_mixes_the_groups():
     # a dt parameter changes the step limit as duration does
     dts = SweepPlan.from_specs("arena", seeds="0:2", sets=["dt=0.1,0.01"]).episodes()
     assert [s.param_dict["dt"] for s in balance_order(list(dts), scene)] == [0.01] * 2 + [0.1] * 2
+
+
+def test_seeds_are_written_as_they_are_read_in_one_place():
+    from puckboard.sweep.plan import parse_seeds, seeds_text
+
+    for text in ("0:20", "5:40:5"):
+        assert seeds_text(parse_seeds(text)) == text
+    assert seeds_text([3, 1, 2, 2]) == "1:4"  # rows read back: consecutive seeds
+    assert seeds_text([0, 2, 7]) == "3 seeds"
+    assert seeds_text([]) == ""

@@ -17,6 +17,7 @@ from puckboard.sensitivity.estimate import (
     ranking_outcome,
 )
 from puckboard.sensitivity.joint import analyse_rows, from_rows, joint_plan
+from puckboard.sensitivity.plan import FIELD_LABEL
 from puckboard.sweep import PlanError
 
 PATHS = ("body_radius", "ir_gain.right", "prox_heading.diagonal_right", "axle_length")
@@ -115,7 +116,8 @@ def test_bins_hold_every_episode_once_with_their_ranges():
 def test_rows_of_other_points_are_left_out_and_from_rows_says_what_it_needs():
     rows = synthetic_rows(40, None)
     moved = dict(rows[0], key="other", params=json.dumps(
-        {"robot.profile": "epuck", "variation": "plausible", "profile.ir_gain": 0.7}))  # fmt: skip
+        {"robot.profile": "epuck", "variation": "plausible", "profile.ir_gain": 0.7,
+         FIELD_LABEL: "ir_gain"}))  # fmt: skip
     shipped = dict(rows[1], key="shipped", params=json.dumps({"robot.profile": "epuck"}))
     (a,) = analyse_rows([*rows, moved, shipped])
     assert a.band.episodes == 40

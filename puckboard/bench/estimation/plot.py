@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ...viz.figures import new_figure
+
 if TYPE_CHECKING:
     from .trial import Trace
 
@@ -29,16 +31,11 @@ def plot_traces(
     One column per trace. matplotlib is imported here (the ``viz`` extra); the figure is
     written to ``path`` (its suffix picks the format).
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
     from matplotlib.patches import Ellipse
 
     n = len(traces)
-    fig, axes = plt.subplots(
-        2, n, figsize=(5.0 * n, 7.2), squeeze=False, gridspec_kw={"height_ratios": [3, 1.4]}
-    )
+    fig = new_figure(figsize=(5.0 * n, 7.2))
+    axes = fig.subplots(2, n, squeeze=False, gridspec_kw={"height_ratios": [3, 1.4]})
     for col, trace in enumerate(traces):
         ax, ax_err = axes[0][col], axes[1][col]
         truth = np.array(trace.truth)
@@ -92,5 +89,4 @@ def plot_traces(
     fig.tight_layout()
     out = Path(path)
     fig.savefig(out, dpi=100)
-    plt.close(fig)
     return out
