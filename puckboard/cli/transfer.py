@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from .common import CliError, check_plot_file
-from .sweep import (
+from .experiment_options import (
     add_duration,
     add_where_to_run,
     check_numbers,

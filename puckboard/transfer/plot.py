@@ -17,25 +17,13 @@ import os
 from typing import Any
 
 from ..sweep.summary import controller_labels
+from ..viz.figures import FONT, OKABE_ITO, new_figure
 from .result import Cell, TransferResult
 
 __all__ = ["plot_transfer"]
 
-FONT = 15
-#: Bar colour of the radius panels (Okabe & Ito's blue).
-BAR = "#0072B2"
-
-
-def _pyplot() -> Any:
-    """matplotlib's pyplot drawing off screen, or an ImportError naming the extra."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError("--plot needs matplotlib: pip install 'puckboard[viz]'") from exc
-    return plt
+#: Bar colour of the radius panels.
+BAR = OKABE_ITO["blue"]
 
 
 def _column_labels(result: TransferResult) -> list[str]:
@@ -116,7 +104,6 @@ def _radius_panel(ax: Any, cells: list[Cell], index: int, labels: list[str]) -> 
 
 def plot_transfer(result: TransferResult, path: str | os.PathLike[str]) -> None:
     """Write the figure to ``path`` (.png, .svg, .pdf); needs matplotlib."""
-    plt = _pyplot()
     cells = _ordered(result.cells)
     if not cells:
         raise ValueError("nothing to plot: the report has no cell")
@@ -125,22 +112,19 @@ def plot_transfer(result: TransferResult, path: str | os.PathLike[str]) -> None:
     n_radii = len(cells[0].radii)
     width = max(12.0, 4.5 + 1.6 * len(cells))
     heights = [max(3.0, 1.0 * n_rows)] + [3.2] * n_radii
-    fig = plt.figure(figsize=(width, sum(heights) + 2.5 + 0.6 * n_radii))
-    try:
-        grid = fig.add_gridspec(1 + n_radii, 2, height_ratios=heights, width_ratios=[40, 1])
-        image = _matrix(fig.add_subplot(grid[0, 0]), cells, labels)
-        bar = fig.colorbar(image, cax=fig.add_subplot(grid[0, 1]))
-        bar.set_label("pass rate (%)", fontsize=FONT - 2)
-        for i in range(n_radii):
-            _radius_panel(fig.add_subplot(grid[1 + i, 0]), cells, i, labels)
-        seeds = result.to_dict()["seeds"]
-        fig.suptitle(
-            f"Beyond the design model: seeds {seeds} at every model (95 % Wilson intervals "
-            "in the report)",
-            fontsize=FONT + 3,
-            fontweight="bold",
-        )
-        fig.tight_layout(rect=(0, 0, 1, 0.96))
-        fig.savefig(path, dpi=100, bbox_inches="tight")
-    finally:
-        plt.close(fig)
+    fig = new_figure(figsize=(width, sum(heights) + 2.5 + 0.6 * n_radii))
+    grid = fig.add_gridspec(1 + n_radii, 2, height_ratios=heights, width_ratios=[40, 1])
+    image = _matrix(fig.add_subplot(grid[0, 0]), cells, labels)
+    bar = fig.colorbar(image, cax=fig.add_subplot(grid[0, 1]))
+    bar.set_label("pass rate (%)", fontsize=FONT - 2)
+    for i in range(n_radii):
+        _radius_panel(fig.add_subplot(grid[1 + i, 0]), cells, i, labels)
+    seeds = result.to_dict()["seeds"]
+    fig.suptitle(
+        f"Beyond the design model: seeds {seeds} at every model (95 % Wilson intervals "
+        "in the report)",
+        fontsize=FONT + 3,
+        fontweight="bold",
+    )
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    fig.savefig(path, dpi=100, bbox_inches="tight")

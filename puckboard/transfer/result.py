@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
-from ..sweep.plan import params_key
+from ..sweep.plan import params_key, seeds_text
 from ..sweep.rows import Outcome
 from ..sweep.run import SweepResult
 from ..sweep.summary import GroupSummary, summarise
@@ -235,25 +235,20 @@ class TransferResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: the plan, counts, timing and one entry per cell."""
-        seeds = self.plan.seeds
-        step = f":{seeds.step}" if seeds.step != 1 else ""
         return {
             "scenes": list(self.plan.scenes),
             "controllers": list(self.plan.controllers),
             "profiles": {k: list(v) for k, v in self.plan.profiles.items()},
-            "seeds": f"{seeds.start}:{seeds.stop}{step}",
+            "seeds": seeds_text(self.plan.seeds),
             "fixed": dict(self.plan.fixed or {}),
             "threshold": self.threshold,
             "radius_by": "estimate",
             "seeds_for_lower_bound": seeds_for_lower_bound(self.threshold),
             "families": [f.to_dict() for f in self.plan.families],
             "episodes": self.episodes,
-            "planned": len(self.plan),
-            "ran": self.ran,
-            "skipped": self.skipped,
-            "interrupted": self.interrupted,
-            "errors": len(self.errors),
-            "wall_s": self.wall_s,
+            # the counts every experiment reports, in the sweep's words (a report has
+            # the same planned, ran, skipped, interrupted, errors and wall_s, summed)
+            **SweepResult.counts(cast(Any, self)),
             "episodes_per_s": self.episodes_per_s,
             "cells": [c.to_dict() for c in self.cells],
         }
