@@ -9,13 +9,16 @@ such model, described by what it changes and nothing else:
 * ``sets``: settings given fixed values (``--set NAME=VALUE``, as ``run`` takes them);
 * ``scaled``: settings multiplied by a scale, each from the scene's own value (the noise
   levels: at ``scale`` 2, twice the scene's);
+* ``stepped``: settings set to a number of physics steps (the control loop's period and
+  latency, which the simulator takes in whole steps);
+* ``link``: the loop's timing at a link's slow end (:mod:`puckboard.profile.links`);
 * ``variation``: how each episode's robots (and conditions) are drawn;
 * ``scene``: a scene run instead of the one the controller was designed on.
 
 A family with a ``grid`` is a continuous perturbation: its robustness radius is read off
 the grid (:mod:`puckboard.transfer.radius`). The grid is declared here, before anything
-runs, ordered outward from the design model (scale 1), and never chosen by the outcome.
-``scale`` is the point of the grid reported as the family's held-out band.
+runs, ordered outward from the design model (its ``origin``), and never chosen by the
+outcome. ``scale`` is the point of the grid reported as the family's held-out band.
 
 A family whose setting the installed puckboard does not know is simply not listed.
 """
@@ -34,6 +37,7 @@ __all__ = [
     "PLAUSIBLE",
     "Family",
     "choose_families",
+    "link_timing",
     "scene_value",
 ]
 
@@ -51,52 +55,92 @@ NOISE_SETTINGS = ("noise.wheel_speed", "noise.proximity", "noise.ground", "noise
 class Family:
     """One held-out model: a name, one line on what it changes, and the changes.
 
-    ``scale`` is the held-out point (the scale the family's band is measured at) and
-    ``grid`` the scales its radius is read from, outward from 1 (the design model); a
-    family without ``scaled`` settings has neither (``scale`` 1, no grid).
+    ``scaled`` settings are the scene's own value × the scale (the design model at 1);
+    ``stepped`` settings are the scale in whole physics steps of the scene's ``dt`` (the
+    loop's period and latency, which the simulator takes only in whole steps; the design
+    model at ``origin``: one step of period, no latency). ``link`` sets the loop's
+    timing to that link's slow end (:func:`link_timing`). ``grid`` lists the scales a
+    radius is read from, from ``origin`` (the design model) outward; ``scale`` is the
+    held-out point reported as the family's band (``None``: a radius only). A family
+    without a grid is one model: its band, no radius.
     """
 
     name: str
     what: str
     sets: Mapping[str, Any] = field(default_factory=dict)
     scaled: tuple[str, ...] = ()
-    scale: float = 1.0
+    stepped: tuple[str, ...] = ()
+    link: str | None = None
+    scale: float | None = None
     grid: tuple[float, ...] = ()
+    origin: float = 1.0
     variation: str = PLAUSIBLE
     scene: str | None = None
     source: str = ""
 
     def __post_init__(self) -> None:
-        if self.grid and not self.scaled:
-            raise ValueError(f"family {self.name}: a grid needs scaled settings")
-        if self.grid and (self.grid[0] != 1 or len(set(self.grid)) != len(self.grid)):
+        if self.scaled and self.stepped:
+            raise ValueError(f"family {self.name}: scaled or stepped settings, not both")
+        if self.grid and not (self.scaled or self.stepped):
+            raise ValueError(f"family {self.name}: a grid needs scaled or stepped settings")
+        if self.scaled and self.origin != 1:
+            raise ValueError(f"family {self.name}: scaled settings are the design model at 1")
+        if self.grid and (self.grid[0] != self.origin or list(self.grid) != sorted(set(self.grid))):
             raise ValueError(
-                f"family {self.name}: a grid starts at 1 (the design model) and lists each "
-                "scale once"
+                f"family {self.name}: a grid starts at {self.origin:g} (the design model) and "
+                "grows outward, each scale once"
             )
-        if self.grid and self.scale not in self.grid:
+        if self.grid and self.scale is not None and self.scale not in self.grid:
             raise ValueError(f"family {self.name}: its scale {self.scale} is not on its grid")
 
     @property
-    def label(self) -> str:
-        """How reports name the family's band: a scaled family with its scale
-        (``noise ×2``)."""
-        return f"{self.name} ×{self.scale:g}" if self.scaled else self.name
+    def band_scale(self) -> float | None:
+        """The scale of the family's own band: ``scale``, or the one model of a family
+        without a grid; ``None`` for a radius only."""
+        if self.scale is not None or self.grid:
+            return self.scale
+        return self.origin
 
     @property
     def has_radius(self) -> bool:
         """Whether a robustness radius is read off this family's grid."""
         return bool(self.grid)
 
+    def scale_text(self, scale: float, dt: float) -> str:
+        """A scale as people read it: ``×2`` for scaled settings, milliseconds for
+        stepped ones at physics step ``dt``."""
+        if self.stepped:
+            return f"{scale * dt * 1000:g} ms"
+        return f"×{scale:g}"
+
+    def what_at(self, dt: float) -> str:
+        """What the family changes, at physics step ``dt`` (a link's timing in ms)."""
+        if self.link is None:
+            return self.what
+        timing = link_timing(self.link, dt)
+        return (
+            f"period {timing['control.period'] * 1000:g} ms, latency "
+            f"{timing['control.latency'] * 1000:g} ms: {self.what}"
+        )
+
+    def label(self, dt: float) -> str:
+        """How reports name the family's band (``noise ×2``)."""
+        band = self.band_scale
+        if band is None or not (self.scaled or self.stepped):
+            return self.name
+        return f"{self.name} {self.scale_text(band, dt)}"
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "name": self.name,
-            "label": self.label,
             "what": self.what,
             "sets": dict(self.sets),
             "scaled": list(self.scaled),
+            "stepped": list(self.stepped),
+            "link": self.link,
             "scale": self.scale,
             "grid": list(self.grid),
+            "origin": self.origin,
             "variation": self.variation,
             "scene": self.scene,
             "source": self.source,
@@ -112,18 +156,74 @@ def scene_value(scene: Any, name: str) -> float:
     raise KeyError(f"{name} is not a setting a family can scale")
 
 
-#: Every family, in the order reports list them. The noise grid doubles as Jakobi's
-#: question (how far may the noise stray?): 1, 2, 3 and 4 times the scene's levels, the
-#: issue's measured ×3 inside it, ×2 its held-out point.
+def _whole_steps(seconds: float, dt: float, minimum: int) -> float:
+    # as puckboard.profile.links.draw_timing rounds a drawn timing to the physics step
+    return max(minimum, round(seconds / dt)) * dt
+
+
+def link_timing(name: str, dt: float) -> dict[str, float]:
+    """The loop's timing on link ``name`` at its slow end (the longest period and latency
+    its sources allow), each rounded to whole physics steps of ``dt``: the edge of the
+    envelope the link's sources draw, where a controller that holds anywhere in it must
+    hold too."""
+    from ..profile.links import get_link
+
+    link = get_link(name)
+    return {
+        "control.period": _whole_steps(link.period[1], dt, 1),
+        "control.latency": _whole_steps(link.latency[1], dt, 0),
+    }
+
+
+def _link_families() -> tuple[Family, ...]:
+    """One family per link of :data:`puckboard.profile.links.LINKS` but the design
+    model's own loop (CoppeliaSim stepped synchronously, one tick per step, no delay)."""
+    from ..profile.links import LINKS
+
+    return tuple(
+        Family(
+            name=f"link {name}",
+            what="the link's slow end, in whole steps",
+            link=name,
+            source="; ".join(link.sources) + (" (assumed in part)" if link.assumed else ""),
+        )
+        for name, link in LINKS.items()
+        if name != "coppeliasim-sync"
+    )
+
+
+#: Every family, in the order reports list them. Grids are declared here, before any
+#: episode runs. Noise: 1 to 3 times the scene's levels (the issue measured ×3), ×2 its
+#: held-out band. The loop's period: 1, 2 and 4 steps (50, 100 and 200 ms at the pass
+#: scenes' 50 ms: ARGoS's e-puck ticks at 100 ms, the thesis measured V-REP's real-time
+#: loop at 68-206 ms). Its latency: 0, 1 and 2 steps (0, 50 and 100 ms: the links' slow
+#: ends lie at 40-70 ms).
 FAMILIES: tuple[Family, ...] = (
     Family(
         name="noise",
-        what="wheel, IR, ground and gyro noise at twice the scene's (radius: ×1 to ×4)",
+        what="wheel, IR, ground and gyro noise × the scene's",
         scaled=NOISE_SETTINGS,
         scale=2.0,
-        grid=(1.0, 2.0, 3.0, 4.0),
+        grid=(1.0, 2.0, 3.0),
         source="Jakobi 1997 (envelope of noise); ARGoS's e-puck wheels 5 %, Enki ±5 % "
         "against the scenes' 3 % (docs/scenarios.md)",
+    ),
+    *_link_families(),
+    Family(
+        name="period",
+        what="the controller ticks every 1, 2 or 4 physics steps, no delay",
+        stepped=("control.period",),
+        grid=(1.0, 2.0, 4.0),
+        source="AutoMoDe's e-puck in ARGoS: 100 ms; the thesis's real-time V-REP loop: "
+        "68-206 ms (puckboard.profile.links)",
+    ),
+    Family(
+        name="latency",
+        what="each command reaches the wheels 0, 1 or 2 physics steps late",
+        stepped=("control.latency",),
+        grid=(0.0, 1.0, 2.0),
+        origin=0.0,
+        source="the links' latency ranges (puckboard.profile.links): slow ends 40-70 ms",
     ),
 )
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
-from .families import DESIGN, PLAUSIBLE, Family, scene_value
+from .families import DESIGN, PLAUSIBLE, Family, link_timing, scene_value
 
 __all__ = ["Point", "Skipped", "TransferPlan", "family_params", "transfer_plan"]
 
@@ -60,6 +60,8 @@ class TransferPlan:
     sweeps: tuple[SweepPlan, ...]
     skipped: tuple[Skipped, ...] = ()
     fixed: Mapping[str, Any] | None = None
+    #: Each scene's physics step (s): what a stepped family's scales mean there.
+    dts: Mapping[str, float] | None = None
 
     def point_key(self, point: Point) -> str:
         """``point``'s parameters (the fixed ones included) as
@@ -77,25 +79,38 @@ def family_params(
     family: Family | None, scene: Any, scale: float, base: Mapping[str, Any]
 ) -> dict[str, Any]:
     """The parameters of ``family`` at ``scale`` on ``scene`` (``None``: the design model),
-    on top of ``base`` (the profile's). At scale 1 scaled settings keep the scene's
-    values and are left out, so that point is the design model's own episodes."""
+    on top of ``base`` (the profile's). At the family's origin its scaled and stepped
+    settings keep the scene's values and are left out, so that point is the design
+    model's own episodes."""
     if family is None:
         return {**base, "variation": PLAUSIBLE}
     params = {**base, "variation": family.variation, **family.sets}
-    if scale != 1:
+    if family.link is not None:  # only what differs from the design loop (one step, no delay)
+        design_loop = {"control.period": float(scene.dt), "control.latency": 0.0}
+        timing = link_timing(family.link, scene.dt)
+        params.update({k: v for k, v in timing.items() if abs(v - design_loop[k]) > 1e-12})
+    if scale != family.origin:
         for name in family.scaled:
             value = scene_value(scene, name)
             if value:
                 params[name] = value * scale
+        for name in family.stepped:
+            params[name] = scale * scene.dt
     return params
 
 
-def _applies(family: Family, scene: Any) -> str | None:
-    """Why ``family`` changes nothing on ``scene``, or ``None`` if it changes something."""
-    only_scaled = not family.sets and family.scene is None and family.variation == PLAUSIBLE
-    if family.scaled and only_scaled and not any(scene_value(scene, n) for n in family.scaled):
-        return f"{scene.name} sets none of {', '.join(family.scaled)}: nothing to scale"
-    return None
+def _same_as_design(family: Family, scene: Any, base: Mapping[str, Any]) -> str | None:
+    """Why ``family`` is the design model itself on ``scene`` (every point of it), or
+    ``None`` when it changes something."""
+    design = family_params(None, scene, 1.0, base)
+    scales = [s for s in (family.band_scale, *family.grid) if s is not None]
+    if family.scene is not None:
+        return None
+    if any(family_params(family, scene, s, base) != design for s in scales):
+        return None
+    if family.link is not None:
+        return f"at {scene.name}'s {scene.dt * 1000:g} ms step its slow end is the design loop"
+    return f"on {scene.name} it changes nothing (nothing to scale)"
 
 
 def transfer_plan(
@@ -139,7 +154,7 @@ def transfer_plan(
                 )
             )
             for family in families:
-                why = _applies(family, scene)
+                why = _same_as_design(family, scene, base)
                 if why is not None:
                     if profile is chosen[0]:
                         skipped.append(Skipped(scene.name, family.name, why))
@@ -147,7 +162,8 @@ def transfer_plan(
                 runs_on = family.scene or scene.name
                 if family.scene is not None and family.scene not in others:
                     raise PlanError(f"family {family.name}: scene {family.scene} is not loaded")
-                for scale in dict.fromkeys([family.scale, *family.grid]):
+                scales = [s for s in (family.band_scale, *family.grid) if s is not None]
+                for scale in dict.fromkeys(scales):
                     params = family_params(family, scene, scale, base)
                     points.append(Point(scene.name, label, family.name, scale, runs_on, params))
     sweeps = _sweeps(points, controllers, seeds, fixed or {})
@@ -161,6 +177,7 @@ def transfer_plan(
         sweeps=sweeps,
         skipped=tuple(skipped),
         fixed=dict(fixed or {}),
+        dts={scene.name: float(scene.dt) for scene in scenes},
     )
 
 

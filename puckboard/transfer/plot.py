@@ -18,6 +18,7 @@ from typing import Any
 
 from ..sweep.summary import controller_labels
 from ..viz.figures import FONT, OKABE_ITO, new_figure
+from .families import DESIGN
 from .result import Cell, TransferResult
 
 __all__ = ["plot_transfer"]
@@ -46,18 +47,21 @@ def _ordered(cells: list[Cell]) -> list[Cell]:
 
 
 def _matrix(ax: Any, cells: list[Cell], labels: list[str]) -> Any:
-    first = cells[0]
-    rows = ["design (plausible robots)", *(b.label for b in first.families)]
+    # rows: the design model, then every family any cell has a band of (a family that is
+    # the design model itself in one scene has no band there: a blank square)
+    rows = {DESIGN: "design (plausible robots)"}
+    for cell in cells:
+        rows.update({b.family: b.label for b in cell.families if b.family not in rows})
     grid = []
     texts = []
-    for row in range(len(rows)):
+    for family in rows:
         values, words = [], []
         for cell in cells:
-            band = cell.design if row == 0 else cell.families[row - 1]
-            g = band.stats
+            bands = {DESIGN: cell.design, **{b.family: b for b in cell.families}}
+            g = bands[family].stats if family in bands else None
             values.append(float("nan") if g is None else 100 * g.success_rate)
             words.append(
-                "not run"
+                ("not run" if family in bands else "-")
                 if g is None
                 else f"{100 * g.success_rate:.0f} %\n{g.successes}/{g.episodes}"
             )
@@ -72,7 +76,7 @@ def _matrix(ax: Any, cells: list[Cell], labels: list[str]) -> Any:
                 colour = "grey"
             ax.text(c, r, word, ha="center", va="center", fontsize=FONT - 2, color=colour,
                     fontweight="bold")  # fmt: skip
-    ax.set_yticks(range(len(rows)), rows, fontsize=FONT)
+    ax.set_yticks(range(len(rows)), list(rows.values()), fontsize=FONT)
     ax.set_xticks(range(len(cells)), labels, fontsize=FONT - 3)
     ax.xaxis.tick_top()
     ax.set_title("pass rate on each model", fontsize=FONT + 2, fontweight="bold", pad=12)
@@ -91,9 +95,9 @@ def _radius_panel(ax: Any, cells: list[Cell], index: int, labels: list[str]) -> 
         ax.bar(c, positions[r.radius], width=0.7, color=BAR,
                alpha=1.0 if r.complete else 0.35, hatch="//" if r.censored else None,
                edgecolor="white" if r.censored else BAR)  # fmt: skip
-        ax.text(c, positions[r.radius] + 0.05, ("≥ " if r.censored else "") + f"×{r.radius:g}",
+        ax.text(c, positions[r.radius] + 0.05, ("≥ " if r.censored else "") + first.text(r.radius),
                 ha="center", va="bottom", fontsize=FONT - 3)  # fmt: skip
-    ax.set_yticks(range(1, len(grid) + 1), [f"×{s:g}" for s in grid], fontsize=FONT - 2)
+    ax.set_yticks(range(1, len(grid) + 1), list(first.shown), fontsize=FONT - 2)
     ax.set_ylim(0, len(grid) + 0.7)
     ax.set_xlim(-0.5, len(cells) - 0.5)
     ax.set_xticks(range(len(cells)), labels, fontsize=FONT - 4)
@@ -108,7 +112,7 @@ def plot_transfer(result: TransferResult, path: str | os.PathLike[str]) -> None:
     if not cells:
         raise ValueError("nothing to plot: the report has no cell")
     labels = _column_labels(result)
-    n_rows = 1 + len(cells[0].families)
+    n_rows = 1 + len({b.family for c in cells for b in c.families})
     n_radii = len(cells[0].radii)
     width = max(12.0, 4.5 + 1.6 * len(cells))
     heights = [max(3.0, 1.0 * n_rows)] + [3.2] * n_radii

@@ -32,10 +32,6 @@ def band_text(g: GroupSummary | None) -> str:
     return f"{g.successes}/{g.episodes} {_interval(g.ci95_low, g.ci95_high)}"
 
 
-def _scale(scale: float) -> str:
-    return f"×{scale:g}"
-
-
 def _point(p: GridPoint) -> str:
     return f"{p.successes}/{p.episodes}"
 
@@ -47,29 +43,29 @@ def radius_text(r: RadiusResult) -> str:
     if est.at is None:
         if est.beyond is None:
             return "not run"
-        return f"none: {_scale(est.beyond.scale)} {_point(est.beyond)}"
+        return f"none: {r.text(est.beyond.scale)} {_point(est.beyond)}"
     low, high = est.at.interval
-    text = f"{'≥ ' if est.censored else ''}{_scale(est.at.scale)}: {_point(est.at)} "
+    text = f"{'≥ ' if est.censored else ''}{r.text(est.at.scale)}: {_point(est.at)} "
     text += _interval(low, high)
     if est.beyond is not None:
-        text += f"; {_scale(est.beyond.scale)} {_point(est.beyond)}"
+        text += f"; {r.text(est.beyond.scale)} {_point(est.beyond)}"
     elif not est.complete:
         text += "; further not run"
     return text
 
 
 def _block(cells: list[Cell], names: dict[str, str], families: dict[str, str]) -> str:
+    """One scene and profile: a column per controller (the cells share their models)."""
     first = cells[0]
     rows = [[DESIGN, DESIGN_WHAT, *(band_text(c.design.stats) for c in cells)]]
     for i, band in enumerate(first.families):
-        rows.append(
-            [band.label, families[band.family], *(band_text(c.families[i].stats) for c in cells)]
-        )
+        rows.append([band.label, band.what, *(band_text(c.families[i].stats) for c in cells)])
     for i, radius in enumerate(first.radii):
-        grid = " ".join(_scale(p.scale) for p in radius.grid)
+        grid = ", ".join(radius.shown)
         rows.append(
-            [f"radius: {radius.family}", f"grid {grid}", *(radius_text(c.radii[i]) for c in cells)]
-        )
+            [f"radius: {radius.family}", f"grid {grid}: {families[radius.family]}",
+             *(radius_text(c.radii[i]) for c in cells)]
+        )  # fmt: skip
     headers = ["model", "what it changes", *(names[c.controller] for c in cells)]
     title = f"{first.scene} · {first.profile}"
     parts = [title, format_table(headers, rows, right=set())]
@@ -81,7 +77,7 @@ def _block(cells: list[Cell], names: dict[str, str], families: dict[str, str]) -
 def _lower_bound_note(result: TransferResult) -> str:
     needed = result.to_dict()["seeds_for_lower_bound"]
     held = [
-        f"{c.scene} · {c.profile} · {c.controller} {r.family} {_scale(r.lower.radius)}"
+        f"{c.scene} · {c.profile} · {c.controller} {r.family} {r.text(r.lower.radius)}"
         for c in result.cells
         for r in c.radii
         if r.lower.radius is not None

@@ -48,6 +48,7 @@ class Band:
     scale: float
     runs_on: str
     stats: GroupSummary | None
+    what: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -55,6 +56,7 @@ class Band:
             "label": self.label,
             "scale": self.scale,
             "runs_on": self.runs_on,
+            "what": self.what,
             "stats": stats_dict(self.stats),
         }
 
@@ -82,12 +84,22 @@ class RadiusResult:
     grid: tuple[GridPoint, ...]
     estimate: Radius
     lower: Radius
+    #: Each grid scale as people read it (``×2``, ``100 ms``), in the grid's order.
+    shown: tuple[str, ...] = ()
+
+    def text(self, scale: float | None) -> str:
+        """``scale`` as people read it (one of the grid's)."""
+        for point, shown in zip(self.grid, self.shown):
+            if point.scale == scale:
+                return shown
+        return f"×{scale:g}" if scale is not None else "-"
 
     def to_dict(self) -> dict[str, Any]:
         r = self.estimate
         return {
             "family": self.family,
             "grid": [_point_dict(p) for p in self.grid],
+            "shown": list(self.shown),
             "radius": r.radius,
             "by": r.by,
             "threshold": r.threshold,
@@ -162,14 +174,16 @@ def _cell(
     design_point = next(p for p in points if p.family == DESIGN)
     design = Band(DESIGN, DESIGN, 1.0, scene, stats(controller, design_point))
     bands, radii = [], []
+    dt = (plan.dts or {}).get(scene, 0.0)
     for family in plan.families:
         mine = [p for p in points if p.family == family.name]
-        held = next((p for p in mine if p.scale == family.scale), None)
-        if held is None:
-            continue  # not applicable here
-        bands.append(
-            Band(family.name, family.label, family.scale, held.runs_on, stats(controller, held))
-        )
+        if not mine:
+            continue  # the design model itself here (plan.skipped says why)
+        held = next((p for p in mine if p.scale == family.band_scale), None)
+        if held is not None:
+            label, what = family.label(dt), family.what_at(dt)
+            band = stats(controller, held)
+            bands.append(Band(family.name, label, held.scale, held.runs_on, band, what))
         if family.has_radius:
             by_scale = {p.scale: p for p in mine}
             grid = tuple(_grid_point(s, stats(controller, by_scale[s])) for s in family.grid)
@@ -179,6 +193,7 @@ def _cell(
                     grid,
                     robustness_radius(grid, threshold=threshold, by="estimate"),
                     robustness_radius(grid, threshold=threshold, by="lower"),
+                    tuple(family.scale_text(s, dt) for s in family.grid),
                 )
             )
     skipped = tuple((s.family, s.why) for s in plan.skipped if s.scene == scene)

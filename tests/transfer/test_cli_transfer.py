@@ -10,15 +10,16 @@ from sweep_helpers import CountingExecutor
 
 import puckboard.sweep
 from puckboard.cli import main
+from puckboard.profile.links import LINKS
 from puckboard.sweep import InlineExecutor
 
-#: Two seeds of two seconds: the command's whole path, quick. Four sets of episodes
-#: (design = noise ×1, ×2, ×3, ×4) × 2 seeds.
+#: Two seeds of two seconds: the command's whole path, quick. Three sets of episodes
+#: (design = noise ×1, ×2, ×3) × 2 seeds.
 SMALL = [
     "transfer", "line-follow", "--controller", "stock", "--profile", "epuck",
-    "--seeds", "0:2", "--duration", "2", "--workers", "1", "--quiet",
+    "--families", "noise", "--seeds", "0:2", "--duration", "2", "--workers", "1", "--quiet",
 ]  # fmt: skip
-EPISODES = 4 * 2
+EPISODES = 3 * 2
 
 
 class InProcess(InlineExecutor):
@@ -57,11 +58,30 @@ def test_json_lists_the_design_band_the_families_and_the_radii(capsys):
         assert band["episodes"] == 2
         assert 0.0 <= band["ci95_low"] <= band["success_rate"] <= band["ci95_high"] <= 1.0
     (radius,) = cell["radii"]
-    assert [p["scale"] for p in radius["grid"]] == [1, 2, 3, 4]
+    assert [p["scale"] for p in radius["grid"]] == [1, 2, 3]
     assert radius["grid"][0]["successes"] == cell["design"]["successes"]
     assert radius["grid"][1]["successes"] == cell["families"][0]["stats"]["successes"]
     if radius["radius"] is not None:
         assert radius["at"]["scale"] == radius["radius"]
+
+
+def test_every_family_is_listed_by_default_with_its_band_or_radius(capsys, in_process):
+    """The pass scene, one seed of two seconds: every family of the report."""
+    args = ["transfer", "two-robot-pass", "--controller", "robust", "--seeds", "400:401",
+            "--duration", "2", "--quiet", "--json"]  # fmt: skip
+    assert main(args) == 0
+    data = json.loads(capsys.readouterr().out)
+    (cell,) = data["cells"]
+    assert cell["profile"] == "epuck-vrep"  # the scene's own
+    links = [f["name"] for f in data["families"] if f["link"]]
+    assert links == [f"link {n}" for n in LINKS if n != "coppeliasim-sync"]
+    banded = [b["family"] for b in cell["families"]]
+    skipped = [s["family"] for s in cell["not_applicable"]]
+    assert sorted(banded + skipped) == sorted(["noise", *links])
+    assert skipped == ["link usb-sercom"]
+    assert [r["family"] for r in cell["radii"]] == ["noise", "period", "latency"]
+    for band in cell["families"]:
+        assert band["stats"]["episodes"] == 1
 
 
 def test_out_resumes_and_the_plot_is_written(capsys, tmp_path, in_process):
@@ -107,7 +127,7 @@ def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        (["--families", "nois"], "no family 'nois' (did you mean 'noise'?); families: noise"),
+        (["--families", "nois"], "no family 'nois' (did you mean 'noise'?); families: noise, "),
         (["--families", ","], "--families: name at least one family"),
         (["--seeds", "5:1"], "--seeds '5:1' is empty"),
         (["--profile", "epuck-3"], "unknown robot profile 'epuck-3'"),

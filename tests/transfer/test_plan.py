@@ -40,8 +40,8 @@ def test_noise_scales_every_noise_level_the_scene_sets():
     """two-robot-pass: wheels 3 %, IR 5 %, ground 0.03; no gyro noise to scale."""
     plan = plan_for()
     by_scale = {p.scale: dict(p.params) for p in plan.points if p.family == "noise"}
-    assert sorted(by_scale) == [1.0, 2.0, 3.0, 4.0]
-    for scale in (2.0, 3.0, 4.0):
+    assert sorted(by_scale) == [1.0, 2.0, 3.0]
+    for scale in (2.0, 3.0):
         assert by_scale[scale] == {
             "robot.profile": "epuck",
             "variation": "plausible",
@@ -53,11 +53,12 @@ def test_noise_scales_every_noise_level_the_scene_sets():
 
 
 def test_scale_one_is_the_design_model_s_own_episodes():
-    """The grid's ×1 and the design band are one set of episodes: 4 sets, not 5."""
+    """The grid's ×1 and the design band are one set of episodes, as are the ×2 band and
+    the grid's ×2: 3 sets, not 5."""
     plan = plan_for()
     (sweep,) = plan.sweeps
-    assert len(sweep.points) == 4
-    assert len(plan) == 4 * 3
+    assert len(sweep.points) == 3
+    assert len(plan) == 3 * 3
     keys = {p.family: plan.point_key(p) for p in plan.points if p.scale == 1}
     assert keys["noise"] == keys[DESIGN]
 
@@ -65,7 +66,7 @@ def test_scale_one_is_the_design_model_s_own_episodes():
 def test_each_scene_and_profile_gets_its_points_and_each_scene_its_sweep():
     plan = plan_for(scenes=(PASS, BEND), profiles=("epuck", "epuck-vrep"))
     assert [s.scenario for s in plan.sweeps] == ["two-robot-pass", "two-robot-pass-bend"]
-    assert all(len(s.points) == 2 * 4 for s in plan.sweeps)
+    assert all(len(s.points) == 2 * 3 for s in plan.sweeps)
     assert plan.profiles == {s: ("epuck", "epuck-vrep") for s in plan.scenes}
     cells = analyse(plan, {})
     assert [(c.scene, c.profile) for c in cells] == [
@@ -136,8 +137,10 @@ def test_families_are_chosen_by_name_and_a_wrong_name_lists_them():
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"grid": (1.0, 2.0)}, "a grid needs scaled settings"),
+        ({"grid": (1.0, 2.0)}, "a grid needs scaled or stepped settings"),
         ({"scaled": ("noise.ground",), "grid": (2.0, 1.0), "scale": 2.0}, "starts at 1"),
+        ({"stepped": ("control.latency",), "grid": (0.0, 2.0, 1.0), "origin": 0.0}, "outward"),
+        ({"scaled": ("noise.ground",), "stepped": ("control.latency",)}, "not both"),
         ({"scaled": ("noise.ground",), "grid": (1.0, 3.0), "scale": 2.0}, "not on its grid"),
     ],
 )
@@ -168,12 +171,13 @@ def outcomes(plan, wins_by_scale, seeds=4):
 
 def test_a_cell_has_the_design_band_each_family_s_band_and_its_radius():
     plan = plan_for(seeds=range(4))
-    (cell,) = analyse(plan, outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 2, 4.0: 4}))
+    (cell,) = analyse(plan, outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 2}))
     assert (cell.design.stats.successes, cell.design.stats.episodes) == (4, 4)
     (band,) = cell.families
     assert (band.label, band.stats.successes) == ("noise ×2", 4)
     (radius,) = cell.radii
-    assert [(p.scale, p.successes) for p in radius.grid] == [(1, 4), (2, 4), (3, 2), (4, 4)]
+    assert [(p.scale, p.successes) for p in radius.grid] == [(1, 4), (2, 4), (3, 2)]
+    assert radius.shown == ("×1", "×2", "×3")
     assert (radius.estimate.radius, radius.estimate.beyond.scale) == (2.0, 3.0)
     assert radius.lower.radius is None  # 4 of 4: lower bound 0.51
     data = cell.to_dict()
@@ -183,9 +187,63 @@ def test_a_cell_has_the_design_band_each_family_s_band_and_its_radius():
 
 def test_a_point_not_run_is_not_run_in_its_cell():
     plan = plan_for(seeds=range(4))
-    partial = {k: [o for o in v if not o.key.startswith("3.0/")] for k, v in
-               outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 4, 4.0: 4}).items()}  # fmt: skip
+    partial = {k: [o for o in v if not o.key.startswith("2.0/")] for k, v in
+               outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 4}).items()}  # fmt: skip
     (cell,) = analyse(plan, partial)
+    assert cell.families[0].stats is None
     (radius,) = cell.radii
-    assert radius.grid[2].episodes == 0
-    assert (radius.estimate.radius, radius.estimate.complete) == (2.0, False)
+    assert radius.grid[1].episodes == 0
+    assert (radius.estimate.radius, radius.estimate.complete) == (1.0, False)
+
+
+# -- the control loop's timing ------------------------------------------------------------
+def by_family(plan, name):
+    return {p.scale: dict(p.params) for p in plan.points if p.family == name}
+
+
+def test_a_link_runs_at_its_slow_end_in_whole_steps():
+    """epuck2-wifi: period up to 100 ms, latency up to 40 ms (puckboard.profile.links);
+    at the pass scene's 50 ms step: 2 steps, and 0.8 steps rounded to 1."""
+    plan = plan_for(families=choose_families(["link epuck2-wifi"]))
+    assert by_family(plan, "link epuck2-wifi") == {
+        1.0: {"robot.profile": "epuck", "variation": "plausible",
+              "control.period": pytest.approx(0.1), "control.latency": pytest.approx(0.05)},
+    }  # fmt: skip
+    (band,) = analyse(plan, {})[0].families
+    assert band.what.startswith("period 100 ms, latency 50 ms: ")
+
+
+def test_a_link_no_slower_than_the_design_loop_is_not_run_and_says_why():
+    """usb-sercom's slow end (50 ms, 10 ms) is one step and no delay at a 50 ms step."""
+    plan = plan_for(families=choose_families(["link usb-sercom"]))
+    assert [p.family for p in plan.points] == [DESIGN]
+    (skipped,) = plan.skipped
+    assert "50 ms step its slow end is the design loop" in skipped.why
+
+
+def test_links_with_the_same_timing_in_whole_steps_share_their_episodes():
+    plan = plan_for(families=choose_families(["link epuck2-wifi", "link bluetooth-sercom"]))
+    (sweep,) = plan.sweeps
+    assert len(sweep.points) == 2  # the design model and the one 100 ms / 50 ms loop
+
+
+def test_period_and_latency_grids_are_whole_steps_from_the_design_loop():
+    plan = plan_for(families=choose_families(["period", "latency"]))
+    base = {"robot.profile": "epuck", "variation": "plausible"}
+    period, latency = by_family(plan, "period"), by_family(plan, "latency")
+    assert period == {
+        1.0: base,
+        2.0: {**base, "control.period": pytest.approx(0.1)},
+        4.0: {**base, "control.period": pytest.approx(0.2)},
+    }
+    assert latency == {
+        0.0: base,
+        1.0: {**base, "control.latency": pytest.approx(0.05)},
+        2.0: {**base, "control.latency": pytest.approx(0.1)},
+    }
+    cell = analyse(plan, {})[0]
+    assert cell.families == ()  # a radius only: no band of its own
+    assert [r.shown for r in cell.radii] == [
+        ("50 ms", "100 ms", "200 ms"),
+        ("0 ms", "50 ms", "100 ms"),
+    ]
