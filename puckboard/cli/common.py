@@ -401,14 +401,17 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
 
 
 def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--seed") -> None:
-    """``--variation none|plausible``, the same for ``run``, ``sweep`` and ``serve``;
-    ``seeded_by`` is the option that seeds the draw (``sweep`` has ``--seeds``)."""
+    """``--variation none|plausible|reality-gap``, the same for ``run``, ``sweep``,
+    ``tune`` and ``serve``; ``seeded_by`` is the option that seeds the draw (``sweep``
+    has ``--seeds``)."""
     parser.add_argument(
         "--variation",
-        choices=("none", "plausible"),
+        choices=("none", "plausible", "reality-gap"),
         default="none",
         help="plausible: build each robot from numbers drawn within what the sources allow "
         f"(seeded by {seeded_by}, a robot each; its controller still believes the profile); "
+        "reality-gap: the same robots, in conditions drawn within sourced ranges too (noise "
+        "levels, line contrast and width, obstacles' IR reflectance, a hand placement); "
         "default none: every robot exactly as its profile says",
     )
 

@@ -129,10 +129,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_duration(parser)
     parser.add_argument(
         "--variation",
-        choices=("none", "plausible"),
+        choices=("none", "plausible", "reality-gap"),
         default="none",
         help="plausible: at each value draw every other number of each robot within its range "
-        "(the field's effect on robots that differ in everything else); default none: the "
+        "(the field's effect on robots that differ in everything else); reality-gap: the same, "
+        "in conditions drawn within sourced ranges too; default none: the "
         "other numbers keep the profile's values. The plausible robots' own rate is reported "
         "either way",
     )

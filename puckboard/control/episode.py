@@ -45,8 +45,10 @@ from ..behaviours.presets import load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
+from ..scenario.conditions import CONDITIONS
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
+from ..scenario.reality_gap import REALITY_GAP, draw_conditions
 from ..scenario.result import EpisodeResult
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
@@ -119,7 +121,15 @@ class Episode:
         overrides = dict(overrides or {})
         variation = str(overrides.pop("variation", variation))
         self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
-        self.scene = vary_scene(self.scene, int(seed), variation)
+        # conditions the run sets itself are its definition: reality-gap keeps them
+        fixed = [n for n in overrides if n in CONDITIONS or n.startswith("noise.")]
+        #: what ``reality-gap`` drew, as the result reports it (None for other variations)
+        self.conditions = (
+            draw_conditions(self.scene, int(seed), fixed).to_dict()
+            if variation == REALITY_GAP
+            else None
+        )
+        self.scene = vary_scene(self.scene, int(seed), variation, fixed)
         self.seed = int(seed)
         self.backend = backend if backend is not None else default_backend()
         specs = {
@@ -295,6 +305,7 @@ class Episode:
             failures=list(self.judge.failures),
             robots=self.judge.metrics(),
             events=sorted(self.judge.events, key=lambda e: e.time_s),
+            conditions=self.conditions,
         )
         if not self.scene.control.is_default(self.scene.dt):
             self.result.control_period_s = float(self.loop.period)

@@ -50,9 +50,10 @@ __all__ = [
 #: each other, or the decoded variants of a simulator model differ.
 RANGE_KINDS = ("sources disagree", "per robot", "decoded variants")
 
-#: What ``--variation`` accepts: ``none`` (every robot as its profile says) or
-#: ``plausible`` (each robot drawn from the ranges).
-VARIATIONS = ("none", "plausible")
+#: What ``--variation`` accepts: ``none`` (every robot as its profile says),
+#: ``plausible`` (each robot drawn from the ranges) or ``reality-gap`` (robots drawn as
+#: ``plausible`` draws them, in conditions drawn by :mod:`puckboard.scenario.reality_gap`).
+VARIATIONS = ("none", "plausible", "reality-gap")
 
 #: The third word of every variation generator's seed, ``[seed, robot_index, STREAM]``:
 #: it names the stream (the ASCII of "PROF"), so drawing robots touches neither the

@@ -254,6 +254,8 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
             "closed": scene.track.closed,
             "colour": list(scene.track.colour),
         }
+        if scene.track.contrast != 1.0:  # written only when set: older files stay as they were
+            out["track"]["contrast"] = scene.track.contrast
     if scene.arena is not None:
         a = scene.arena
         out["arena"] = {
@@ -275,12 +277,17 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
 
 
 def _obstacle_to_dict(ob: CircleObstacle | PolygonObstacle) -> dict[str, Any]:
+    out: dict[str, Any]
     if isinstance(ob, CircleObstacle):
-        return {"shape": "circle", "name": ob.name, "x": _num(ob.x), "y": _num(ob.y),
-                "radius": ob.radius, "colour": list(ob.colour)}  # fmt: skip
-    return {"shape": "polygon", "name": ob.name,
-            "vertices": [[_num(x), _num(y)] for x, y in ob.vertices],
-            "colour": list(ob.colour)}  # fmt: skip
+        out = {"shape": "circle", "name": ob.name, "x": _num(ob.x), "y": _num(ob.y),
+               "radius": ob.radius, "colour": list(ob.colour)}  # fmt: skip
+    else:
+        out = {"shape": "polygon", "name": ob.name,
+               "vertices": [[_num(x), _num(y)] for x, y in ob.vertices],
+               "colour": list(ob.colour)}  # fmt: skip
+    if ob.ir_reflectance != 1.0:  # written only when set, as the track's contrast
+        out["ir_reflectance"] = ob.ir_reflectance
+    return out
 
 
 def _num(v: float) -> float:

@@ -7,6 +7,9 @@ One dialect for every place a user writes them: ``puckboard run --set NAME=VALUE
 * ``robot.profile`` (every robot's profile), ``noise.<field>``, ``dt``, ``duration``,
   ``control.period`` and ``control.latency`` (the loop's timing, whole numbers of ``dt``):
   the scene's, applied by :func:`apply_scene_overrides`;
+* the conditions ``surface.line_contrast``, ``surface.line_width``,
+  ``obstacle.ir_reflectance``, ``start.offset``, ``start.heading``
+  (:mod:`puckboard.scenario.conditions`), applied there too;
 * ``profile.<path>`` and ``robot.<name>.profile.<path>``: a number of every robot's or
   one robot's profile, by the setting names of :mod:`puckboard.profile.setting_names`
   (:func:`apply_profile_overrides`, which :func:`apply_scene_overrides` calls);
@@ -14,8 +17,8 @@ One dialect for every place a user writes them: ``puckboard run --set NAME=VALUE
   :func:`puckboard.behaviours.overrides.apply_layer_overrides` (a scene holds no
   controller, so they are left alone here); ``controller.<keyword>`` likewise, handed to
   the controller factory (:func:`puckboard.behaviours.overrides.factory_keywords`);
-* ``variation`` (``none`` or ``plausible``): checked here, drawn by the episode, which
-  knows the seed.
+* ``variation`` (``none``, ``plausible`` or ``reality-gap``): checked here, drawn by the
+  episode, which knows the seed.
 
 A value written as text (:func:`parse_value`) is ``true``/``false``, a whole number, a
 number, or else the text itself (quotes keep a number as text); a profile number may carry
@@ -34,6 +37,7 @@ import numpy as np
 
 from ..errors import ProfileError, SceneError
 from ..profile import RobotProfile, apply_overrides, check_path, get_profile
+from .conditions import CONDITIONS, apply_conditions
 from .robot_profiles import scene_profile
 from .scene import RobotSpec, Scene
 from .variation import check_variation
@@ -62,6 +66,7 @@ OVERRIDE_NAMES = (
     "duration",
     "control.period",
     "control.latency",
+    *CONDITIONS,
     "layer.<LayerName>.<attribute>",
     "controller.<keyword>",
     "profile.<path>",
@@ -161,6 +166,8 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
             control_changes[name.split(".", 1)[1]] = number
         elif name == "variation":
             check_variation(str(value))  # drawn by the episode, which knows the seed
+        elif name in CONDITIONS:
+            continue  # applied below, on the scene the other settings give
         elif profile_target(name) is None:
             raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
     if noise_changes:
@@ -169,6 +176,7 @@ def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
         scene_changes["control"] = dataclasses.replace(scene.control, **control_changes)  # type: ignore[arg-type]
     scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
     scene = apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
+    scene = apply_conditions(scene, overrides)
     if "dt" in overrides or control_changes:
         try:  # the loop's timing against the step it ends with, whichever was set
             scene.control.steps(scene.dt)

@@ -42,7 +42,9 @@ ROBOT_KEYS = frozenset(
     + ("name", "theta", "theta_deg", "direction", "controller", "profile", "actual", "colour")
 )
 OBSTACLE_KEYS = frozenset(
-    PLACE_KEYS + ("shape", "name", "colour", "radius", "size", "angle", "angle_deg", "vertices")
+    PLACE_KEYS
+    + ("shape", "name", "colour", "radius", "size", "angle", "angle_deg", "vertices")
+    + ("ir_reflectance",)
 )
 DUMMY_KEYS = frozenset(PLACE_KEYS + ("name", "z"))
 
@@ -186,15 +188,19 @@ def read_obstacle(
     shape = reader.string("shape", "circle", choices=OBSTACLE_SHAPES)
     name = reader.string("name", f"obstacle{index + 1}")
     colour = reader.colour("colour", (200, 60, 40))
+    reflectance = reader.number(
+        "ir_reflectance", 1.0, unit="share of the IR the response curve's surface sends back",
+        low=0, high=1,
+    )  # fmt: skip
     if shape == "polygon":
-        return _polygon(reader, name, colour)
+        return _polygon(reader, name, colour, reflectance)
     x, y, track_heading = place(reader, frame, "obstacle")
     if shape == "circle":
         radius = reader.number(
             "radius", unit="m", low=0.001, high=10.0, low_open=True, required=True
         )
         reader.finish()
-        return CircleObstacle(x, y, radius, colour=colour, name=name)
+        return CircleObstacle(x, y, radius, colour=colour, name=name, ir_reflectance=reflectance)
     if not reader.has("size"):
         reader.fail("size", "", message="missing; expected [length, width] (m)")
     length, width = reader.pair("size", positive=True)
@@ -203,10 +209,12 @@ def read_obstacle(
     c, s = math.cos(angle), math.sin(angle)
     corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * [length / 2, width / 2]
     vertices = corners @ np.array([[c, s], [-s, c]]) + [x, y]
-    return PolygonObstacle(vertices, colour=colour, name=name)
+    return PolygonObstacle(vertices, colour=colour, name=name, ir_reflectance=reflectance)
 
 
-def _polygon(reader: TableReader, name: str, colour: tuple[int, int, int]) -> PolygonObstacle:
+def _polygon(
+    reader: TableReader, name: str, colour: tuple[int, int, int], reflectance: float
+) -> PolygonObstacle:
     """A convex polygon by its vertices, turned counter-clockwise if given clockwise."""
     if not reader.has("vertices"):
         reader.fail("vertices", "", message="missing; expected at least 3 [x, y] points (m)")
@@ -216,7 +224,7 @@ def _polygon(reader: TableReader, name: str, colour: tuple[int, int, int]) -> Po
         vertices = vertices[::-1]
     if not _is_convex(vertices):
         reader.fail("vertices", "", message="the polygon must be convex")
-    return PolygonObstacle(vertices, colour=colour, name=name)
+    return PolygonObstacle(vertices, colour=colour, name=name, ir_reflectance=reflectance)
 
 
 def read_dummy(reader: TableReader, index: int, frame: TrackFrame | None) -> Dummy:

@@ -37,6 +37,8 @@ class EpisodeResult:
     #: step and no delay (``None``: today's synchronous loop, and no fields in the JSON)
     control_period_s: float | None = None
     control_latency_s: float | None = None
+    #: the conditions ``--variation reality-gap`` drew (None, and not reported, otherwise)
+    conditions: dict[str, Any] | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -44,7 +46,8 @@ class EpisodeResult:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
     def to_dict(self) -> dict[str, Any]:
-        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable)."""
+        """Exactly the fields of ``puckboard run --json`` (JSON-serialisable); ``conditions``
+        only when a variation drew them."""
         rtf = self.realtime_factor
         # the loop's timing only when it is not the default, so a default run's object
         # (and every figure published from one) stays what it was
@@ -56,7 +59,7 @@ class EpisodeResult:
                 "control_latency_s": self.control_latency_s or 0.0,
             }
         )
-        return {
+        out: dict[str, Any] = {
             "scenario": self.scenario,
             "controller": self.controller,
             "seed": self.seed,
@@ -72,3 +75,6 @@ class EpisodeResult:
             "robots": [m.to_dict() for m in self.robots],
             "events": [e.to_dict() for e in self.events],
         }
+        if self.conditions is not None:
+            out["conditions"] = self.conditions
+        return out

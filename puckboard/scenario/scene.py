@@ -46,13 +46,17 @@ def _polygon_edges(
 class Track:
     """A dark line on the floor: a polyline of ``points`` (M×2, m) of ``width`` (m).
 
-    ``closed`` joins the last point back to the first (a loop).
+    ``closed`` joins the last point back to the first (a loop). ``contrast`` is the share
+    of the line's brightness difference from the floor that the ground sensors see
+    (1: the line as its colour says; lower: a glossy or worn tape, a grey floor, which
+    reflect more of the sensors' IR than the colour suggests; 0: no line).
     """
 
     points: npt.NDArray[np.float64]
     width: float = 0.02
     closed: bool = True
     colour: Colour = (20, 20, 20)
+    contrast: float = 1.0
 
     def __post_init__(self) -> None:
         pts = np.array(self.points, dtype=float, copy=True)
@@ -64,6 +68,8 @@ class Track:
             raise ValueError("track.points must be finite numbers")
         if not self.width > 0:
             raise ValueError(f"track.width must be positive (m), got {self.width}")
+        if not 0.0 <= self.contrast <= 1.0:
+            raise ValueError(f"track.contrast must lie in [0, 1], got {self.contrast}")
         pts.setflags(write=False)
         object.__setattr__(self, "points", pts)
 
@@ -82,22 +88,38 @@ class Track:
 
 @dataclass(frozen=True)
 class CircleObstacle:
-    """A static round obstacle (a cylinder seen from above)."""
+    """A static round obstacle (a cylinder seen from above).
+
+    ``ir_reflectance`` scales the IR light it sends back against the surface the IR
+    response curve was measured on (1); a black object sends back little (0.1 or less):
+    the e-puck's IR hardly sees it. V-REP's cone sensors ignore it, as V-REP does.
+    """
 
     x: float
     y: float
     radius: float
     colour: Colour = (200, 60, 40)
     name: str = ""
+    ir_reflectance: float = 1.0
+
+    def __post_init__(self) -> None:
+        _check_reflectance(self.ir_reflectance)
+
+
+def _check_reflectance(value: float) -> None:
+    if not 0.0 <= value <= 1.0:
+        raise ValueError(f"obstacle ir_reflectance must lie in [0, 1], got {value}")
 
 
 @dataclass(frozen=True, eq=False)
 class PolygonObstacle:
-    """A static convex polygon obstacle; ``vertices`` (K×2, m) counter-clockwise."""
+    """A static convex polygon obstacle; ``vertices`` (K×2, m) counter-clockwise;
+    ``ir_reflectance`` as :class:`CircleObstacle`'s."""
 
     vertices: npt.NDArray[np.float64]
     colour: Colour = (200, 60, 40)
     name: str = ""
+    ir_reflectance: float = 1.0
 
     def __post_init__(self) -> None:
         v = np.array(self.vertices, dtype=float, copy=True)
@@ -107,6 +129,7 @@ class PolygonObstacle:
             )
         v.setflags(write=False)
         object.__setattr__(self, "vertices", v)
+        _check_reflectance(self.ir_reflectance)
 
     def edges(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """The closed outline's edges as (start points, edge vectors), K×2 each."""

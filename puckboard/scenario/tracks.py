@@ -22,7 +22,7 @@ __all__ = ["TRACK_KEYS", "TRACK_SHAPES", "read_track", "rounded_rectangle"]
 TRACK_SHAPES = ("points", "stadium", "rounded_rectangle", "circle")
 #: Every key a ``[track]`` may have, whatever its shape (an unknown one is refused first).
 TRACK_KEYS = frozenset(
-    ("shape", "width", "colour", "points", "closed", "spacing", "centre", "heading")
+    ("shape", "width", "colour", "contrast", "points", "closed", "spacing", "centre", "heading")
     + ("heading_deg", "length", "radius", "size", "corner_radius")
 )
 
@@ -65,13 +65,14 @@ def read_track(reader: TableReader) -> Track:
     shape = reader.string("shape", "points", choices=TRACK_SHAPES)
     width = reader.number("width", 0.015, unit="m", low=0.001, high=0.2)
     colour = reader.colour("colour", (20, 20, 20))
+    contrast = reader.number("contrast", 1.0, unit="share of the line's contrast", low=0, high=1)
     if shape == "points":
         if not reader.has("points"):
             reader.fail("points", "", message="missing; expected a list of [x, y] points (m)")
         pts = reader.points("points", 2)
         closed = reader.boolean("closed", True)
         reader.finish()
-        return Track(pts, width=width, closed=closed, colour=colour)
+        return Track(pts, width=width, closed=closed, colour=colour, contrast=contrast)
     spacing = reader.number("spacing", 0.01, unit="m", low=0.0005, high=0.1)
     cx, cy = reader.pair("centre") if reader.has("centre") else (0.0, 0.0)
     heading = reader.angle("heading", 0.0)
@@ -79,7 +80,7 @@ def read_track(reader: TableReader) -> Track:
     reader.finish()
     c, s = math.cos(heading), math.sin(heading)
     pts = pts @ np.array([[c, s], [-s, c]]) + np.array([cx, cy])
-    return Track(pts, width=width, closed=True, colour=colour)
+    return Track(pts, width=width, closed=True, colour=colour, contrast=contrast)
 
 
 def _shape_points(reader: TableReader, shape: str, spacing: float) -> np.ndarray:

@@ -224,9 +224,11 @@ def sensitivity_plan(
     """
     if values < 1:
         raise PlanError(f"--values must be at least 1, got {values}")
-    if variation not in ("none", PLAUSIBLE):
-        raise PlanError(f"variation must be none or plausible, got {variation!r}")
-    background = {} if variation == "none" else {"variation": PLAUSIBLE}
+    if variation not in ("none", PLAUSIBLE, "reality-gap"):
+        raise PlanError(f"variation must be none, plausible or reality-gap, got {variation!r}")
+    # reality-gap: every other number drawn, in drawn conditions too (the plausible point
+    # keeps its meaning: the robots alone)
+    background = {} if variation == "none" else {"variation": variation}
     chosen = [get_profile(p) for p in profiles]
     labels = [_label(p) for p in chosen]
     if not chosen:

@@ -15,7 +15,8 @@ its ``ground_footprint``; :data:`DEFAULT_FOOTPRINT` is for callers that name non
 
 Brightness is the colour's luminance (Rec. 601 weights) on a 0..1 scale, so the default
 light floor reads ≈ 0.92 (raw ≈ 940 of 1023, close to the 900 that Webots' line example
-calls white) and the default dark line ≈ 0.08.
+calls white) and the default dark line ≈ 0.08. A track's ``contrast`` below 1 moves the
+line's brightness towards the floor's (``--set surface.line_contrast``).
 
 The camera needs the line's colour at a thousand floor points per frame; for it the line
 is rasterised once (:meth:`Floor.on_line`) at 2 mm per cell, finer than any camera pixel
@@ -60,6 +61,12 @@ def luminance(colour: Colour) -> float:
     """Brightness 0..1 of an RGB colour (Rec. 601 luma)."""
     r, g, b = colour
     return (0.299 * r + 0.587 * g + 0.114 * b) / 255.0
+
+
+def _towards(floor: Colour, line: Colour, share: float) -> Colour:
+    """The colour ``share`` of the way from ``floor`` to ``line``, channel by channel."""
+    r, g, b = (round(f + share * (c - f)) for f, c in zip(floor, line))
+    return (r, g, b)
 
 
 class _Near:
@@ -116,6 +123,14 @@ class Floor:
             self.half_width = track.width / 2.0
             self.line_colour = track.colour
             self.line_brightness = luminance(track.colour)
+            if track.contrast != 1.0:
+                # a line that looks less dark than its colour (glossy or worn tape, a
+                # grey floor): its brightness moved towards the floor's, for the ground
+                # sensors and the camera alike (only then: 1 keeps today's numbers exact)
+                self.line_brightness = self.floor_brightness - track.contrast * (
+                    self.floor_brightness - self.line_brightness
+                )
+                self.line_colour = _towards(scene.floor_colour, track.colour, track.contrast)
         self._raster: npt.NDArray[np.bool_] | None = None  # built when a camera first needs it
         self._origin = np.zeros(2)
         self._all = _Near(self.seg_start, self.seg_vector)

@@ -42,6 +42,7 @@ from ..ir_response import _D, _RAW, _SIGMA, TABLE_RANGE, raw_from_distance, rela
 from ..profile import RobotProfile
 from .broadphase import close_pairs
 from .geometry import circle_hits, segment_hits
+from .reflectance import reflected, row_reflectance
 
 __all__ = ["PYTHON_BROAD_PHASE_MAX", "PolygonBound", "ProximitySensors", "WallSegment"]
 
@@ -105,6 +106,7 @@ class _Cast:
     weights: FloatArray
     range_col: FloatArray
     every_robot: bool
+    reflect: FloatArray | None  # each row's obstacle IR reflectance (None: all 1)
 
 
 class ProximitySensors:
@@ -113,7 +115,9 @@ class ProximitySensors:
     ``seg_start``/``seg_vector`` are every static segment (polygon edges, walls);
     circles are the static round obstacles followed by one circle per robot (their
     centres are the poses passed to :meth:`sense` each step). ``polygons`` and ``walls`` say which
-    segments belong to what, for the broad phase.
+    segments belong to what, for the broad phase. ``circle_reflectance`` (one per static
+    circle) and ``seg_reflectance`` (one per segment) are the objects' IR reflectance
+    (:mod:`.reflectance`); None: every one 1.
     """
 
     def __init__(
@@ -126,6 +130,8 @@ class ProximitySensors:
         static_circles: Sequence[tuple[float, float, float]],
         polygons: Sequence[PolygonBound],
         walls: Sequence[WallSegment],
+        circle_reflectance: Sequence[float] | None = None,
+        seg_reflectance: Sequence[float] | None = None,
     ) -> None:
         if rays < 1:
             raise ValueError(f"ir_rays must be at least 1, got {rays}")
@@ -147,6 +153,17 @@ class ProximitySensors:
         self.cones_near: list[int] = []
         self.cone_candidates: dict[int, tuple[tuple[int, ...], tuple[int, ...]]] = {}
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
+        # robots' bodies reflect as the table's surface; None where every object does
+        self._circle_reflect = (
+            None
+            if circle_reflectance is None or all(r == 1.0 for r in circle_reflectance)
+            else np.concatenate([np.asarray(circle_reflectance, dtype=float), np.ones(n)])
+        )
+        self._seg_reflect = (
+            None
+            if seg_reflectance is None or all(r == 1.0 for r in seg_reflectance)
+            else np.asarray(seg_reflectance, dtype=float)
+        )
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
         self._far_nearest = np.repeat(self.range, 8, axis=1)  # what nothing seen reads
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))
@@ -479,6 +496,9 @@ class ProximitySensors:
             weights=self._weights if every else self._weights[robots],
             range_col=self.range if every else self.range[robots],
             every_robot=every,
+            reflect=row_reflectance(
+                self._circle_reflect, self._seg_reflect, circle_index, seg_index, order
+            ),
         )
 
     # -- the step --------------------------------------------------------------------------
@@ -603,14 +623,17 @@ class ProximitySensors:
         # Hits beyond the table need no masking: it keeps its last value beyond
         # TABLE_RANGE (as for ``inf``), and the nearest hit is capped at the range.
         # The weights carry each sensor's gain.
+        response = np.interp(dist, _D, _RAW)
+        if cast.reflect is not None:
+            response = reflected(response, allt, nearest, cast.reflect, cast.starts)
         if cast.every_robot:
-            np.multiply(np.interp(dist, _D, _RAW), cast.weights).sum(axis=2, out=raw)
+            np.multiply(response, cast.weights).sum(axis=2, out=raw)
             if want_nearest:
                 return np.minimum(dist.min(axis=2), self.range)
             return self._far_nearest
         # the robots that cast no ray see nothing this step
         raw[:] = self.baseline_raw
-        raw[cast.robots] = (np.interp(dist, _D, _RAW) * cast.weights).sum(axis=2)
+        raw[cast.robots] = (response * cast.weights).sum(axis=2)
         if not want_nearest:
             return self._far_nearest
         near = self._far_nearest.copy()

@@ -66,6 +66,8 @@ class Sensing:
             static_circles=surfaces.static_circles,
             polygons=surfaces.polygons,
             walls=surfaces.walls,
+            circle_reflectance=surfaces.circle_reflectance,
+            seg_reflectance=surfaces.seg_reflectance,
         )
         self.calibration = IrCalibration(profiles, self.proximity.baseline_raw)
         # robots whose profile senses as V-REP does: exact cones, computed after the rays

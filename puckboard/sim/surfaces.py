@@ -48,6 +48,10 @@ class Surfaces:
     #: colour (K×3) and height (K, m) of every segment and circle, for the camera
     object_colours: npt.NDArray[np.uint8]
     object_heights: FloatArray
+    #: IR reflectance of each static circle and of each segment (walls: 1), for the IR
+    #: rays (:mod:`.reflectance`)
+    circle_reflectance: tuple[float, ...] = ()
+    seg_reflectance: tuple[float, ...] = ()
 
     @property
     def n_static_circles(self) -> int:
@@ -62,6 +66,8 @@ def stack_surfaces(scene: Scene, body_radii: FloatArray) -> Surfaces:
     seg_heights: list[float] = []
     circles: list[tuple[float, float, float]] = []
     circle_colours: list[tuple[int, int, int]] = []
+    seg_reflectance: list[float] = []
+    circle_reflectance: list[float] = []
     for ob in scene.obstacles:
         if isinstance(ob, PolygonObstacle):
             a, e = ob.edges()
@@ -69,9 +75,11 @@ def stack_surfaces(scene: Scene, body_radii: FloatArray) -> Surfaces:
             vectors.append(e)
             seg_colours += [ob.colour] * len(a)
             seg_heights += [OBSTACLE_HEIGHT] * len(a)
+            seg_reflectance += [ob.ir_reflectance] * len(a)
         elif isinstance(ob, CircleObstacle):
             circles.append((ob.x, ob.y, ob.radius))
             circle_colours.append(ob.colour)
+            circle_reflectance.append(ob.ir_reflectance)
     if scene.arena is not None:
         ar = scene.arena
         a, e = ar.edges()
@@ -79,6 +87,7 @@ def stack_surfaces(scene: Scene, body_radii: FloatArray) -> Surfaces:
         vectors.append(e)
         seg_colours += [ar.colour] * 4
         seg_heights += [WALL_HEIGHT] * 4
+        seg_reflectance += [1.0] * 4
     polygons, walls = _bounds(scene, starts, vectors)
     n_robots = len(body_radii)
     n_static = len(circles)
@@ -100,6 +109,8 @@ def stack_surfaces(scene: Scene, body_radii: FloatArray) -> Surfaces:
         object_heights=np.array(
             seg_heights + [OBSTACLE_HEIGHT] * n_static + [ROBOT_HEIGHT] * n_robots, dtype=float
         ),
+        circle_reflectance=tuple(circle_reflectance),
+        seg_reflectance=tuple(seg_reflectance),
     )
 
 

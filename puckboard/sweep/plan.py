@@ -50,7 +50,13 @@ PARAMETERS: dict[str, str] = {
     "duration": "episode length in simulated seconds",
     "control.period": "how often the controllers tick (s; a whole number of dt)",
     "control.latency": "sensing to wheels delay of the control loop (s; a whole number of dt)",
-    "variation": "none or plausible: each robot drawn within its profile's plausible ranges",
+    "surface.line_contrast": "share (0..1) of the line's contrast the ground sensors see",
+    "surface.line_width": "the line's width (m)",
+    "obstacle.ir_reflectance": "every obstacle's IR reflectance (0..1; black: about 0.1)",
+    "start.offset": "every robot's start moved to its left (m), as placed by hand",
+    "start.heading": "every robot's start heading turned counter-clockwise (rad)",
+    "variation": "none, plausible (each robot drawn within its profile's plausible ranges) "
+    "or reality-gap (plausible robots in conditions drawn within sourced ranges)",
     "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
     "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
 }
