@@ -126,7 +126,9 @@ def open_out(args: argparse.Namespace) -> Any:
 
     try:
         return open_store(args.out) if args.out is not None else None
-    except (ValueError, ImportError, OSError) as exc:
+    except ValueError as exc:  # the file's name or contents: the flag that named it
+        raise CliError(f"--out {exc}") from exc
+    except (ImportError, OSError) as exc:
         raise CliError(str(exc)) from exc
 
 

@@ -93,7 +93,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--bins",
         type=int,
-        default=4,
+        default=None,
         metavar="N",
         help="joint method: equal-count bins per number (default: 4, quarters)",
     )
@@ -121,16 +121,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument(
         "--values",
         type=int,
-        default=7,
+        default=None,
         metavar="N",
-        help="evenly spaced values per field, both ends of its range included (default: 7); "
-        "the shipped value is a point of its own",
+        help="evenly spaced values per field, both ends of its range included (default: 7, "
+        "at most 100); the shipped value is a point of its own",
     )
     add_duration(parser)
     parser.add_argument(
         "--variation",
         choices=("none", "plausible", "reality-gap"),
-        default="none",
+        default=None,
         help="plausible: at each value draw every other number of each robot within its range "
         "(the field's effect on robots that differ in everything else); reality-gap: the same, "
         "in conditions drawn within sourced ranges too; default none: the "
@@ -164,7 +164,14 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _sensitivity(args: argparse.Namespace) -> int:
+    from ..sensitivity.joint.estimate import DEFAULT_BINS
+    from ..sensitivity.one_at_a_time.plan import DEFAULT_VALUES
+
     check_numbers(args)
+    _refuse_unused(args)
+    args.values = DEFAULT_VALUES if args.values is None else args.values
+    args.bins = DEFAULT_BINS if args.bins is None else args.bins
+    args.variation = args.variation or "none"
     if args.values < 1:
         raise CliError(f"--values must be at least 1, got {args.values}")
     if args.bins < 2:
@@ -172,16 +179,55 @@ def _sensitivity(args: argparse.Namespace) -> int:
     if args.plot is not None:
         check_plot_file(args.plot)
     if args.source is not None:
-        if args.method == "one-at-a-time":
-            raise CliError(
-                "--from recomputes a joint analysis; drop --method one-at-a-time (a "
-                "one-at-a-time analysis resumes from its --out file by running it again)"
-            )
         return _from_file(args)
     args.method = args.method or "one-at-a-time"
     if args.seeds is None:
         args.seeds = JOINT_SEEDS if args.method == "joint" else DEFAULT_SEEDS
     return with_executor(args, _run_joint if args.method == "joint" else _run)
+
+
+#: Options that say how episodes run, as their ``args`` names and flags: ``--from`` runs
+#: none, so each one given with it would be silently ignored.
+_RUN_ONLY = (
+    ("controller", "--controller"), ("seeds", "--seeds"), ("profile", "--profile"),
+    ("fields", "--fields"), ("values", "--values"), ("variation", "--variation"),
+    ("duration", "--duration"), ("out", "--out"), ("workers", "--workers"),
+    ("scheduler", "--scheduler"), ("episode_timeout", "--episode-timeout"),
+    ("batch_size", "--batch-size"),
+)  # fmt: skip
+
+
+def _refuse_unused(args: argparse.Namespace) -> None:
+    """Refuse, in one line, an option the chosen method would not use: given and silently
+    ignored, it would leave the user believing it took effect."""
+    if args.source is not None:
+        if args.method == "one-at-a-time":
+            raise CliError(
+                "--from recomputes a joint analysis; drop --method one-at-a-time (a "
+                "one-at-a-time analysis resumes from its --out file by running it again)"
+            )
+        given = [flag for name, flag in _RUN_ONLY if getattr(args, name) not in (None, [])]
+        if given:
+            raise CliError(
+                f"--from analyses the rows {str(args.source)!r} holds and runs no episode: "
+                f"drop {', '.join(given)} (to run other controllers or seeds, run --method "
+                "joint with them and --out FILE)"
+            )
+        return
+    if args.method == "joint":
+        why = {
+            "fields": "the joint method draws every number",
+            "values": "the joint method draws every number; its curves have --bins bins",
+            "variation": "the joint method's robots are always plausible (every number drawn)",
+        }
+        for name, reason in why.items():
+            if getattr(args, name) is not None:
+                raise CliError(f"--{name} is for --method one-at-a-time; {reason}")
+    elif args.bins is not None:
+        raise CliError(
+            "--bins is for --method joint and --from; one at a time, each field's curve has "
+            "--values values"
+        )
 
 
 def _run(args: argparse.Namespace, executor: Any) -> int:
@@ -292,10 +338,6 @@ def _run_joint(args: argparse.Namespace, executor: Any) -> int:
     from ..sweep.plan import parse_seeds
     from ..sweep.signals import interrupts_deferred
 
-    if args.fields is not None:
-        raise CliError(
-            "--fields is for --method one-at-a-time; the joint method draws every number"
-        )
     with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
         _needs_statsmodels()
         scene = scene_or_error(args.scenario)
@@ -337,7 +379,11 @@ def _from_file(args: argparse.Namespace) -> int:
     if not args.source.is_file():
         raise CliError(f"--from {str(args.source)!r}: no such file")
     try:
-        with open_store(args.source) as store:
+        store = open_store(args.source)
+    except ValueError as exc:  # its name: the message starts with it
+        raise CliError(f"--from {exc}") from None
+    try:
+        with store:
             rows = store.rows()
         result = from_rows(rows, args.bins)
     except (PlanError, ValueError, KeyError, OSError, ImportError) as exc:
@@ -347,14 +393,14 @@ def _from_file(args: argparse.Namespace) -> int:
 
 
 def _show_joint(args: argparse.Namespace, result: Any, stored: str | None) -> None:
-    from ..sensitivity.joint_report import format_joint
+    from ..sensitivity.joint import format_joint
 
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
         print(format_joint(result, stored=stored))
     if args.plot is not None and result.analyses:
-        from ..sensitivity.joint_plot import plot_joint
+        from ..sensitivity.joint import plot_joint
 
         plot_joint(result, args.plot)
         if not args.json:

@@ -93,8 +93,8 @@ class CsvStore(ResultStore):
                 header = next(csv.reader(f), [])
             if "key" not in header:
                 raise ValueError(
-                    f"{self.path} exists but is not a sweep results file (no 'key' column); "
-                    "choose another --out file"
+                    f"{str(self.path)!r} exists but is not a sweep results file (no 'key' "
+                    "column); name another file"
                 )
             self._columns = header
             self._end_last_line()
@@ -193,8 +193,8 @@ class ParquetStore(ResultStore):
             table = pq.read_table(self.path)
             if "key" not in table.column_names:
                 raise ValueError(
-                    f"{self.path} exists but is not a sweep results file (no 'key' column); "
-                    "choose another --out file"
+                    f"{str(self.path)!r} exists but is not a sweep results file (no 'key' "
+                    "column); name another file"
                 )
             self._rows = table.to_pylist()
 
@@ -235,4 +235,4 @@ def open_store(path: str | os.PathLike[str]) -> ResultStore:
         return CsvStore(path)
     if suffix in (".parquet", ".pq"):
         return ParquetStore(path)
-    raise ValueError(f"--out {str(path)!r}: use a .csv or .parquet file name")
+    raise ValueError(f"{str(path)!r}: use a .csv or .parquet file name")

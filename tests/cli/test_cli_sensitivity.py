@@ -193,3 +193,111 @@ def test_joint_without_statsmodels_names_the_analysis_extra(monkeypatch, capsys,
     assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)
     assert main(["sensitivity", "--from", str(tmp_path / "runs.csv")]) == 2
     assert "pip install 'puckboard[analysis]'" in one_error_line(capsys)
+
+
+def _plausible_rows(path, n: int) -> None:
+    """``n`` rows of plausible robots, as a joint run writes them, in ``path``."""
+    from puckboard.sweep import open_store
+
+    rows = [
+        {
+            "key": f"k{s}", "scenario": "line-follow", "controller": "stock", "seed": s,
+            "params": json.dumps({"robot.profile": "epuck", "variation": "plausible"}),
+            "success": s % 2 == 0, "failure": "" if s % 2 == 0 else "lost_line",
+            "progress_laps": 0.5,
+            "robot.left.profile_values": json.dumps({"ir_gain": 0.9 + s / 100}),
+        }
+        for s in range(n)
+    ]  # fmt: skip
+    with open_store(path) as store:
+        store.append(rows)
+
+
+def test_from_refuses_more_bins_than_its_rows_fill_as_a_live_run_does(capsys, tmp_path):
+    rows = tmp_path / "rows.csv"
+    _plausible_rows(rows, 30)
+    assert main(["sensitivity", "--from", str(rows), "--bins", "1000"]) == 2
+    line = one_error_line(capsys)
+    assert "the rows hold 30 episodes of stock on epuck, too few for 1000 bins" in line
+    assert line.endswith("use --bins 15 or fewer")
+    assert main(["sensitivity", "--from", str(rows), "--bins", "15", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["bins"] == 15
+
+
+def test_from_a_file_of_another_kind_names_from_not_out(capsys, tmp_path):
+    picture = tmp_path / "pic.png"
+    picture.write_bytes(b"\x89PNG")
+    assert main(["sensitivity", "--from", str(picture)]) == 2
+    line = one_error_line(capsys)
+    assert line == (
+        f"puckboard sensitivity: error: --from '{picture}': use a .csv or .parquet file name"
+    )
+    assert "--out" not in line
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--from", "ROWS", "--controller", "robust"], "--from analyses the rows 'ROWS' holds "
+         "and runs no episode: drop --controller"),
+        (["--from", "ROWS", "--seeds", "0:8"], "runs no episode: drop --seeds"),
+        (["--from", "ROWS", "--seeds", "0:8", "--out", "OUT"], "drop --seeds, --out"),
+        ([*JOINT[1:], "--values", "3"], "--values is for --method one-at-a-time; the joint "
+         "method draws every number; its curves have --bins bins"),
+        ([*JOINT[1:], "--variation", "none"], "--variation is for --method one-at-a-time; the "
+         "joint method's robots are always plausible"),
+        ([*SMALL[1:], "--method", "one-at-a-time", "--bins", "3"], "--bins is for --method "
+         "joint and --from; one at a time, each field's curve has --values values"),
+        ([*SMALL[1:], "--bins", "3"], "--bins is for --method joint and --from"),
+    ],
+)  # fmt: skip
+def test_an_option_the_method_would_ignore_is_refused_in_one_line(capsys, tmp_path, args, message):
+    rows, out = tmp_path / "rows.csv", tmp_path / "out.csv"
+    _plausible_rows(rows, 8)
+    args = [str(rows) if a == "ROWS" else str(out) if a == "OUT" else a for a in args]
+    assert main(["sensitivity", *args]) == 2
+    assert message.replace("ROWS", str(rows)) in one_error_line(capsys)
+    assert not out.exists()
+
+
+def test_too_many_values_are_refused_and_close_values_read_apart(capsys):
+    from puckboard.sensitivity.units import value_digits
+
+    assert main([*SMALL, "--values", "100000"]) == 2
+    assert "--values 100000 is more than 100 per field" in one_error_line(capsys)
+    values = [0.7 + i * 0.6 / 99 for i in range(100)]
+    digits = value_digits(values)
+    assert len({f"{v:.{digits}g}" for v in values}) == 100
+    assert value_digits([10.0, 14.0, 17.0]) == 4  # few values keep the usual 4 digits
+
+
+def test_a_field_with_no_spread_is_not_ranked(capsys):
+    from puckboard.sensitivity.one_at_a_time.plan import Field
+    from puckboard.sensitivity.one_at_a_time.report import format_analysis
+    from puckboard.sensitivity.one_at_a_time.summary import Analysis, FieldResult, ValueResult
+    from puckboard.sweep.summary import GroupSummary
+
+    def stats(ok: int) -> GroupSummary:
+        return GroupSummary.of("stock", {}, [_outcome(i < ok) for i in range(4)])
+
+    def field(path: str, rates: list[int]) -> FieldResult:
+        f = Field("epuck", path, "1", 0.7, 1.3, 1.0, (0.7, 1.3), "assumed", "assumed")
+        return FieldResult(
+            f, tuple(ValueResult(v, False, stats(ok)) for v, ok in zip(f.values, rates))
+        )
+
+    analysis = Analysis(
+        "stock", "epuck", None, None, (field("ir_gain", [1, 3]), field("x", [2, 2]))
+    )
+    text = format_analysis(analysis, "stock", "0:4")
+    ranked = [
+        line.split()[:2] for line in text.splitlines() if line.strip().startswith(("1 ", "- "))
+    ]
+    assert ranked == [["1", "ir_gain"], ["-", "x"]]
+    assert "- no spread: the same rate at every value, nothing to rank" in text
+
+
+def _outcome(success: bool):
+    from puckboard.sweep.rows import Outcome
+
+    return Outcome("k", "stock", (), 0, success, "" if success else "lost_line", 0.5, 0.0)

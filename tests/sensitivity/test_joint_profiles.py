@@ -10,7 +10,7 @@ from sweep_helpers import DURATION
 from puckboard.profile import load_profile_file
 from puckboard.sensitivity import sensitivity_plan
 from puckboard.sensitivity.joint import analyse_rows, joint_plan, run_joint
-from puckboard.sensitivity.plan import FIELD_LABEL
+from puckboard.sensitivity.one_at_a_time.plan import FIELD_LABEL
 from puckboard.sweep import InlineExecutor
 
 

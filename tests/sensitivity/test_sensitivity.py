@@ -23,7 +23,7 @@ from puckboard.sensitivity import (
     run_sensitivity,
     sensitivity_plan,
 )
-from puckboard.sensitivity.plan import PLAUSIBLE, SHIPPED, VALUE
+from puckboard.sensitivity.one_at_a_time.plan import PLAUSIBLE, SHIPPED, VALUE
 from puckboard.sweep import InlineExecutor, PlanError, SweepPlan, open_store
 from puckboard.sweep.plan import params_key
 from puckboard.sweep.rows import Outcome

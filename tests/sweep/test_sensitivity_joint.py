@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 
 from puckboard.profile import get_profile, profile_values
-from puckboard.sensitivity.estimate import (
+from puckboard.sensitivity.joint import analyse_rows, from_rows, joint_plan
+from puckboard.sensitivity.joint.estimate import (
     PASS,
     PROGRESS,
     binned_curve,
     main_effect,
     ranking_outcome,
 )
-from puckboard.sensitivity.joint import analyse_rows, from_rows, joint_plan
-from puckboard.sensitivity.plan import FIELD_LABEL
+from puckboard.sensitivity.one_at_a_time.plan import FIELD_LABEL
 from puckboard.sweep import PlanError
 
 PATHS = ("body_radius", "ir_gain.right", "prox_heading.diagonal_right", "axle_length")
@@ -147,7 +147,8 @@ def test_the_one_at_a_time_legend_draws_every_mark_as_the_chart_does():
     pytest.importorskip("matplotlib")
     from types import SimpleNamespace
 
-    from puckboard.sensitivity.plot import COLOURS, legend_entries
+    from puckboard.sensitivity.one_at_a_time.plot import legend_entries
+    from puckboard.viz.figures import COLOURS
 
     analyses = [SimpleNamespace(controller=c, profile="epuck", shipped=None, plausible=None)
                 for c in ("a", "b")]  # fmt: skip

@@ -31,10 +31,11 @@ from typing import Any
 
 import numpy as np
 
-from ..profile import apply_overrides, get_profile, profile_values
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
-from ..sweep.rows import Outcome
-from ..sweep.summary import GroupSummary
+from ...profile import apply_overrides, get_profile, profile_values
+from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
+from ...sweep.rows import Outcome
+from ...sweep.summary import GroupSummary
+from ..one_at_a_time.plan import FIELD_LABEL, PLAUSIBLE
 from .estimate import (
     DEFAULT_BINS,
     PASS,
@@ -47,7 +48,6 @@ from .estimate import (
     ranking_outcome,
     strongest_interaction,
 )
-from .plan import FIELD_LABEL, PLAUSIBLE
 
 __all__ = [
     "JointAnalysis",
@@ -57,7 +57,9 @@ __all__ = [
     "analyse_rows",
     "from_rows",
     "joint_plan",
+    "profile_label",
     "run_joint",
+    "verdict",
 ]
 
 _PROFILE_VALUES = ".profile_values"
@@ -366,12 +368,26 @@ class JointResult:
 
 def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> JointResult:
     """Recompute a joint analysis from stored rows (``puckboard sensitivity --from``)."""
+    if bins < 2:
+        raise PlanError(f"--bins must be at least 2, got {bins}")
     analyses = analyse_rows(rows, bins)
     if not analyses:
         raise PlanError(
             "no rows of plausible robots with their drawn numbers: write the file with "
             "puckboard sensitivity ... --method joint --out FILE (or sweep --variation "
             "plausible --out FILE)"
+        )
+    fewest = min(analyses, key=lambda a: a.band.episodes)
+    n = fewest.band.episodes
+    if n < 2 * bins:  # as a live run refuses: a bin of one episode is no rate
+        fix = (
+            f"use --bins {n // 2} or fewer"
+            if n >= 4
+            else "run more seeds (the joint method wants hundreds)"
+        )
+        raise PlanError(
+            f"the rows hold {n} episodes of {fewest.controller} on {fewest.profile}, too few "
+            f"for {bins} bins (at least 2 episodes a bin): {fix}"
         )
     scenario = str(rows[0].get("scenario", ""))
     seeds = [int(float(r.get("seed") or 0)) for r in rows if _params(r).get("variation")]
@@ -398,7 +414,7 @@ def run_joint(
     """Run every episode of ``plan`` not yet in ``store`` (as
     :func:`~puckboard.sweep.run_sweep`) and analyse all of the plan's episodes, those
     ``store`` held before included."""
-    from ..sweep.run import run_sweep
+    from ...sweep.run import run_sweep
 
     sweep = run_sweep(
         plan.sweep,

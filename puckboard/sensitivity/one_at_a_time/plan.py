@@ -23,33 +23,36 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..profile import RobotProfile, apply_overrides, get_profile, uncertainty
-from ..profile.setting_names import is_set, path_unit, path_value
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ...profile import RobotProfile, apply_overrides, get_profile, uncertainty
+from ...profile.setting_names import is_set, path_unit, path_value
+from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 
 __all__ = [
     "DEFAULT_VALUES",
     "FIELD_LABEL",
+    "MAX_VALUES",
     "PLAUSIBLE",
     "SHIPPED",
     "VALUE",
     "Field",
     "Point",
     "SensitivityPlan",
-    "describe_value",
     "field_values",
     "sensitivity_plan",
-    "shown_scale",
 ]
 
 #: Values per field unless asked otherwise: enough to see a curve's shape, few enough
 #: that every field of a profile fits in minutes.
 DEFAULT_VALUES = 7
+
+#: At most this many values per field. Each value is a point of its own, run on every
+#: seed for every controller and profile (100 values of the physical e-puck's 16 fields
+#: on 20 seeds are 32,000 episodes per controller), and a curve's shape shows at a few.
+MAX_VALUES = 100
 
 #: Kinds of point: the profile as shipped, one field at one value, all fields drawn.
 SHIPPED, VALUE, PLAUSIBLE = "shipped", "value", "plausible"
@@ -126,6 +129,11 @@ def field_values(low: float, high: float, count: int) -> tuple[float, ...]:
     value, the middle, for ``count`` 1; the one value of an empty range)."""
     if count < 1:
         raise PlanError(f"--values must be at least 1, got {count}")
+    if count > MAX_VALUES:
+        raise PlanError(
+            f"--values {count} is more than {MAX_VALUES} per field: each value runs every seed "
+            f"(a curve's shape shows at a few; default {DEFAULT_VALUES}); use at most {MAX_VALUES}"
+        )
     if high == low:
         return (low,)
     if count == 1:
@@ -260,21 +268,3 @@ def sensitivity_plan(
         points=tuple(p.params for p in points),
     )
     return SensitivityPlan(sweep, tuple(labels), tuple(picked), tuple(points), values, variation)
-
-
-def describe_value(value: float, unit: str) -> str:
-    """A value as people read it: mm for lengths, degrees for angles."""
-    if unit == "m":
-        return f"{value * 1000:.4g} mm"
-    if unit == "rad":
-        return f"{math.degrees(value):.4g}°"
-    return f"{value:.4g}"
-
-
-def shown_scale(unit: str) -> tuple[float, str]:
-    """Factor and unit that tables and plots show a field's values in."""
-    if unit == "m":
-        return 1000.0, "mm"
-    if unit == "rad":
-        return math.degrees(1.0), "°"
-    return 1.0, "" if unit == "1" else unit

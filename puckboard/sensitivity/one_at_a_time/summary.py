@@ -15,13 +15,13 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..sweep.executors import SweepExecutor
-from ..sweep.plan import params_key, seeds_text
-from ..sweep.progress import Progress
-from ..sweep.rows import Outcome
-from ..sweep.run import SweepResult, run_sweep
-from ..sweep.store import ResultStore
-from ..sweep.summary import GroupSummary, summarise
+from ...sweep.executors import SweepExecutor
+from ...sweep.plan import params_key, seeds_text
+from ...sweep.progress import Progress
+from ...sweep.rows import Outcome
+from ...sweep.run import SweepResult, run_sweep
+from ...sweep.store import ResultStore
+from ...sweep.summary import GroupSummary, summarise
 from .plan import PLAUSIBLE, SHIPPED, Field, SensitivityPlan
 
 __all__ = [

@@ -7,8 +7,8 @@ Values are shown as people read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ..sweep.summary import GroupSummary, controller_labels, format_table
-from .plan import describe_value, shown_scale
+from ...sweep.summary import GroupSummary, controller_labels, format_table
+from ..units import describe_value, shown_scale, value_digits
 from .summary import Analysis, FieldResult, SensitivityResult
 
 __all__ = ["format_analysis", "format_result"]
@@ -33,11 +33,17 @@ def _range(r: FieldResult) -> str:
     return f"{f.low * scale:.4g}–{f.high * scale:.4g}{suffix}"
 
 
+def _digits(r: FieldResult) -> int:
+    scale, _ = shown_scale(r.field.unit)
+    return value_digits([v.value * scale for v in r.values])
+
+
 def _at(r: FieldResult, which: str) -> str:
     point = r.lowest if which == "low" else r.highest
     if point is None:
         return "-"
-    return f"{_percent(point.stats.success_rate)} at {describe_value(point.value, r.field.unit)}"
+    shown = describe_value(point.value, r.field.unit, _digits(r))
+    return f"{_percent(point.stats.success_rate)} at {shown}"
 
 
 def _overall(label: str, g: GroupSummary | None) -> list[str]:
@@ -57,7 +63,7 @@ def _ranking(analysis: Analysis) -> str:
     for rank, r in enumerate(analysis.fields, 1):
         rows.append(
             [
-                str(rank),
+                str(rank) if r.spread > 0 else "-",  # no spread: nothing to rank it by
                 r.field.path,
                 _range(r),
                 _percent(r.spread) + (" *" if r.clear else "  "),
@@ -72,9 +78,10 @@ def _ranking(analysis: Analysis) -> str:
 def _curve(r: FieldResult) -> str:
     f = r.field
     scale, unit = shown_scale(f.unit)
+    digits = _digits(r)
     rows = [
         [
-            f"{v.value * scale:.4g}" + (" (shipped)" if v.shipped else ""),
+            f"{v.value * scale:.{digits}g}" + (" (shipped)" if v.shipped else ""),
             str(v.stats.episodes),
             str(v.stats.successes),
             _percent(v.stats.success_rate),
@@ -101,11 +108,14 @@ def format_analysis(analysis: Analysis, controller: str, seeds: str) -> str:
         right={1, 2, 3},
     )
     parts = [f"{controller} on {analysis.profile} (seeds {seeds})", "", overall]
+    flat = any(r.spread == 0 for r in analysis.fields)
     if analysis.fields:
         parts += [
             "",
             "fields ranked by how far they move the success rate across their range "
-            "(* the lowest and highest rates' 95 % intervals do not overlap):",
+            "(* the lowest and highest rates' 95 % intervals do not overlap"
+            + ("; - no spread: the same rate at every value, nothing to rank" if flat else "")
+            + "):",
             _ranking(analysis),
         ]
         for r in analysis.fields:

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..sweep.stats import wilson_interval
+from ...sweep.stats import wilson_interval
 
 __all__ = [
     "ALPHA",

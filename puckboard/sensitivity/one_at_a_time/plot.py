@@ -16,9 +16,9 @@ import math
 import os
 from typing import Any
 
-from ..sweep.summary import controller_labels
-from ..viz.figures import COLOURS, FONT, new_figure
-from .plan import shown_scale
+from ...sweep.summary import controller_labels
+from ...viz.figures import COLOURS, FONT, new_figure
+from ..units import shown_scale
 from .summary import Analysis, FieldResult, SensitivityResult
 
 __all__ = ["plot_sensitivity"]

@@ -8,11 +8,11 @@ read them (mm, degrees); ``--json`` has them in SI.
 
 from __future__ import annotations
 
-from ..profile.setting_names import path_unit
-from ..sweep.summary import controller_labels, format_table
-from .estimate import PASS, Effect
-from .joint import JointAnalysis, JointResult, Number, verdict
-from .plan import shown_scale
+from ...profile.setting_names import path_unit
+from ...sweep.summary import controller_labels, format_table
+from ..units import shown_scale
+from .analysis import JointAnalysis, JointResult, Number, verdict
+from .estimate import MIN_EVENTS, PASS, PROGRESS, Effect
 
 __all__ = ["SHOWN", "format_joint"]
 
@@ -41,6 +41,10 @@ def _effect(e: Effect | None) -> str:
     return f"{e.estimate:+.{digits}f} [{e.low:+.{digits}f}, {e.high:+.{digits}f}]"
 
 
+def _pairs(count: int) -> str:
+    return f"{count} pair" if count == 1 else f"{count} pairs"
+
+
 def _quarters(n: Number) -> str:
     return " | ".join(_percent(b.rate) for b in n.bins)
 
@@ -54,7 +58,7 @@ def _ranking(a: JointAnalysis) -> str:
                 str(rank),
                 n.name + (" *" if n in clear else ""),
                 _effect(n.effect(PASS)),
-                _effect(n.effect("progress")),
+                _effect(n.effect(PROGRESS)),
                 _quarters(n),
             ]
         )
@@ -97,8 +101,8 @@ def format_analysis(a: JointAnalysis, controller: str) -> str:
         parts.append("ranked by pass/fail (logistic regression per number)")
     else:
         parts.append(
-            "ranked by progress (fewer than 10 passes or 10 failures: too few for pass/fail "
-            "to rank anything)"
+            f"ranked by progress (fewer than {MIN_EVENTS} passes or {MIN_EVENTS} failures: too "
+            "few for pass/fail to rank anything)"
         )
     parts.append(verdict(a) + " (* its simultaneous 95 % interval leaves out 0)")
     if not a.numbers:
@@ -111,10 +115,10 @@ def format_analysis(a: JointAnalysis, controller: str) -> str:
     if pair is not None:
         parts.append(
             f"strongest interacting pair, clear: {pair.a} × {pair.b} (product term "
-            f"{_effect(pair.effect)}, of {pair.pairs_tested} pairs of the top numbers)"
+            f"{_effect(pair.effect)}, of {_pairs(pair.pairs_tested)} of the top numbers)"
             if pair.effect.clear
             else f"no interaction is clear at N = {b.episodes} (strongest: {pair.a} × "
-            f"{pair.b}, {_effect(pair.effect)}, of {pair.pairs_tested} pairs)"
+            f"{pair.b}, {_effect(pair.effect)}, of {_pairs(pair.pairs_tested)})"
         )
     for n in a.clear:
         parts += ["", _curve(n)]
