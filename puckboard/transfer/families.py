@@ -11,6 +11,8 @@ such model, described by what it changes and nothing else:
   levels: at ``scale`` 2, twice the scene's);
 * ``stepped``: settings set to a number of physics steps (the control loop's period and
   latency, which the simulator takes in whole steps);
+* ``valued``: settings set to the scale itself (a line's contrast, an obstacle's IR
+  reflectance: shares from 0 to 1);
 * ``link``: the loop's timing at a link's slow end (:mod:`puckboard.profile.links`);
 * ``variation``: how each episode's robots (and conditions) are drawn;
 * ``scene``: a scene run instead of the one the controller was designed on.
@@ -70,6 +72,7 @@ class Family:
     sets: Mapping[str, Any] = field(default_factory=dict)
     scaled: tuple[str, ...] = ()
     stepped: tuple[str, ...] = ()
+    valued: tuple[str, ...] = ()
     link: str | None = None
     scale: float | None = None
     grid: tuple[float, ...] = ()
@@ -79,19 +82,26 @@ class Family:
     source: str = ""
 
     def __post_init__(self) -> None:
-        if self.scaled and self.stepped:
-            raise ValueError(f"family {self.name}: scaled or stepped settings, not both")
-        if self.grid and not (self.scaled or self.stepped):
-            raise ValueError(f"family {self.name}: a grid needs scaled or stepped settings")
+        if sum(bool(k) for k in (self.scaled, self.stepped, self.valued)) > 1:
+            raise ValueError(f"family {self.name}: scaled, stepped or valued settings, not two")
+        if self.grid and not self.moves:
+            raise ValueError(f"family {self.name}: a grid needs scaled, stepped or valued settings")
         if self.scaled and self.origin != 1:
             raise ValueError(f"family {self.name}: scaled settings are the design model at 1")
-        if self.grid and (self.grid[0] != self.origin or list(self.grid) != sorted(set(self.grid))):
+        grid = list(self.grid)
+        outward = grid in (sorted(set(grid)), sorted(set(grid), reverse=True))
+        if grid and (grid[0] != self.origin or not outward):
             raise ValueError(
                 f"family {self.name}: a grid starts at {self.origin:g} (the design model) and "
-                "grows outward, each scale once"
+                "moves outward, each scale once"
             )
         if self.grid and self.scale is not None and self.scale not in self.grid:
             raise ValueError(f"family {self.name}: its scale {self.scale} is not on its grid")
+
+    @property
+    def moves(self) -> tuple[str, ...]:
+        """The settings a scale moves (scaled, stepped or valued)."""
+        return self.scaled or self.stepped or self.valued
 
     @property
     def band_scale(self) -> float | None:
@@ -111,6 +121,8 @@ class Family:
         stepped ones at physics step ``dt``."""
         if self.stepped:
             return f"{scale * dt * 1000:g} ms"
+        if self.valued:
+            return f"{scale:g}"
         return f"×{scale:g}"
 
     def what_at(self, dt: float) -> str:
@@ -126,7 +138,7 @@ class Family:
     def label(self, dt: float) -> str:
         """How reports name the family's band (``noise ×2``)."""
         band = self.band_scale
-        if band is None or not (self.scaled or self.stepped):
+        if band is None or not self.moves:
             return self.name
         return f"{self.name} {self.scale_text(band, dt)}"
 
@@ -137,6 +149,7 @@ class Family:
             "sets": dict(self.sets),
             "scaled": list(self.scaled),
             "stepped": list(self.stepped),
+            "valued": list(self.valued),
             "link": self.link,
             "scale": self.scale,
             "grid": list(self.grid),
@@ -153,6 +166,11 @@ def scene_value(scene: Any, name: str) -> float:
     group, _, key = name.partition(".")
     if group == "noise" and hasattr(scene.noise, key):
         return float(getattr(scene.noise, key))
+    if name == "surface.line_contrast":
+        return float(scene.track.contrast) if scene.track is not None else 0.0
+    if name == "obstacle.ir_reflectance":  # one number only when every obstacle has it
+        values = {float(ob.ir_reflectance) for ob in scene.obstacles}
+        return values.pop() if len(values) == 1 else float("nan")
     raise KeyError(f"{name} is not a setting a family can scale")
 
 
@@ -197,7 +215,9 @@ def _link_families() -> tuple[Family, ...]:
 #: held-out band. The loop's period: 1, 2 and 4 steps (50, 100 and 200 ms at the pass
 #: scenes' 50 ms: ARGoS's e-puck ticks at 100 ms, the thesis measured V-REP's real-time
 #: loop at 68-206 ms). Its latency: 0, 1 and 2 steps (0, 50 and 100 ms: the links' slow
-#: ends lie at 40-70 ms).
+#: ends lie at 40-70 ms). A line's contrast and the obstacles' IR reflectance: from the
+#: scenes' 1 to the sourced end of reality-gap's range in two even steps, that end the
+#: held-out band.
 FAMILIES: tuple[Family, ...] = (
     Family(
         name="noise",
@@ -224,6 +244,30 @@ FAMILIES: tuple[Family, ...] = (
         grid=(0.0, 1.0, 2.0),
         origin=0.0,
         source="the links' latency ranges (puckboard.profile.links): slow ends 40-70 ms",
+    ),
+    Family(
+        name="line contrast",
+        what="the share of the line's contrast the ground sensors see (worn or glossy tape)",
+        valued=("surface.line_contrast",),
+        scale=0.5,
+        grid=(1.0, 0.75, 0.5),
+        source="reality-gap's range 0.5-1 (puckboard.scenario.reality_gap): 0.5, the Webots "
+        "e-puck line example's threshold for black on a real robot",
+    ),
+    Family(
+        name="obstacle reflectance",
+        what="every obstacle's IR reflectance (0.1: black, which the e-puck's IR hardly sees)",
+        valued=("obstacle.ir_reflectance",),
+        scale=0.1,
+        grid=(1.0, 0.55, 0.1),
+        source="reality-gap's range 0.1-1, assumed (epucklib: black objects are hardly detected)",
+    ),
+    Family(
+        name="reality-gap",
+        what="plausible robots in conditions drawn per seed within sourced ranges (noise, "
+        "tape, obstacles' reflectance, hand placement)",
+        variation="reality-gap",
+        source="puckboard.scenario.reality_gap: every range with its source",
     ),
 )
 

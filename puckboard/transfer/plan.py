@@ -96,6 +96,8 @@ def family_params(
                 params[name] = value * scale
         for name in family.stepped:
             params[name] = scale * scene.dt
+        for name in family.valued:
+            params[name] = scale
     return params
 
 
@@ -106,6 +108,14 @@ def _same_as_design(family: Family, scene: Any, base: Mapping[str, Any]) -> str 
     scales = [s for s in (family.band_scale, *family.grid) if s is not None]
     if family.scene is not None:
         return None
+    if "surface.line_contrast" in family.valued and scene.track is None:
+        return f"{scene.name} has no line"
+    if "obstacle.ir_reflectance" in family.valued and not scene.obstacles:
+        return f"{scene.name} has no obstacle"
+    for name in family.valued:  # the grid's origin must be the scene's own value
+        own = scene_value(scene, name)
+        if own != family.origin:
+            return f"{scene.name}'s own {name} is {own:g}, not the grid's origin {family.origin:g}"
     if any(family_params(family, scene, s, base) != design for s in scales):
         return None
     if family.link is not None:

@@ -77,9 +77,12 @@ def test_every_family_is_listed_by_default_with_its_band_or_radius(capsys, in_pr
     assert links == [f"link {n}" for n in LINKS if n != "coppeliasim-sync"]
     banded = [b["family"] for b in cell["families"]]
     skipped = [s["family"] for s in cell["not_applicable"]]
-    assert sorted(banded + skipped) == sorted(["noise", *links])
+    held_out = ["noise", *links, "line contrast", "obstacle reflectance", "reality-gap"]
+    assert sorted(banded + skipped) == sorted(held_out)
     assert skipped == ["link usb-sercom"]
-    assert [r["family"] for r in cell["radii"]] == ["noise", "period", "latency"]
+    assert [r["family"] for r in cell["radii"]] == [
+        "noise", "period", "latency", "line contrast", "obstacle reflectance"
+    ]  # fmt: skip
     for band in cell["families"]:
         assert band["stats"]["episodes"] == 1
 

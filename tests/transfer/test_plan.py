@@ -137,10 +137,11 @@ def test_families_are_chosen_by_name_and_a_wrong_name_lists_them():
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"grid": (1.0, 2.0)}, "a grid needs scaled or stepped settings"),
+        ({"grid": (1.0, 2.0)}, "a grid needs scaled, stepped or valued settings"),
         ({"scaled": ("noise.ground",), "grid": (2.0, 1.0), "scale": 2.0}, "starts at 1"),
+        ({"valued": ("surface.line_contrast",), "grid": (1.0, 0.5, 0.75)}, "moves outward"),
         ({"stepped": ("control.latency",), "grid": (0.0, 2.0, 1.0), "origin": 0.0}, "outward"),
-        ({"scaled": ("noise.ground",), "stepped": ("control.latency",)}, "not both"),
+        ({"scaled": ("noise.ground",), "stepped": ("control.latency",)}, "not two"),
         ({"scaled": ("noise.ground",), "grid": (1.0, 3.0), "scale": 2.0}, "not on its grid"),
     ],
 )
@@ -247,3 +248,32 @@ def test_period_and_latency_grids_are_whole_steps_from_the_design_loop():
         ("50 ms", "100 ms", "200 ms"),
         ("0 ms", "50 ms", "100 ms"),
     ]
+
+
+# -- surfaces and conditions -----------------------------------------------------------------
+def test_surface_grids_set_the_value_itself_from_the_scene_s_own_outward():
+    plan = plan_for(families=choose_families(["line contrast", "obstacle reflectance"]))
+    base = {"robot.profile": "epuck", "variation": "plausible"}
+    assert by_family(plan, "line contrast") == {
+        1.0: base,
+        0.75: {**base, "surface.line_contrast": 0.75},
+        0.5: {**base, "surface.line_contrast": 0.5},
+    }
+    assert by_family(plan, "obstacle reflectance")[0.1] == {**base, "obstacle.ir_reflectance": 0.1}
+    cell = analyse(plan, {})[0]
+    assert [b.label for b in cell.families] == ["line contrast 0.5", "obstacle reflectance 0.1"]
+    assert [r.shown for r in cell.radii] == [("1", "0.75", "0.5"), ("1", "0.55", "0.1")]
+
+
+def test_a_scene_whose_own_value_is_not_the_grid_s_origin_says_so():
+    grey = dataclasses.replace(PASS, track=dataclasses.replace(PASS.track, contrast=0.8))
+    plan = plan_for(scenes=(grey,), families=choose_families(["line contrast"]))
+    (skipped,) = plan.skipped
+    assert "own surface.line_contrast is 0.8, not the grid's origin 1" in skipped.why
+
+
+def test_reality_gap_is_a_variation_of_its_own():
+    plan = plan_for(families=choose_families(["reality-gap"]))
+    assert by_family(plan, "reality-gap") == {
+        1.0: {"robot.profile": "epuck", "variation": "reality-gap"}
+    }
