@@ -12,6 +12,9 @@
 * :mod:`~puckboard.calibration.fit`: each sensor's gain and offset by least squares
   (:func:`fit_all`), with its residuals.
 * :mod:`~puckboard.calibration.output`: the profile file and the report.
+* :mod:`~puckboard.calibration.link`: ``puckboard calibrate link``, the link's round trips
+  and cycles (:func:`~puckboard.calibration.link.measure_link`) and the profile file's
+  ``[link]`` table.
 """
 
 from __future__ import annotations

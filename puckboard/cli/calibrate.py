@@ -1,5 +1,12 @@
-"""``puckboard calibrate ir``: measure your robot's IR sensors and write a profile file.
+"""``puckboard calibrate ir|link``: measure your robot's IR sensors, or its link's timing,
+and write a profile file.
 
+``calibrate link`` times ``--rounds`` control cycles over the robot's link (read every
+sensor, command the wheels to zero: the robot does not move) and writes the period and
+latency to run at into the ``[link]`` table of ``--out`` (created, or updated in place),
+so ``--profile FILE.toml`` runs the simulator at your link's timing.
+
+``calibrate ir``:
 The robot starts touching a white wall, facing it. It backs away in small steps, by its
 step counters, touching the wall again before each step, and at every stop turns in
 place to look at the wall with each of its eight sensors in turn, reading each several
@@ -59,10 +66,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "  puckboard calibrate ir --backend epuck2-wifi --host 192.168.1.42 "
             "--out my-epuck.toml\n"
             "  puckboard calibrate ir --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
+            "  puckboard calibrate link --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
             "  puckboard run two-robot-pass --profile my-epuck.toml\n"
         ),
     )
-    p.add_argument("what", choices=("ir",), help="what to calibrate: ir, the proximity sensors")
+    p.add_argument(
+        "what",
+        choices=("ir", "link"),
+        help="what to calibrate: ir, the proximity sensors; link, the link's period and latency",
+    )
+    p.add_argument(
+        "--rounds", type=int, default=200, metavar="N",
+        help="link: control cycles to time (default 200, about 10-20 s on Bluetooth)",
+    )  # fmt: skip
     p.add_argument(
         "--backend",
         default=None,
@@ -163,7 +179,7 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     if args.backend not in ROBOT_BACKENDS:
         given = f"--backend {args.backend}" if args.backend else "no --backend"
         raise CliError(
-            f"{given}: calibrate ir drives a real e-puck, --backend epuck2-wifi --host IP or "
+            f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi --host IP or "
             "--backend sercom --device DEVICE (no robot? 'puckboard emulate calibration-wall' "
             "serves an emulated one)"
         )
@@ -189,6 +205,10 @@ def _open(backend: str, options: dict[str, Any]) -> Any:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.what == "link":
+        from .calibrate_link import calibrate_link
+
+        return calibrate_link(args, _out_path, _check_name, _backend_options, _open)
     plan = _plan(args)
     if args.dry_run:
         print(plan.describe())

@@ -91,6 +91,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default="controller",
         help="the scene's other robots run their own controllers (default) or stand still",
     )
+    p.add_argument(
+        "--link",
+        default=None,
+        metavar="LINK",
+        help="hold every reply back by a latency drawn within this link's range "
+        "(bluetooth-sercom, epuck2-wifi, usb-sercom ...; puckboard profiles show links), so "
+        "a client runs at that link's pace (default: answer at once)",
+    )
     p.add_argument("--json", action="store_true", help="print only the verdict as JSON on stdout")
     p.set_defaults(func=main)
 
@@ -106,6 +114,11 @@ def main(args: argparse.Namespace) -> int:
         raise CliError(f"--speed must be a finite number > 0 (times real time), got {args.speed}")
     if args.idle_timeout < 0:
         raise CliError(f"--idle-timeout must be >= 0 seconds, got {args.idle_timeout}")
+    if args.link is not None:
+        from ..profile.links import LINKS
+
+        if args.link not in LINKS:
+            raise CliError(f"--link {args.link!r}: unknown link; links: {', '.join(LINKS)}")
     serial = None
     port = args.port
     if args.protocol == "wifi":
@@ -132,6 +145,7 @@ def main(args: argparse.Namespace) -> int:
             idle_timeout=args.idle_timeout or None,
             realtime=args.speed,
             profile=None if args.profile == "scene" else args.profile,
+            link=args.link,
         )
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise CliError(str(exc)) from None
@@ -147,6 +161,12 @@ def main(args: argparse.Namespace) -> int:
         file=banner,
     )
     print(f"connect with: {info.command_line(args.scenario)}", file=banner)
+    if emulation.link is not None:
+        low, high = (round(v * 1000, 1) for v in emulation.link.latency)
+        print(
+            f"every reply is held back {low:g}-{high:g} ms, as on {emulation.link.name}",
+            file=banner,
+        )
     print(
         "the clock starts with the first command; the run ends when the client is done, "
         "or on Ctrl-C",

@@ -19,6 +19,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
     parser.add_argument("name", nargs="?", help="scene to print (with 'show')")
+    parser.add_argument(
+        "--seed", type=int, default=None,
+        help="with 'show' and a generated scene (generated-pass): print the scene that "
+        "seed draws, as a file 'puckboard run' runs to the same result as "
+        "'puckboard run NAME --seed N'",
+    )  # fmt: skip
     parser.set_defaults(func=main)
 
 
@@ -30,7 +36,7 @@ def main(args: argparse.Namespace) -> int:
         if not args.name:
             raise CliError(f"which scene? puckboard scenes show NAME ({', '.join(scene_names())})")
         try:
-            text = _scene_text(args.name)
+            text = _scene_text(args.name) if args.seed is None else _seed_text(args.name, args.seed)
         except SceneError as exc:
             raise CliError(str(exc)) from None
         print(text, end="" if text.endswith("\n") else "\n")
@@ -49,6 +55,28 @@ def main(args: argparse.Namespace) -> int:
             f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, goal {scene.goal.resolve(scene)}: {first}"
         )
     return 0
+
+
+def _seed_text(name: str, seed: int) -> str:
+    """The scene generated scene ``name`` draws for ``seed``, as a TOML scene file."""
+    from ..errors import SceneError
+    from ..scenario.conversion import for_seed, scene_to_dict
+    from ..scenario.scene_toml import scene_toml
+    from ..scenario.scenefile import load_scene
+
+    scene = load_scene(name)
+    if scene.generate is None:
+        raise SceneError(
+            f"scene {scene.name!r} is not generated, so --seed draws nothing in it; "
+            f"print it with 'puckboard scenes show {name}'"
+        )
+    header = (
+        f"Scene {scene.name!r} as seed {seed} draws it (puckboard scenes show {name} "
+        f"--seed {seed}).\nRun it with: puckboard run THIS-FILE.toml --seed {seed} "
+        "(the same run as\n"
+        f"puckboard run {name} --seed {seed}; another --seed keeps this track)."
+    )
+    return scene_toml(scene_to_dict(for_seed(scene, seed)), header)
 
 
 def _scene_text(name: str) -> str:

@@ -199,12 +199,13 @@ def served_scene(args: argparse.Namespace) -> Any:
     """The scene to serve: its robots given ``--profile`` (unless 'scene') and, with
     ``--variation plausible``, each drawn within its plausible ranges."""
     from ..errors import SceneError
+    from ..scenario.conversion import for_seed
     from ..scenario.robot_profiles import scene_profile
     from ..scenario.scenefile import load_scene
     from ..scenario.variation import vary_scene
 
     try:
-        scene = load_scene(args.scenario)
+        scene = for_seed(load_scene(args.scenario), args.seed)  # a generated scene's track
         if args.profile != "scene":
             scene = scene.with_profile(scene_profile(args.profile))
         return vary_scene(scene, args.seed, args.variation)

@@ -17,6 +17,10 @@ seconds (a pseudo-terminal cannot tell a closed client from a silent one), or at
 latest after ``duration``. When the client disconnects the wheels stop. The scene's
 other robots (the oncoming robot of the two-robot pass, say) are driven by their own scene controllers inside the emulator,
 synchronously with the world, unless ``others="still"`` leaves them standing.
+
+With ``link`` (a link of :mod:`puckboard.profile.links`, e.g. ``"bluetooth-sercom"``)
+every reply is held back by a latency drawn within that link's range, so a client on
+this machine runs at that link's pace and ``puckboard calibrate link`` measures it.
 """
 
 from __future__ import annotations
@@ -24,11 +28,15 @@ from __future__ import annotations
 import logging
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
+
+import numpy as np
 
 from ..backends.epuck.emulator.endpoint import PROTOCOLS, open_endpoint
 from ..backends.epuck.emulator.robot import EmulatedRobot
 from ..profile import RobotProfile
+from ..profile.links import LinkTiming, get_link
 from ..scenario.judge import Judge
 from ..scenario.scene import Scene
 
@@ -47,7 +55,8 @@ class Emulation:
     one). For sercom, ``serial="pty"`` (POSIX) or ``"tcp"`` chooses the carrier. The
     emulator stands in for the physical robot, so every robot is given the ``epuck``
     profile unless ``profile`` names another, shipped or a profile file (``None`` keeps
-    the scene's).
+    the scene's). ``link`` holds every reply back by that link's latency (see the
+    module docstring).
     """
 
     def __init__(
@@ -64,6 +73,7 @@ class Emulation:
         until_client_leaves: bool = True,
         idle_timeout: float | None = 2.0,
         profile: str | RobotProfile | None = "epuck",
+        link: str | LinkTiming | None = None,
     ) -> None:
         from ..sim.world import World
 
@@ -101,6 +111,10 @@ class Emulation:
         self.server, self.info = open_endpoint(
             self.robot, protocol, self._client_gone, host=host, port=port, serial=serial
         )
+        #: the link whose latency every reply is held back by (None: answered at once)
+        self.link = None if link is None else get_link(link) if isinstance(link, str) else link
+        if self.link is not None:
+            self.server.reply_delay = _link_delay(self.link, seed, realtime)
 
     def _client_gone(self) -> None:
         self.robot.stop()
@@ -235,3 +249,16 @@ class Emulation:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _link_delay(link: LinkTiming, seed: int, realtime: float) -> Callable[[], float]:
+    """Each reply's delay (s): drawn uniformly within ``link``'s latency range, from a
+    generator of its own (the world's draws stay the same with or without a link), and
+    shortened as the emulator is sped up."""
+    rng = np.random.Generator(np.random.PCG64([int(seed), 0x11CC]))
+    low, high = link.latency
+
+    def delay() -> float:
+        return (low + float(rng.random()) * (high - low)) / realtime
+
+    return delay

@@ -46,10 +46,12 @@ from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
 from ..scenario.conditions import CONDITIONS
+from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
 from ..scenario.reality_gap import REALITY_GAP, draw_conditions
 from ..scenario.result import EpisodeResult
+from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
 from ..scenario.variation import vary_scene
 from .loop import ControlLoop
@@ -120,9 +122,12 @@ class Episode:
     ) -> None:
         overrides = dict(overrides or {})
         variation = str(overrides.pop("variation", variation))
-        self.scene = apply_scene_overrides(_resolve_scene(scene), overrides)
+        # a generated scene (generated-pass) draws its track from the episode's seed
+        self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
         # conditions the run sets itself are its definition: reality-gap keeps them
-        fixed = [n for n in overrides if n in CONDITIONS or n.startswith("noise.")]
+        fixed = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
+        if any(get_profile(r.profile).link is not None for r in self.scene.robots):
+            fixed += ["control.period", "control.latency"]  # the robot's own, measured link
         #: what ``reality-gap`` drew, as the result reports it (None for other variations)
         self.conditions = (
             draw_conditions(self.scene, int(seed), fixed).to_dict()
@@ -132,6 +137,8 @@ class Episode:
         self.scene = vary_scene(self.scene, int(seed), variation, fixed)
         self.seed = int(seed)
         self.backend = backend if backend is not None else default_backend()
+        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
+            self.scene = link_control(self.scene)  # a profile file's measured link timing
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots

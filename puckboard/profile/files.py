@@ -11,7 +11,10 @@ A profile file is TOML (docs/profiles.md, "Your own e-puck")::
     "ir_gain.right" = 0.83
     wheel_radius = "20.3mm"
 
-Sub-tables work too (``[set.ir_gain]`` then ``right = 0.83``). Everything is checked on
+Sub-tables work too (``[set.ir_gain]`` then ``right = 0.83``). A ``[link]`` table gives
+the timing of the link the robot is driven over, as ``puckboard calibrate link`` measures
+and writes it: ``period`` and ``latency`` in seconds, a ``source``, and for the reader the
+measured spreads (``round_trip``, ``cycle``: tables of numbers). Everything is checked on
 load and every mistake is one line naming the file and the path. Scenes and recordings
 keep such a profile in the same form, inline (:func:`profile_to_data`), so a run can be
 repeated from its recording without the file.
@@ -21,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import re
 import sys
 from collections.abc import Mapping
@@ -49,8 +53,12 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 PROFILE_SUFFIX = ".toml"
-_TOP_KEYS = ("base", "name", "source", "set")
+_TOP_KEYS = ("base", "name", "source", "set", "link")
 _ENTRY_KEYS = ("value", "source")
+_LINK_KEYS = ("period", "latency", "source", "round_trip", "cycle")
+#: The longest period or latency (s) a [link] table may give: a loop slower than a second
+#: drives no e-puck anywhere sensible, so a bigger number is a unit mistake (ms for s).
+_LINK_MAX_S = 1.0
 _TOML_WHERE = re.compile(r"\s*\(at line (\d+), column (\d+)\)\s*$")
 
 
@@ -127,7 +135,48 @@ def profile_from_data(
         profile = apply_overrides(base, values, source=sources)
     except ProfileError as exc:
         raise ProfileError(f"{source}: [set] {exc}") from None
-    return dataclasses.replace(profile, name=name)
+    profile = dataclasses.replace(profile, name=name)
+    if "link" in data:
+        link, link_source = _link(data["link"], source, default_source)
+        profile = dataclasses.replace(
+            profile, link=link, sources={**profile.sources, "link": link_source}
+        )
+    return profile
+
+
+def _link(table: Any, source: str, default_source: str) -> tuple[tuple[float, float], str]:
+    """The ``[link]`` table as ((period, latency) in s, its source), checked."""
+    if not isinstance(table, Mapping):
+        raise ProfileError(f"{source}: link: expected a table with period and latency (s)")
+    unknown = [k for k in table if k not in _LINK_KEYS]
+    if unknown:
+        raise ProfileError(
+            f"{source}: [link] unknown key {unknown[0]!r}; known: {', '.join(_LINK_KEYS)}"
+        )
+    numbers = []
+    for key, low_open in (("period", True), ("latency", False)):
+        value: Any = table.get(key)
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        ok = number and math.isfinite(value) and (value > 0 if low_open else value >= 0)
+        if not ok or value > _LINK_MAX_S:
+            bound = "> 0" if low_open else ">= 0"
+            raise ProfileError(
+                f"{source}: [link] {key}: expected seconds {bound} and <= {_LINK_MAX_S:g}, "
+                f"got {value!r}"
+            )
+        numbers.append(float(value))
+    for key in ("round_trip", "cycle"):
+        spread = table.get(key, {})
+        if not isinstance(spread, Mapping) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in spread.values()
+        ):
+            raise ProfileError(
+                f"{source}: [link] {key}: expected a table of numbers, got {spread!r}"
+            )
+    given = table.get("source", default_source)
+    if not isinstance(given, str):
+        raise ProfileError(f"{source}: [link] source: expected a text, got {given!r}")
+    return (numbers[0], numbers[1]), given
 
 
 def _entries(
@@ -170,7 +219,7 @@ def profile_to_data(profile: str | RobotProfile) -> str | dict[str, Any]:
     rebuilds exactly."""
     if isinstance(profile, str):
         return profile
-    if not profile.overrides:
+    if not profile.overrides and profile.link is None:
         if PROFILES.get(profile.name) != profile:
             log.warning(
                 "profile %r is not a shipped one and has no recorded changes: stored by name",
@@ -178,7 +227,7 @@ def profile_to_data(profile: str | RobotProfile) -> str | dict[str, Any]:
             )
         return profile.name
     sources = {path: profile.sources.get(path, "") for path, _ in profile.overrides}
-    every = list(sources.values())
+    every = list(sources.values()) or [profile.sources.get("link", "")]
     common = max(every, key=every.count)  # the first of the most frequent: deterministic
     data: dict[str, Any] = {"base": profile.base}
     if profile.name != profile.base:
@@ -188,6 +237,12 @@ def profile_to_data(profile: str | RobotProfile) -> str | dict[str, Any]:
         path: value if sources[path] == common else {"value": value, "source": sources[path]}
         for path, value in profile.overrides
     }
+    if profile.link is not None:
+        data["link"] = {
+            "period": profile.link[0],
+            "latency": profile.link[1],
+            "source": profile.sources.get("link", common),
+        }
     return data
 
 

@@ -88,6 +88,11 @@ class RobotProfile:
     the robot's software believes); ``ground_footprint`` is the half-width of a ground
     sensor's light spot.
 
+    ``link``, when a profile file measured it (its ``[link]`` table, ``puckboard calibrate
+    link``), is the (period, latency) in seconds of the link this robot is driven over;
+    a run with this profile then ticks at that timing (rounded to whole simulation
+    steps) unless the scene or ``--set control.*`` says otherwise.
+
     ``sources`` says where each number comes from (``puckboard profiles``). A profile
     changed by :func:`puckboard.profile.apply_overrides` keeps the ``name`` it was given,
     names the shipped profile it derives from in ``base`` and remembers every change in
@@ -120,6 +125,7 @@ class RobotProfile:
     ground_footprint: float = _GROUND_FOOTPRINT  # m, half-width of a ground sensor's spot
     base: str = ""  # the shipped profile this one derives from ("": none)
     overrides: tuple[tuple[str, float], ...] = ()  # (path, value) changes from ``base``
+    link: tuple[float, float] | None = None  # s, (period, latency) measured on its link
     sources: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
     extra: dict[str, float] = field(default_factory=dict, compare=False, hash=False)
 

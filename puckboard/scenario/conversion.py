@@ -11,10 +11,13 @@ back to an equal scene. The schema is documented in ``docs/scenarios.md``.
 
 from __future__ import annotations
 
+import dataclasses
+import json
 from collections.abc import Mapping
 from typing import Any
 
 from ..errors import SceneError
+from .generated import GENERATE_KEYS, generated_data
 from .placement import (
     DUMMY_KEYS,
     OBSTACLE_KEYS,
@@ -40,13 +43,14 @@ from .scene import (
 )
 from .tracks import TRACK_KEYS, read_track
 
-__all__ = ["scene_from_dict", "scene_to_dict"]
+__all__ = ["for_seed", "realise", "scene_from_dict", "scene_to_dict"]
 
 #: The keys each table may have; an unknown one is refused before anything is read, so a
 #: typo names itself instead of the key it left missing (placement and tracks declare theirs).
 TOP_KEYS = frozenset(
     ("name", "description", "dt", "duration", "floor_colour", "camera_size", "profile")
     + ("track", "arena", "obstacles", "dummies", "robots", "noise", "goal", "control")
+    + ("generate",)
 )
 ARENA_KEYS = frozenset(("size", "centre", "xmin", "ymin", "xmax", "ymax", "colour"))
 NOISE_KEYS = frozenset(("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias"))
@@ -61,8 +65,11 @@ def scene_from_dict(
     """Validate a scene description (as read from TOML/JSON) and build the :class:`Scene`.
 
     Tables are read in file order (the track before what is placed on it), so the first
-    mistake reported is the first one a reader of the file meets.
+    mistake reported is the first one a reader of the file meets. A ``[generate]`` table
+    makes the scene a generated one (:mod:`.generated`): seed 0's, carrying the data.
     """
+    if "generate" in data:
+        return _generated(data, source, default_name)
     top = TableReader(data, "", source, TOP_KEYS)
     name = top.string("name", default_name)
     description = top.string("description", "")
@@ -99,6 +106,26 @@ def scene_from_dict(
         control=control,
         source=source,
     )
+
+
+def _generated(data: Mapping[str, Any], source: str, default_name: str) -> Scene:
+    """A scene file with a ``[generate]`` table: checked, and realised for seed 0."""
+    top = TableReader(data, "", source, TOP_KEYS)
+    reader = top.sub("generate", GENERATE_KEYS)
+    assert reader is not None
+    reader.string("kind", choices=("pass",))
+    reader.finish()
+    if top.has("obstacles"):
+        top.fail("obstacles", "", message="a generated scene draws its obstacles; remove them")
+    try:
+        template = json.dumps(dict(data))
+    except (TypeError, ValueError):
+        top.fail("generate", "", message="a generated scene's file must hold plain data")
+    try:
+        scene = realise(template, 0, source=source, default_name=default_name)
+    except ValueError as exc:
+        top.fail("generate", "", message=str(exc))
+    return dataclasses.replace(scene, generate=template)
 
 
 def _camera_size(top: TableReader) -> tuple[int, int]:
@@ -293,3 +320,26 @@ def _obstacle_to_dict(ob: CircleObstacle | PolygonObstacle) -> dict[str, Any]:
 def _num(v: float) -> float:
     """Coordinates rounded to the nanometre: sampled shapes give no longer tails in files."""
     return round(float(v), 9)
+
+
+# -- generated scenes ----------------------------------------------------------------------
+def realise(template: str, seed: int, *, source: str, default_name: str) -> Scene:
+    """The scene of seed ``seed`` of a generated scene (:mod:`.generated`), from its file's
+    data as JSON.
+
+    The scene goes through its explicit form (:func:`scene_to_dict`) once, so it is
+    exactly the scene that ``scenes show --seed`` prints and ``run`` reads back
+    (coordinates rounded to the nanometre either way).
+    """
+    data = generated_data(json.loads(template), seed)
+    drawn = scene_from_dict(data, source=source, default_name=default_name)
+    explicit = json.loads(json.dumps(scene_to_dict(drawn)))
+    return scene_from_dict(explicit, source=source, default_name=default_name)
+
+
+def for_seed(scene: Scene, seed: int) -> Scene:
+    """``scene`` as episode seed ``seed`` runs it: a generated scene's own track for the
+    seed, any other scene as it is."""
+    if scene.generate is None:
+        return scene
+    return realise(scene.generate, seed, source=scene.source, default_name=scene.name)

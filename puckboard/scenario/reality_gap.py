@@ -5,7 +5,8 @@ meets another table: other noise, another tape, obstacles of another colour, a r
 put down by hand. ``reality-gap`` keeps the plausible robots exactly as ``plausible``
 draws them for the same seed (the same robot) and draws the conditions of
 :mod:`.conditions` and the noise levels within the ranges of :data:`CONDITION_RANGES`,
-each citing its bounds or marked *assumed* where no source gives a number. Evaluating a
+each citing its bounds or marked *assumed* where no source gives a number, and the
+control loop's timing over one of the :data:`REAL_LINKS`. Evaluating a
 controller on models other than the one it was designed on is Ligot & Birattari's
 pseudo-reality (Swarm Intelligence, 2019) and Jakobi's envelope of noise (Adaptive
 Behavior, 1997).
@@ -27,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..profile.links import draw_timing, get_link
 from .conditions import apply_conditions, hand_placed, with_reflectance
 from .scene import Scene
 
@@ -102,8 +104,14 @@ CONDITION_RANGES: dict[str, ConditionRange] = {
     ),
 }  # fmt: skip
 
+#: The links a real robot is driven over (:data:`puckboard.profile.links.LINKS`, each
+#: range with its sources): one is drawn with equal odds, then its period and latency
+#: within its ranges (:func:`~puckboard.profile.links.draw_timing`, whole steps of dt).
+#: The simulators' own loops (CoppeliaSim, ARGoS) are models, not a robot's reality.
+REAL_LINKS = ("epuck2-wifi", "bluetooth-sercom", "usb-sercom")
+
 # The families, in the order their generators are numbered (the second word of the seed).
-_FAMILIES = ("noise", "surface", "obstacle", "start")
+_FAMILIES = ("noise", "surface", "obstacle", "start", "link")
 
 
 @dataclass(frozen=True)
@@ -114,9 +122,17 @@ class DrawnConditions:
     reflectance: dict[str, float]
     offset: dict[str, float]
     heading: dict[str, float]
+    #: the link drawn ("" when the run set its own timing) and its control timing (s)
+    link: str = ""
+    timing: dict[str, float] = dataclasses.field(default_factory=dict)
 
     def apply(self, scene: Scene) -> Scene:
         """``scene`` in these conditions."""
+        if self.timing:
+            control = {k.split(".", 1)[1]: v for k, v in self.timing.items()}
+            scene = dataclasses.replace(
+                scene, control=dataclasses.replace(scene.control, **control)
+            )
         scene = apply_conditions(
             _with_noise(scene, self.values),
             {k: v for k, v in self.values.items() if k.startswith("surface.")},
@@ -142,6 +158,9 @@ class DrawnConditions:
             out["start.offset"] = dict(self.offset)
         if self.heading:
             out["start.heading"] = dict(self.heading)
+        if self.link:
+            out["control.link"] = self.link
+        out.update(self.timing)
         return out
 
 
@@ -198,4 +217,11 @@ def draw_conditions(scene: Scene, seed: int, fixed: Collection[str] = ()) -> Dra
         offset = {}
     if "start.heading" in fixed:
         heading = {}
-    return DrawnConditions(values, reflectance, offset, heading)
+    rng = _rng(seed, "link")
+    link = REAL_LINKS[int(rng.integers(len(REAL_LINKS)))]
+    period, latency = draw_timing(get_link(link), rng, scene.dt)
+    timing = {"control.period": period, "control.latency": latency}
+    timing = {k: v for k, v in timing.items() if k not in fixed}
+    if not timing:
+        link = ""
+    return DrawnConditions(values, reflectance, offset, heading, link, timing)

@@ -33,12 +33,12 @@ class EpisodeResult:
     events: list[Event] = field(default_factory=list)
     #: every failure the judge detected, in order (``failure`` is the one reported)
     failures: list[str] = field(default_factory=list)
+    #: the conditions ``--variation reality-gap`` drew (None, and not reported, otherwise)
+    conditions: dict[str, Any] | None = None
     #: the control loop's period and latency (s) when they differ from one tick per
     #: step and no delay (``None``: today's synchronous loop, and no fields in the JSON)
     control_period_s: float | None = None
     control_latency_s: float | None = None
-    #: the conditions ``--variation reality-gap`` drew (None, and not reported, otherwise)
-    conditions: dict[str, Any] | None = None
 
     @property
     def realtime_factor(self) -> float:

@@ -6,11 +6,14 @@ file relative to the scene file (``profile = "my-epuck.toml"``) or the file's fo
 (``profile = { base = "epuck", set = { prox_max_distance = 0.045 } }``); ``actual`` names
 the robot's truth the same way (what ``--variation plausible`` drew). Written back
 (:func:`robot_profile_data`), a changed profile is stored inline, so a scene or a
-recording rebuilds the very same robots without the files it once named.
+recording rebuilds the very same robots without the files it once named. A profile that
+measured its link (``[link]``) gives the scene its loop timing (:func:`link_control`).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import logging
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -21,9 +24,10 @@ from ..profile import (
     profile_to_data,
     resolve_profile,
 )
-from .scene import RobotSpec
+from .scene import Control, RobotSpec, Scene
 
 __all__ = [
+    "link_control",
     "read_actual",
     "read_default_profile",
     "read_profile",
@@ -31,6 +35,8 @@ __all__ = [
     "robot_profile_data",
     "scene_profile",
 ]
+
+log = logging.getLogger(__name__)
 
 
 def scene_profile(value: Any) -> str | RobotProfile:
@@ -102,3 +108,32 @@ def robot_profile_data(robot: RobotSpec) -> dict[str, Any]:
     if robot.actual is not None:
         out["actual"] = profile_to_data(robot.actual)
     return out
+
+
+def link_control(scene: Scene) -> Scene:
+    """``scene`` run at the link timing its robots' profiles measured (a profile file's
+    ``[link]``, rounded to whole steps of ``dt``), when the scene's own loop is the
+    default; a scene or ``--set control.*`` that sets the timing keeps it. Robots whose
+    profiles measured different links share one loop, so that is refused in one line."""
+    if scene.control != Control():
+        return scene
+    links = {
+        link for link in (get_profile(r.profile).link for r in scene.robots) if link is not None
+    }
+    if not links:
+        return scene
+    if len(links) > 1:
+        raise SceneError(
+            f"scene {scene.name!r}: the robots' profiles measured different links "
+            f"({', '.join(f'{p:g} s/{lat:g} s' for p, lat in sorted(links))}); one loop "
+            "drives them all: set it with --set control.period=P --set control.latency=L"
+        )
+    ((period, latency),) = links
+    dt = scene.dt
+    control = Control(period=max(1, round(period / dt)) * dt, latency=round(latency / dt) * dt)
+    log.info(
+        "running at the profile's link timing: period %.3g s, latency %.3g s (measured "
+        "%.3g s and %.3g s, rounded to whole steps of %.3g s)",
+        control.period, control.latency, period, latency, dt,
+    )  # fmt: skip
+    return dataclasses.replace(scene, control=control)

@@ -333,6 +333,10 @@ class Scene:
     #: Where the scene was read from (a file's path, a shipped scene's file name), so a
     #: message about one of its robots can name the file; not part of what it describes.
     source: str = field(default="", compare=False)
+    #: For a generated scene (a file with a ``[generate]`` table): the file's data as
+    #: JSON, from which each episode's seed draws its own track (:mod:`.generated`); this
+    #: scene is then seed 0's. None for a scene that is what it says.
+    generate: str | None = field(default=None, compare=False, repr=False)
 
     def with_profile(self, profile: str | RobotProfile) -> Scene:
         """This scene with every robot given robot profile ``profile`` (a shipped one by

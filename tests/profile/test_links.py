@@ -11,7 +11,7 @@ import pytest
 
 from puckboard.cli import main
 from puckboard.cli.link_table import link_table_markdown
-from puckboard.errors import ProfileError
+from puckboard.errors import ProfileError, SceneError
 from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link, timing_overrides
 from puckboard.scenario import load_scene
 from puckboard.scenario.overrides import apply_scene_overrides
@@ -92,3 +92,57 @@ def test_profiles_show_lists_the_links_and_one_with_its_sources(capsys):
 def test_the_docs_hold_the_links_table_of_the_code():
     doc = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
     assert link_table_markdown() in doc
+
+
+def link_file(tmp_path, table: str, name: str = "mine") -> Path:
+    path = tmp_path / f"{name}.toml"
+    path.write_text(f'base = "epuck"\n\n[link]\n{table}\n', encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("table", "words"),
+    [
+        ("period = 0\nlatency = 0.01", "[link] period: expected seconds > 0"),
+        ("period = 0.05\nlatency = -1", "[link] latency: expected seconds >= 0"),
+        ("period = 50\nlatency = 0.01", "[link] period: expected seconds > 0 and <= 1"),
+        ("period = 0.05", "[link] latency: expected seconds"),
+        ("period = 0.05\nlatency = 0.01\nlatncy = 2", "[link] unknown key 'latncy'"),
+        ("period = 0.05\nlatency = 0.01\ncycle = 3", "[link] cycle: expected a table of numbers"),
+    ],
+)
+def test_a_bad_link_table_is_one_line_naming_the_file(tmp_path, table, words):
+    from puckboard.profile import load_profile_file
+
+    with pytest.raises(ProfileError, match=r"mine\.toml") as info:
+        load_profile_file(link_file(tmp_path, table))
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_a_profiles_link_is_stored_with_it_and_read_back(tmp_path):
+    from puckboard.profile import load_profile_file, profile_from_data, profile_to_data
+
+    profile = load_profile_file(link_file(tmp_path, 'period = 0.08\nlatency = 0.02\nsource = "m"'))
+    assert profile.link == (0.08, 0.02) and profile.sources["link"] == "m"
+    again = profile_from_data(profile_to_data(profile))
+    assert again == profile and again.sources["link"] == "m"
+
+
+def test_robots_with_different_links_cannot_share_one_loop(tmp_path):
+    import dataclasses
+
+    from puckboard.profile import load_profile_file
+    from puckboard.scenario.robot_profiles import link_control
+
+    a = load_profile_file(link_file(tmp_path, "period = 0.1\nlatency = 0.0", "a"))
+    b = load_profile_file(link_file(tmp_path, "period = 0.2\nlatency = 0.0", "b"))
+    scene = load_scene("two-robot-pass")
+    left, right = scene.robots
+    mixed = dataclasses.replace(
+        scene, robots=(dataclasses.replace(left, profile=a), dataclasses.replace(right, profile=b))
+    )
+    with pytest.raises(SceneError, match="measured different links"):
+        link_control(mixed)
+    same = scene.with_profile(a)
+    assert link_control(same).control.steps(scene.dt) == (2, 0)
+    assert link_control(scene) is scene  # no link measured: the loop as it was

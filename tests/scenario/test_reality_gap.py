@@ -9,9 +9,10 @@ import math
 import pytest
 
 from puckboard.control.episode import run_episode
+from puckboard.profile.links import get_link
 from puckboard.scenario.conversion import scene_from_dict, scene_to_dict
 from puckboard.scenario.overrides import apply_scene_overrides
-from puckboard.scenario.reality_gap import CONDITION_RANGES, draw_conditions
+from puckboard.scenario.reality_gap import CONDITION_RANGES, REAL_LINKS, draw_conditions
 from puckboard.scenario.scenefile import load_scene
 from puckboard.scenario.variation import vary_scene
 
@@ -80,6 +81,9 @@ def test_reality_gap_robots_are_the_plausible_robots_of_the_same_seed():
 def test_conditions_lie_in_their_ranges_and_follow_the_seed():
     drawn = [draw_conditions(PASS, seed).to_dict() for seed in range(40)]
     for conditions in drawn:
+        link = get_link(conditions.pop("control.link"))
+        assert conditions.pop("control.period") >= link.period[0] - 0.05  # whole steps
+        assert conditions.pop("control.latency") <= link.latency[1] + 0.025
         for name, value in conditions.items():
             r = CONDITION_RANGES[name]
             for v in value.values() if isinstance(value, dict) else [value]:
@@ -110,3 +114,16 @@ def test_the_result_reports_conditions_only_when_reality_gap_drew_them():
     plain = run_episode("two-robot-pass", seed=2, duration=0.2, variation="plausible").to_dict()
     assert "conditions" not in plain
     assert gap["conditions"] == draw_conditions(PASS, 2).to_dict()
+
+
+def test_the_link_timing_comes_from_a_real_robot_s_link():
+    drawn = [draw_conditions(PASS, seed).to_dict() for seed in range(60)]
+    assert {d["control.link"] for d in drawn} == set(REAL_LINKS)
+    scene = vary_scene(PASS, 4, "reality-gap")
+    assert scene.control.period == drawn[4]["control.period"]
+    assert scene.control.latency == drawn[4]["control.latency"]
+    scene.control.steps(scene.dt)  # whole steps of the scene's dt
+    kept = vary_scene(
+        apply_scene_overrides(PASS, {"control.period": 0.1}), 4, "reality-gap", ["control.period"]
+    )
+    assert kept.control.period == 0.1 and kept.control.latency == drawn[4]["control.latency"]

@@ -4,13 +4,17 @@
 asks its link for one *exchange*: "drive with these actuators, and send me the sensors
 and/or an image". Each protocol implements that in as few round trips as it can (one
 Wi-Fi command; one serial write). This module holds what all links share: the reply
-type, the retry-and-resynchronise policy, and the "broken link" state that makes every
-call after a lost connection fail at once instead of waiting for another timeout.
+type, the retry-and-resynchronise policy, the "broken link" state that makes every
+call after a lost connection fail at once instead of waiting for another timeout, and
+the timing of the link's own round trips (:attr:`LinkBase.round_trips`), which
+``puckboard calibrate link`` reads.
 """
 
 from __future__ import annotations
 
 import logging
+import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol, TypeVar
@@ -22,11 +26,14 @@ from ...errors import ConnectionLostError
 from .blocks import ActuatorBlock, ImplausibleDataError, SensorBlock
 from .transport import Transport, TransportTimeout
 
-__all__ = ["Link", "LinkBase", "Reply"]
+__all__ = ["ROUND_TRIPS_KEPT", "Link", "LinkBase", "Reply"]
 
 log = logging.getLogger(__name__)
 
 T = TypeVar("T")
+
+#: How many of its latest round trips a link keeps: minutes of a 20 Hz loop, a few kB.
+ROUND_TRIPS_KEPT = 4096
 
 
 @dataclass(frozen=True)
@@ -57,6 +64,10 @@ class LinkBase:
     after a timeout or garbage (after draining the line) before the link gives up with
     :class:`~puckboard.errors.ConnectionLostError`. A lost connection (peer closed, device
     gone) is not retried: the link is marked broken and every later call fails fast.
+
+    Every exchange that brings sensors back is timed, from the request leaving to the
+    whole reply read (the successful attempt only), and kept in :attr:`round_trips`
+    (seconds, the latest :data:`ROUND_TRIPS_KEPT`); ``clock`` is what times them.
     """
 
     backend_name = "real"
@@ -72,8 +83,11 @@ class LinkBase:
         self.description = transport.description
         self.resyncs = 0
         self._broken: str | None = None
+        self.clock: Callable[[], float] = time.perf_counter
+        #: seconds each sensing exchange took, request to whole reply (latest last)
+        self.round_trips: deque[float] = deque(maxlen=ROUND_TRIPS_KEPT)
 
-    def _attempt(self, what: str, fn: Callable[[], T]) -> T:
+    def _attempt(self, what: str, fn: Callable[[], T], *, timed: bool = False) -> T:
         if self._broken is not None:
             raise ConnectionLostError(
                 f"the link to the robot ({self.description}) was lost earlier: {self._broken}"
@@ -81,7 +95,12 @@ class LinkBase:
         last: Exception | None = None
         for attempt in range(self.retries + 1):
             try:
-                return fn()
+                if not timed:
+                    return fn()
+                start = self.clock()
+                result = fn()
+                self.round_trips.append(self.clock() - start)
+                return result
             except (TransportTimeout, ImplausibleDataError, _Garbage) as exc:
                 last = exc
                 self.resyncs += 1

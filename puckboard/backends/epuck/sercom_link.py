@@ -83,7 +83,9 @@ class SercomLink(LinkBase):
         if image:
             items.append((sc.GET_IMAGE, b""))  # last: a long reply must not delay the others
         request = sc.encode_request(items)
-        return self._attempt("sercom exchange", lambda: self._exchange_once(request, expect, image))
+        return self._attempt(
+            "sercom exchange", lambda: self._exchange_once(request, expect, image), timed=sensors
+        )
 
     def _exchange_once(self, request: bytes, expect: list[int], image: bool) -> Reply:
         stale = self.transport.discard_pending()

@@ -33,7 +33,9 @@ class WifiLink(LinkBase):
 
     def exchange(self, actuators: ActuatorBlock, *, sensors: bool, image: bool) -> Reply:
         command = WifiCommand(actuators, image=image, sensors=sensors).encode()
-        return self._attempt("Wi-Fi exchange", lambda: self._exchange_once(command, sensors, image))
+        return self._attempt(
+            "Wi-Fi exchange", lambda: self._exchange_once(command, sensors, image), timed=sensors
+        )
 
     def _exchange_once(self, command: bytes, sensors: bool, image: bool) -> Reply:
         self._framer.clear()

@@ -7,7 +7,9 @@ client at a time; when that client goes away its wheels are stopped and a new cl
 may connect.
 
 For tests and demonstrations of failure handling, :meth:`inject` puts arbitrary bytes
-on the line before the next reply, and :meth:`drop_client` cuts the connection.
+on the line before the next reply, and :meth:`drop_client` cuts the connection. A
+``reply_delay`` (seconds, asked again for every reply) holds each reply back, so a
+client on this machine meets a slow link's timing (``puckboard emulate --link``).
 
 TCP binds 127.0.0.1 unless told otherwise. Nothing a client sends is ever executed:
 it is parsed as protocol bytes and anything else is skipped.
@@ -22,6 +24,7 @@ import select
 import socket
 import sys
 import threading
+import time
 from collections.abc import Callable
 
 from .sessions import Session
@@ -40,6 +43,9 @@ def pty_available() -> bool:
 
 class _ServerBase:
     def __init__(self, session_factory: SessionFactory, on_disconnect: Callable[[], None]) -> None:
+        #: seconds to hold each reply back (None: none); ``sleep`` waits them out
+        self.reply_delay: Callable[[], float] | None = None
+        self.sleep: Callable[[float], None] = time.sleep
         self._session_factory = session_factory
         self._on_disconnect = on_disconnect
         self._stop = threading.Event()
@@ -66,6 +72,8 @@ class _ServerBase:
     def _reply(self, session: Session, data: bytes) -> bytes:
         self.bytes_in += len(data)
         reply = session.feed(data)
+        if reply and self.reply_delay is not None:
+            self.sleep(self.reply_delay())  # the link's latency, as the client will time it
         if reply:
             with self._lock:
                 if self._inject:

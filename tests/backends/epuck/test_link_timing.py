@@ -1,0 +1,160 @@
+"""Measuring a link: the adapters time their own round trips, the emulator can hold its
+replies back by a link's latency, ``calibrate link`` writes the ``[link]`` table, and a
+profile with one runs the simulator at that timing.
+
+The emulator's delays and the measurement share one fake clock that only the delays move,
+so what is measured is exactly what was injected, however busy the machine.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import pytest
+
+from puckboard.backends.epuck import open_sercom, open_wifi
+from puckboard.calibration.link import LinkMeasurement, Spread, measure_link, write_link_table
+from puckboard.cli import main
+from puckboard.control.emulation import Emulation
+from puckboard.profile import load_profile_file
+from puckboard.profile.links import LinkTiming
+
+pytestmark = pytest.mark.network
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+class FakeClock:
+    """Time that passes only when the emulator waits out a reply's delay."""
+
+    def __init__(self) -> None:
+        self.t = 0.0
+
+    def __call__(self) -> float:
+        return self.t
+
+    def sleep(self, seconds: float) -> None:
+        self.t += seconds
+
+
+def fixed(latency: float) -> LinkTiming:
+    return LinkTiming("test", "a fixed delay", (0.05, 0.05), (latency, latency), ("test",), True)
+
+
+@contextmanager
+def emulated(protocol: str, link: LinkTiming, clock: FakeClock | None) -> Iterator[Emulation]:
+    serial = "tcp" if protocol == "sercom" else None
+    em = Emulation(
+        "line-follow", protocol=protocol, serial=serial, until_client_leaves=False,
+        idle_timeout=None, link=link,
+    )  # fmt: skip
+    if clock is not None:
+        em.server.sleep = clock.sleep
+    thread = threading.Thread(target=em.run, args=(60.0,), daemon=True)
+    thread.start()
+    try:
+        yield em
+    finally:
+        em.stop()
+        thread.join(5)
+
+
+@pytest.mark.parametrize(("protocol", "cycle"), [("wifi", 0.06), ("sercom", 0.03)])
+def test_the_adapter_times_its_round_trips_and_the_cycle_adds_the_command(protocol, cycle):
+    clock = FakeClock()
+    with emulated(protocol, fixed(0.03), clock) as em:
+        opener = open_wifi if protocol == "wifi" else open_sercom
+        connection = opener("line-follow", **em.info.options)
+        adapter = next(iter(connection.adapters.values()))
+        adapter.link.clock = clock
+        try:
+            measured = measure_link(adapter, 6, clock=clock)
+        finally:
+            connection.close()
+    assert measured.round_trip.n == 6
+    assert measured.latency == pytest.approx(0.03)
+    # Wi-Fi acknowledges a wheel command (one more delayed reply); sercom does not
+    assert measured.period == pytest.approx(cycle)
+
+
+def test_the_emulators_link_delays_lie_in_the_links_range():
+    link = LinkTiming("x", "", (0.05, 0.05), (0.01, 0.02), ("t",), True)
+    clock = FakeClock()
+    with emulated("wifi", link, clock) as em:
+        delays = [em.server.reply_delay() for _ in range(50)] if em.server.reply_delay else []
+    assert len(delays) == 50 and all(0.01 <= d <= 0.02 for d in delays)
+    assert len(set(delays)) > 1  # drawn, not fixed
+
+
+def measurement(period: float, latency: float) -> LinkMeasurement:
+    return LinkMeasurement(
+        round_trip=Spread(10, latency, latency / 2, latency * 2, latency * 3),
+        cycle=Spread(10, period / 2, period / 3, period, period * 2),
+    )
+
+
+def test_the_link_table_goes_into_an_existing_profile_file_once(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text((ROOT / "examples" / "my-epuck.toml").read_text(encoding="utf-8"))
+    write_link_table(path, measurement(0.08, 0.03), "first", base="epuck", name="mine")
+    write_link_table(path, measurement(0.12, 0.04), "second", base="epuck", name="mine")
+    text = path.read_text(encoding="utf-8")
+    assert text.count("[link]") == 1 and '"second"' in text
+    profile = load_profile_file(path)
+    assert profile.link == (0.12, 0.04)
+    assert profile.sources["link"] == "second"
+    assert dict(profile.overrides)["ir_gain.right"] == 0.83  # the rest of the file kept
+
+
+def test_a_profiles_link_runs_the_simulator_at_that_timing(tmp_path, capsys):
+    path = tmp_path / "slow.toml"
+    write_link_table(path, measurement(0.11, 0.04), "measured", base="epuck", name="slow")
+    assert main(["run", "line-follow", "--profile", str(path), "--duration", "2", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    # rounded to whole steps of 0.05 s: 0.11 -> 0.1, 0.04 -> 0.05
+    assert d["control_period_s"] == pytest.approx(0.1)
+    assert d["control_latency_s"] == pytest.approx(0.05)
+    args = ["run", "line-follow", "--profile", str(path), "--duration", "2", "--json"]
+    assert main([*args, "--set", "control.period=0.15"]) == 0  # the command line wins
+    d = json.loads(capsys.readouterr().out)
+    assert d["control_period_s"] == pytest.approx(0.15) and d["control_latency_s"] == 0.0
+
+
+def test_calibrate_link_against_the_emulator_writes_a_loadable_profile(tmp_path, capsys):
+    out = tmp_path / "bt.toml"
+    with emulated("wifi", fixed(0.0), None) as em:
+        code = main([
+            "calibrate", "link", "--backend", "epuck2-wifi", "--host", em.info.options["host"],
+            "--port", str(em.info.options["port"]), "--out", str(out), "--rounds", "4", "--json",
+        ])  # fmt: skip
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["round_trip_s"]["n"] == 4 and data["cycle_s"]["n"] == 4
+    profile = load_profile_file(out)
+    assert profile.name == "bt" and profile.base == "epuck"
+    assert profile.link == (pytest.approx(data["period_s"]), pytest.approx(data["latency_s"]))
+    assert "calibrate link: 4 cycles over epuck2-wifi" in profile.sources["link"]
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--rounds", "1"], "--rounds must be at least 2"),
+        (["--backend", "embedded"], "calibrate link drives a real e-puck"),
+    ],
+)
+def test_bad_calibrate_link_input_is_one_line(tmp_path, capsys, args, words):
+    base = ["calibrate", "link", "--out", str(tmp_path / "x.toml"), "--backend", "sercom"]
+    assert main([*base, "--device", "/dev/null-none", *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+
+
+def test_emulate_refuses_an_unknown_link(capsys):
+    assert main(["emulate", "line-follow", "--link", "carrier-pigeon"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--link 'carrier-pigeon': unknown link; links: coppeliasim-sync" in err
