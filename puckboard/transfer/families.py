@@ -263,9 +263,16 @@ FAMILIES: tuple[Family, ...] = (
         source="reality-gap's range 0.1-1, assumed (epucklib: black objects are hardly detected)",
     ),
     Family(
+        name="generated-pass",
+        what="a track nobody designed: loop, meeting place and obstacles (cylinders or "
+        "boxes) drawn from each seed",
+        scene="generated-pass",
+        source="puckboard.scenario.generated: the ranges each track is drawn from",
+    ),
+    Family(
         name="reality-gap",
-        what="plausible robots in conditions drawn per seed within sourced ranges (noise, "
-        "tape, obstacles' reflectance, hand placement)",
+        what="plausible robots in conditions drawn per seed within sourced ranges (link "
+        "timing, noise, tape, obstacles' reflectance, hand placement)",
         variation="reality-gap",
         source="puckboard.scenario.reality_gap: every range with its source",
     ),

@@ -77,7 +77,8 @@ def test_every_family_is_listed_by_default_with_its_band_or_radius(capsys, in_pr
     assert links == [f"link {n}" for n in LINKS if n != "coppeliasim-sync"]
     banded = [b["family"] for b in cell["families"]]
     skipped = [s["family"] for s in cell["not_applicable"]]
-    held_out = ["noise", *links, "line contrast", "obstacle reflectance", "reality-gap"]
+    held_out = ["noise", *links, "line contrast", "obstacle reflectance", "generated-pass",
+                "reality-gap"]  # fmt: skip
     assert sorted(banded + skipped) == sorted(held_out)
     assert skipped == ["link usb-sercom"]
     assert [r["family"] for r in cell["radii"]] == [
@@ -85,6 +86,9 @@ def test_every_family_is_listed_by_default_with_its_band_or_radius(capsys, in_pr
     ]  # fmt: skip
     for band in cell["families"]:
         assert band["stats"]["episodes"] == 1
+    runs_on = {b["family"]: b["runs_on"] for b in cell["families"]}
+    assert runs_on["generated-pass"] == "generated-pass"
+    assert runs_on["reality-gap"] == "two-robot-pass"
 
 
 def test_out_resumes_and_the_plot_is_written(capsys, tmp_path, in_process):
