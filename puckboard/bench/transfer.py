@@ -28,13 +28,20 @@ from typing import Any
 from ..sweep.executors import LocalExecutor
 from ..sweep.signals import stop_on_terminate
 
-__all__ = ["FLAGSHIP_CONTROLLERS", "FLAGSHIP_PROFILES", "FLAGSHIP_SCENES", "run_suite"]
+__all__ = [
+    "FLAGSHIP_CONTROLLERS",
+    "FLAGSHIP_PROFILES",
+    "FLAGSHIP_SCENES",
+    "flagship_plan",
+    "run_suite",
+    "student_controller",
+]
 
 FLAGSHIP_SCENES = ("two-robot-pass", "two-robot-pass-bend")
 FLAGSHIP_PROFILES = ("epuck", "epuck-vrep")
 FLAGSHIP_CONTROLLERS = ("robust", "improved")
 #: The flagship's seeds: the command's default (puckboard.cli.transfer.DEFAULT_SEEDS).
-FLAGSHIP_SEEDS = (400, 406)
+FLAGSHIP_SEEDS = (400, 404)
 WORKERS = 2
 #: What the flagship report should take on two cores (the issue's target).
 TARGET_S = 300.0
@@ -77,23 +84,31 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
         return _run_suite(steps or FLAGSHIP_SEEDS[1] - FLAGSHIP_SEEDS[0], Path(folder))
 
 
-def _run_suite(n: int, folder: Path) -> dict[str, Any]:
+def flagship_plan(n: int, folder: Path) -> tuple[Any, dict[str, Any], bool]:
+    """The flagship report at ``n`` seeds per model: its plan, every scene it runs on (by
+    name) and whether the student's controller (saved in ``folder``) is in it."""
     from ..scenario.scenefile import load_scene
-    from ..transfer import FAMILIES, run_transfer, transfer_plan
+    from ..transfer import FAMILIES, transfer_plan
 
     student = student_controller(folder)
     controllers = [*FLAGSHIP_CONTROLLERS, *([student] if student else [])]
     scenes = [load_scene(name) for name in FLAGSHIP_SCENES]
     replacements = {f.scene: load_scene(f.scene) for f in FAMILIES if f.scene is not None}
-    seeds = range(FLAGSHIP_SEEDS[0], FLAGSHIP_SEEDS[0] + n)
     plan = transfer_plan(
         scenes,
         controllers=controllers,
         profiles={s.name: list(FLAGSHIP_PROFILES) for s in scenes},
-        seeds=seeds,
+        seeds=range(FLAGSHIP_SEEDS[0], FLAGSHIP_SEEDS[0] + n),
         families=FAMILIES,
         replacements=replacements,
     )
+    return plan, {**replacements, **{s.name: s for s in scenes}}, student is not None
+
+
+def _run_suite(n: int, folder: Path) -> dict[str, Any]:
+    from ..transfer import run_transfer
+
+    plan, scenes, student = flagship_plan(n, folder)
     out: dict[str, Any] = {
         "scenes": list(FLAGSHIP_SCENES),
         "profiles": list(FLAGSHIP_PROFILES),
@@ -112,8 +127,7 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
     executor = LocalExecutor(WORKERS)
     try:
         executor.start()
-        result = run_transfer(plan, {**replacements, **{s.name: s for s in scenes}},
-                              executor=executor)  # fmt: skip
+        result = run_transfer(plan, scenes, executor=executor)
     finally:
         executor.close()
     wall = time.perf_counter() - t0
