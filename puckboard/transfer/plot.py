@@ -19,6 +19,7 @@ from typing import Any
 from ..sweep.summary import controller_labels
 from ..viz.figures import FONT, OKABE_ITO, new_figure
 from .families import DESIGN
+from .report import short_name
 from .result import Cell, TransferResult
 
 __all__ = ["plot_transfer"]
@@ -28,7 +29,7 @@ BAR = OKABE_ITO["blue"]
 
 
 def _column_labels(result: TransferResult) -> list[str]:
-    names = controller_labels(result.plan.controllers)
+    names = {k: short_name(v) for k, v in controller_labels(result.plan.controllers).items()}
     several_scenes = len(result.plan.scenes) > 1
     labels = []
     for cell in _ordered(result.cells):
@@ -79,8 +80,16 @@ def _matrix(ax: Any, cells: list[Cell], labels: list[str]) -> Any:
     ax.set_yticks(range(len(rows)), list(rows.values()), fontsize=FONT)
     ax.set_xticks(range(len(cells)), labels, fontsize=FONT - 3)
     ax.xaxis.tick_top()
+    _separate_controllers(ax, cells)
     ax.set_title("pass rate on each model", fontsize=FONT + 2, fontweight="bold", pad=12)
     return image
+
+
+def _separate_controllers(ax: Any, cells: list[Cell]) -> None:
+    """A line between one controller's columns and the next's."""
+    for c in range(1, len(cells)):
+        if cells[c].controller != cells[c - 1].controller:
+            ax.axvline(c - 0.5, color="black", lw=3)
 
 
 def _radius_panel(ax: Any, cells: list[Cell], index: int, labels: list[str]) -> None:
@@ -100,7 +109,8 @@ def _radius_panel(ax: Any, cells: list[Cell], index: int, labels: list[str]) -> 
     ax.set_yticks(range(1, len(grid) + 1), list(first.shown), fontsize=FONT - 2)
     ax.set_ylim(0, len(grid) + 0.7)
     ax.set_xlim(-0.5, len(cells) - 0.5)
-    ax.set_xticks(range(len(cells)), labels, fontsize=FONT - 4)
+    ax.set_xticks(range(len(cells)), labels, fontsize=FONT - 3)
+    _separate_controllers(ax, cells)
     ax.set_title(f"robustness radius: {first.family} (pass rate stays ≥ "
                  f"{100 * first.estimate.threshold:.0f} %)", fontsize=FONT)  # fmt: skip
     ax.grid(True, axis="y", alpha=0.3)
@@ -115,14 +125,17 @@ def plot_transfer(result: TransferResult, path: str | os.PathLike[str]) -> None:
     n_rows = 1 + len({b.family for c in cells for b in c.families})
     n_radii = len(cells[0].radii)
     width = max(12.0, 4.5 + 1.6 * len(cells))
-    heights = [max(3.0, 1.0 * n_rows)] + [3.2] * n_radii
+    heights = [max(3.0, 0.9 * n_rows)] + [2.3] * n_radii
     fig = new_figure(figsize=(width, sum(heights) + 2.5 + 0.6 * n_radii))
     grid = fig.add_gridspec(1 + n_radii, 2, height_ratios=heights, width_ratios=[40, 1])
     image = _matrix(fig.add_subplot(grid[0, 0]), cells, labels)
     bar = fig.colorbar(image, cax=fig.add_subplot(grid[0, 1]))
     bar.set_label("pass rate (%)", fontsize=FONT - 2)
     for i in range(n_radii):
-        _radius_panel(fig.add_subplot(grid[1 + i, 0]), cells, i, labels)
+        ax = fig.add_subplot(grid[1 + i, 0])
+        _radius_panel(ax, cells, i, labels)
+        if i < n_radii - 1:  # the columns are the matrix's: named at its top and at the bottom
+            ax.tick_params(axis="x", labelbottom=False)
     seeds = result.to_dict()["seeds"]
     fig.suptitle(
         f"Beyond the design model: seeds {seeds} at every model (95 % Wilson intervals "

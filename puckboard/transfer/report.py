@@ -54,24 +54,45 @@ def radius_text(r: RadiusResult) -> str:
     return text
 
 
-def _block(cells: list[Cell], names: dict[str, str], families: dict[str, str]) -> str:
+def short_name(label: str) -> str:
+    """A controller's table label, shorter where it repeats itself
+    (``my_controller:my_controller`` → ``my_controller``)."""
+    stem, _, factory = label.partition(":")
+    return stem if factory == stem else label
+
+
+def _block(cells: list[Cell], names: dict[str, str]) -> str:
     """One scene and profile: a column per controller (the cells share their models)."""
     first = cells[0]
-    rows = [[DESIGN, DESIGN_WHAT, *(band_text(c.design.stats) for c in cells)]]
+    rows = [[DESIGN, *(band_text(c.design.stats) for c in cells)]]
     for i, band in enumerate(first.families):
-        rows.append([band.label, band.what, *(band_text(c.families[i].stats) for c in cells)])
+        rows.append([band.label, *(band_text(c.families[i].stats) for c in cells)])
     for i, radius in enumerate(first.radii):
-        grid = ", ".join(radius.shown)
-        rows.append(
-            [f"radius: {radius.family}", f"grid {grid}: {families[radius.family]}",
-             *(radius_text(c.radii[i]) for c in cells)]
-        )  # fmt: skip
-    headers = ["model", "what it changes", *(names[c.controller] for c in cells)]
+        rows.append([f"radius: {radius.family}", *(radius_text(c.radii[i]) for c in cells)])
+    headers = ["model", *(names[c.controller] for c in cells)]
     title = f"{first.scene} · {first.profile}"
     parts = [title, format_table(headers, rows, right=set())]
     for family, why in first.not_applicable:
         parts.append(f"  {family}: not run, {why}")
     return "\n".join(parts)
+
+
+def _legend(result: TransferResult) -> str:
+    """What each model changes, once for the whole report (a radius with its grid)."""
+    lines = [f"  {DESIGN}: {DESIGN_WHAT}"]
+    seen = {DESIGN}
+    for cell in result.cells:
+        for band in cell.families:
+            if band.label not in seen:
+                seen.add(band.label)
+                lines.append(f"  {band.label}: {band.what}")
+        for radius in cell.radii:
+            name = f"radius: {radius.family}"
+            if name not in seen:
+                seen.add(name)
+                what = next(f.what for f in result.plan.families if f.name == radius.family)
+                lines.append(f"  {name}: grid {', '.join(radius.shown)}; {what}")
+    return "what each model changes:\n" + "\n".join(lines)
 
 
 def _lower_bound_note(result: TransferResult) -> str:
@@ -102,10 +123,9 @@ def format_result(result: TransferResult, *, stored: str | None = None) -> str:
         f"transfer: {result.episodes} of {len(result.plan)} episodes ({counts}), "
         f"{result.wall_s:.1f} s{speed}; seeds {seeds} at every model"
     )
-    names = controller_labels(result.plan.controllers)
-    families = {f.name: f.what for f in result.plan.families}
+    names = {k: short_name(v) for k, v in controller_labels(result.plan.controllers).items()}
     blocks: dict[tuple[str, str], list[Cell]] = {}
     for cell in result.cells:
         blocks.setdefault((cell.scene, cell.profile), []).append(cell)
-    body = [_block(cells, names, families) for cells in blocks.values()]
-    return "\n\n".join([head, *body, _lower_bound_note(result)])
+    body = [_block(cells, names) for cells in blocks.values()]
+    return "\n\n".join([head, *body, _legend(result), _lower_bound_note(result)])

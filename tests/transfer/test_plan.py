@@ -277,3 +277,24 @@ def test_reality_gap_is_a_variation_of_its_own():
     assert by_family(plan, "reality-gap") == {
         1.0: {"robot.profile": "epuck", "variation": "reality-gap"}
     }
+
+
+# -- the text report ---------------------------------------------------------------------------
+def test_the_report_has_a_column_per_controller_a_row_per_model_and_a_legend():
+    from puckboard.sweep.run import SweepResult
+    from puckboard.transfer import TransferResult, format_result
+
+    plan = plan_for(seeds=range(4))
+    (sweep,) = plan.sweeps
+    (rows,) = outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 2}).values()
+    result = TransferResult.of(plan, [SweepResult(plan=sweep, outcomes=rows, ran=len(rows))], 2.0)
+    text = format_result(result)
+    lines = text.splitlines()
+    assert lines[0].startswith("transfer: 12 of 12 episodes (12 run), 2.0 s, 6.0 episodes/s")
+    header = lines[lines.index("two-robot-pass · epuck") + 1]
+    assert header.split() == ["model", "robust"]
+    assert any(line.split()[:3] == ["noise", "×2", "4/4"] for line in lines)
+    (radius,) = [line for line in lines if line.startswith("radius: noise ")]
+    assert radius.split("  ")[-1].strip() == "×2: 4/4 [51, 100] %; ×3 2/4"
+    assert "  radius: noise: grid ×1, ×2, ×3; " in text
+    assert "at least 73 seeds" in lines[-1]
