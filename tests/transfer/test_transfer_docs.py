@@ -93,3 +93,11 @@ def test_the_lower_bound_needs_the_seeds_the_page_names():
 def test_the_page_is_in_the_navigation(name):
     nav = (Path(__file__).resolve().parents[2] / "mkdocs.yml").read_text(encoding="utf-8")
     assert f": {name}" in nav
+
+
+def test_the_intervals_the_page_quotes_are_wilson_s():
+    from puckboard.sweep.stats import wilson_interval
+
+    for n in (20, len(parse_seeds(DEFAULT_SEEDS))):
+        low = wilson_interval(n, n)[0]
+        assert f"{n} of {n} is {100 * low:.0f}–100 %" in PAGE.replace("\n", " ")
