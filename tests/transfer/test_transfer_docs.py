@@ -101,3 +101,19 @@ def test_the_intervals_the_page_quotes_are_wilson_s():
     for n in (20, len(parse_seeds(DEFAULT_SEEDS))):
         low = wilson_interval(n, n)[0]
         assert f"{n} of {n} is {100 * low:.0f}–100 %" in PAGE.replace("\n", " ")
+
+
+def test_the_measured_time_s_arithmetic_holds():
+    """The CPU seconds are user + sys as /usr/bin/time printed them, and the two-core
+    figure is half of them, in minutes and seconds."""
+    text = PAGE.replace("\n", " ")
+    cpu, user, system = (
+        float(x)
+        for x in re.search(
+            r"used (\d+) s of CPU \(`/usr/bin/time`: ([\d.]+) s user, ([\d.]+) s sys\)", text
+        ).groups()
+    )
+    assert cpu == round(user + system)
+    minutes, seconds = divmod(round((user + system) / 2), 60)
+    assert f"**{minutes} min {seconds} s, is what two idle cores take**" in text
+    assert minutes * 60 + seconds <= bench.TARGET_S
