@@ -16,13 +16,22 @@ import argparse
 import sys
 import time
 from collections.abc import Callable
-from typing import Any, TypeVar
+from pathlib import Path
+from typing import TYPE_CHECKING, TypeVar
 
 from .common import CliError, check_seconds, check_writable
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+    from ..sweep.executors import SweepExecutor
+    from ..sweep.run import SweepResult
+    from ..sweep.store import ResultStore
 
 __all__ = [
     "DEFAULT_SCENARIO",
     "add_duration",
+    "add_out",
+    "add_quiet",
     "add_scene_and_controllers",
     "add_where_to_run",
     "check_numbers",
@@ -95,6 +104,23 @@ def add_where_to_run(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_out(parser: argparse.ArgumentParser) -> None:
+    """``--out FILE``: one row per episode (read by :func:`open_out`); the same command
+    resumes from it."""
+    parser.add_argument(
+        "--out",
+        type=Path,
+        metavar="FILE",
+        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
+        "there",
+    )
+
+
+def add_quiet(parser: argparse.ArgumentParser) -> None:
+    """``-q``: no progress display (the result still goes to stdout)."""
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+
+
 def check_numbers(args: argparse.Namespace) -> None:
     check_seconds(args.duration)
     if args.batch_size is not None and args.batch_size < 1:
@@ -110,7 +136,8 @@ def check_numbers(args: argparse.Namespace) -> None:
             check_writable(path, flag)
 
 
-def scene_or_error(ref: str):  # type: ignore[no-untyped-def]
+def scene_or_error(ref: str) -> Scene:
+    """The scene ``ref`` names (a shipped name or a scene file), or its one-line error."""
     from ..scenario.scenefile import load_scene
 
     try:
@@ -119,7 +146,7 @@ def scene_or_error(ref: str):  # type: ignore[no-untyped-def]
         raise CliError(str(exc)) from exc
 
 
-def open_out(args: argparse.Namespace) -> Any:
+def open_out(args: argparse.Namespace) -> ResultStore | None:
     """The ``--out`` file's store (``None`` without ``--out``); a file that cannot be
     used is one line."""
     from ..sweep import open_store
@@ -134,7 +161,7 @@ def open_out(args: argparse.Namespace) -> Any:
 
 def with_executor(
     args: argparse.Namespace,
-    run: Callable[[argparse.Namespace, Any], int],
+    run: Callable[[argparse.Namespace, SweepExecutor | None], int],
     *,
     episodes: int | None = None,
 ) -> int:
@@ -176,7 +203,7 @@ def with_executor(
         local.close()
 
 
-def dask_executor(args: argparse.Namespace) -> Any:
+def dask_executor(args: argparse.Namespace) -> SweepExecutor:
     from ..sweep import DaskExecutor
 
     try:
@@ -186,7 +213,11 @@ def dask_executor(args: argparse.Namespace) -> Any:
 
 
 def execute(
-    args: argparse.Namespace, executor: Any, store: Any, command: str, run: Callable[[Any], T]
+    args: argparse.Namespace,
+    executor: SweepExecutor | None,
+    store: ResultStore | None,
+    command: str,
+    run: Callable[[SweepExecutor], T],
 ) -> T | None:
     """``run(executor)``, on the Dask cluster when ``executor`` is ``None``; ``None`` when
     a worker was lost, said in one line. The executor and the store are closed after."""
@@ -205,7 +236,7 @@ def execute(
             store.close()
 
 
-def wall_time(args: argparse.Namespace, result: Any) -> float:
+def wall_time(args: argparse.Namespace, result: SweepResult) -> float:
     """Seconds since the command began (workers' start-up and the plan included), which
     is what the user waited; the sweep's own ``wall_s`` where no start was noted."""
     started = getattr(args, "started", None)
@@ -213,7 +244,7 @@ def wall_time(args: argparse.Namespace, result: Any) -> float:
 
 
 def exit_status(
-    args: argparse.Namespace, result: Any, *, stored: bool, command: str = "sweep"
+    args: argparse.Namespace, result: SweepResult, *, stored: bool, command: str = "sweep"
 ) -> int:
     """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
     Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""

@@ -21,6 +21,8 @@ from typing import Any
 from .common import CliError, check_plot_file
 from .experiment_options import (
     add_duration,
+    add_out,
+    add_quiet,
     add_scene_and_controllers,
     add_where_to_run,
     check_numbers,
@@ -138,13 +140,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "either way",
     )
     add_where_to_run(parser)
-    parser.add_argument(
-        "--out",
-        type=Path,
-        metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
-        "there",
-    )
+    add_out(parser)
     parser.add_argument("--json", action="store_true", help="print the results as one JSON object")
     parser.add_argument(
         "--plot",
@@ -152,7 +148,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="FILE",
         help="draw the tornado chart and one panel per field (.png, .svg, .pdf; needs matplotlib)",
     )
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(parser)
     parser.set_defaults(func=main)
 
 

@@ -15,6 +15,8 @@ from typing import Any
 from .common import CliError, add_variation_argument
 from .experiment_options import (
     add_duration,
+    add_out,
+    add_quiet,
     add_scene_and_controllers,
     add_where_to_run,
     check_numbers,
@@ -93,12 +95,7 @@ def _add_what_to_run(parser: argparse.ArgumentParser) -> None:
 
 def _add_outputs(parser: argparse.ArgumentParser) -> None:
     """Where the rows, the summary and the plot go."""
-    parser.add_argument(
-        "--out",
-        type=Path,
-        metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already there",
-    )
+    add_out(parser)
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     parser.add_argument(
         "--plot",
@@ -111,7 +108,7 @@ def _add_outputs(parser: argparse.ArgumentParser) -> None:
         metavar="PARAM",
         help="parameter for the plot's x axis (default: the first --set with several values)",
     )
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(parser)
 
 
 def main(args: argparse.Namespace) -> int:
@@ -251,15 +248,8 @@ def _report(
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
-        counts = (
-            f"{result.ran} run, {result.skipped} already in {args.out}"
-            if stored
-            else f"{result.ran} run"
-        )
-        print(
-            f"{plan.scenario}: {len(result.outcomes)} of {len(plan)} episodes ({counts}), "
-            f"{wall_time(args, result):.1f} s"
-        )
+        file = str(args.out) if stored else None
+        print(f"{plan.scenario}: {result.episodes_text(file)}, {wall_time(args, result):.1f} s")
         print()
         print(format_groups(groups, written_values(args.sets)))
         if len(plan.controllers) > 1:

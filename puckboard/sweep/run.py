@@ -86,6 +86,18 @@ class SweepResult:
             "wall_s": self.wall_s,
         }
 
+    @property
+    def episodes_per_s(self) -> float:
+        """Episodes this run ran per wall-clock second (0 when none ran)."""
+        return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+
+    def episodes_text(self, stored: str | None = None) -> str:
+        """``N of M episodes (R run[, S already in FILE])``: how much of the plan there is
+        and where it came from, as every experiment's report heads it; ``stored`` names
+        the ``--out`` file (``None``: there is none)."""
+        counts = f"{self.ran} run" + (f", {self.skipped} already in {stored}" if stored else "")
+        return f"{len(self.outcomes)} of {len(self.plan)} episodes ({counts})"
+
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""
         return {

@@ -74,3 +74,18 @@ def test_a_live_joint_run_on_a_one_number_file_analyses_it_under_the_files_name(
     assert analysis.band.episodes == 4
     assert analysis.profile == "one"
     assert result.to_dict()["episodes"] == 4
+
+
+def test_a_labelled_point_runs_and_its_rows_carry_the_label(short_scene):
+    """The label is part of the episode's identity, never given to the episode."""
+    from puckboard.sensitivity import run_sensitivity
+
+    plan = sensitivity_plan(short_scene.name, profiles=["epuck"], controllers=["stock"],
+                            seeds=range(1), fields=["ir_gain"], values=2,
+                            fixed={"duration": DURATION}, variation="plausible")  # fmt: skip
+    result = run_sensitivity(plan, short_scene, executor=InlineExecutor())
+    assert result.sweep.errors == []
+    labelled = [r for r in result.sweep.rows if FIELD_LABEL in json.loads(r["params"])]
+    assert len(labelled) == 2 and all(r[f"param.{FIELD_LABEL}"] == "ir_gain" for r in labelled)
+    (analysis,) = result.analyses
+    assert [len(f.values) for f in analysis.fields] == [2]

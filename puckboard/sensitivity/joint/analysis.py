@@ -34,6 +34,7 @@ import numpy as np
 from ...profile import apply_overrides, get_profile, profile_values
 from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
 from ...sweep.rows import Outcome
+from ...sweep.run import SweepResult
 from ...sweep.summary import GroupSummary
 from ..one_at_a_time.plan import FIELD_LABEL, PLAUSIBLE
 from .estimate import (
@@ -343,12 +344,8 @@ class JointResult:
     seeds: str
     bins: int
     analyses: list[JointAnalysis] = field(default_factory=list)
-    sweep: Any = None
-
-    @property
-    def episodes_per_s(self) -> float:
-        s = self.sweep
-        return s.ran / s.wall_s if s is not None and s.ran and s.wall_s else 0.0
+    #: The run's own result (``None`` for an analysis read back from rows).
+    sweep: SweepResult | None = None
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {
@@ -361,7 +358,7 @@ class JointResult:
             "episodes": sum(a.band.episodes for a in self.analyses),
         }
         if self.sweep is not None:
-            out.update(self.sweep.counts(), episodes_per_s=self.episodes_per_s)
+            out.update(self.sweep.counts(), episodes_per_s=self.sweep.episodes_per_s)
         out["analyses"] = [a.to_dict() for a in self.analyses]
         return out
 

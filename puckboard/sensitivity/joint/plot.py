@@ -183,10 +183,7 @@ def _nothing_ranked(analyses: list[JointAnalysis], names: dict[str, str], suptit
     for a in analyses:
         lines += [_label(a, names), f"{verdict(a)}: the numbers are not ranked, their order "
                   "would be noise's", ""]  # fmt: skip
-    fig = new_figure(figsize=(15.0, 2.0 + 0.45 * len(lines)))
-    ax = fig.add_subplot()
-    ax.set_axis_off()
-    ax.text(0.0, 1.0, "\n".join(lines).rstrip(), va="top", ha="left", fontsize=FONT,
-            transform=ax.transAxes)  # fmt: skip
+    fig = new_figure(figsize=(15.0, 1.0 + 0.3 * len(lines)))
     fig.suptitle(suptitle, fontsize=FONT + 4, fontweight="bold")
+    fig.text(0.02, 0.75, "\n".join(lines).rstrip(), va="top", ha="left", fontsize=FONT)
     return fig

@@ -133,11 +133,8 @@ def format_joint(result: JointResult, *, stored: str | None = None) -> str:
     )
     sweep = result.sweep
     if sweep is not None:
-        counts = f"{sweep.ran} run" + (f", {sweep.skipped} already in {stored}" if stored else "")
-        speed = f", {result.episodes_per_s:.1f} episodes/s" if sweep.ran else ""
-        head += f"\n{len(sweep.outcomes)} of {len(sweep.plan)} episodes ({counts}), " + (
-            f"{sweep.wall_s:.1f} s{speed}"
-        )
+        speed = f", {sweep.episodes_per_s:.1f} episodes/s" if sweep.ran else ""
+        head += f"\n{sweep.episodes_text(stored)}, {sweep.wall_s:.1f} s{speed}"
     names = controller_labels(result.controllers)
     body = [format_analysis(a, names.get(a.controller, a.controller)) for a in result.analyses]
     return "\n\n\n".join([head, *body])

@@ -128,13 +128,9 @@ def format_analysis(analysis: Analysis, controller: str, seeds: str) -> str:
 def format_result(result: SensitivityResult, *, stored: str | None = None) -> str:
     """The whole report; ``stored`` names the ``--out`` file the skipped episodes are in."""
     sweep = result.sweep
-    counts = f"{sweep.ran} run" + (f", {sweep.skipped} already in {stored}" if stored else "")
-    speed = f", {result.episodes_per_s:.1f} episodes/s" if sweep.ran else ""
+    speed = f", {sweep.episodes_per_s:.1f} episodes/s" if sweep.ran else ""
     seeds = result.to_dict()["seeds"]
-    head = (
-        f"{result.plan.scenario}: {len(sweep.outcomes)} of {len(result.plan)} episodes "
-        f"({counts}), {sweep.wall_s:.1f} s{speed}"
-    )
+    head = f"{result.plan.scenario}: {sweep.episodes_text(stored)}, {sweep.wall_s:.1f} s{speed}"
     names = controller_labels(result.plan.sweep.controllers)
     body = [format_analysis(a, names[a.controller], seeds) for a in result.analyses]
     return "\n\n\n".join([head, *body])

@@ -177,11 +177,6 @@ class SensitivityResult:
     def of(cls, plan: SensitivityPlan, sweep: SweepResult) -> SensitivityResult:
         return cls(plan, sweep, analyse(plan, sweep.outcomes))
 
-    @property
-    def episodes_per_s(self) -> float:
-        """Episodes this run ran per wall-clock second (0 when none ran)."""
-        return self.sweep.ran / self.sweep.wall_s if self.sweep.ran and self.sweep.wall_s else 0.0
-
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: counts, timing and one entry per controller × profile."""
         return {
@@ -194,7 +189,7 @@ class SensitivityResult:
             "fixed": dict(self.plan.sweep.fixed),
             "episodes": len(self.sweep.outcomes),
             **self.sweep.counts(),
-            "episodes_per_s": self.episodes_per_s,
+            "episodes_per_s": self.sweep.episodes_per_s,
             "analyses": [a.to_dict() for a in self.analyses],
         }
 
