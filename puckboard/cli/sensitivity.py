@@ -130,6 +130,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     add_duration(parser)
     parser.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        metavar="PARAM=V",
+        help="a fixed episode parameter, one value, as for sweep --set (e.g. "
+        "control.period=0.1, noise.ground=0.05); the robots' numbers come from --profile",
+    )
+    parser.add_argument(
         "--variation",
         choices=("none", "plausible", "reality-gap"),
         default=None,
@@ -309,7 +318,7 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
         fields = [f.strip() for f in args.fields.split(",") if f.strip()]
         if not fields:
             raise CliError("--fields: name at least one field, e.g. --fields prox_radius.side")
-    fixed = {} if args.duration is None else {"duration": args.duration}
+    fixed = _fixed(args)
     try:
         plan = sensitivity_plan(
             scene.name,
@@ -325,6 +334,27 @@ def _plan(args: argparse.Namespace, scene: Any) -> Any:
     except (PlanError, PuckboardError) as exc:
         raise CliError(str(exc)) from exc
     return plan
+
+
+def _fixed(args: argparse.Namespace) -> dict[str, Any]:
+    """The parameters every episode of the analysis shares: ``--duration`` and ``--set``."""
+    from ..sweep.plan import PlanError, parse_set
+
+    fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
+    for text in args.sets:
+        try:
+            name, values = parse_set(text)
+        except PlanError as exc:
+            raise CliError(str(exc)) from None
+        if name.startswith(("profile.", "robot.")) or name == "variation":
+            raise CliError(
+                f"--set {name}: the robots are --profile's and --variation's to say; "
+                "--set takes the other parameters (control.*, noise.*, dt, layer.* ...)"
+            )
+        if len(values) != 1:
+            raise CliError(f"--set {name}: give one value (the analysis varies the robots)")
+        fixed[name] = values[0]
+    return fixed
 
 
 def _run_joint(args: argparse.Namespace, executor: Any) -> int:
@@ -343,7 +373,7 @@ def _run_joint(args: argparse.Namespace, executor: Any) -> int:
                 profiles=_profiles(args, scene),
                 controllers=args.controller or [SCENE_CONTROLLERS],
                 seeds=parse_seeds(args.seeds),
-                fixed={} if args.duration is None else {"duration": args.duration},
+                fixed=_fixed(args),
                 bins=args.bins,
             )
             check_plan(plan.sweep, scene)

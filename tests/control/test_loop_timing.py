@@ -169,3 +169,36 @@ def test_a_latency_is_refused_where_no_simulator_can_delay_the_commands():
     ):
         Episode("line-follow", controller="stock", backend="fake",
                 overrides={"control.latency": 0.05})  # fmt: skip
+
+
+def one_error_line(capsys, command: str) -> str:
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith(f"puckboard {command}: error: ")
+    return lines[0]
+
+
+@pytest.mark.parametrize("command", ["run", "sweep", "sensitivity"])
+def test_every_command_refuses_a_period_off_the_step_in_one_line(capsys, command):
+    from puckboard.cli import main
+
+    args = [command, "line-follow", "--set", "control.period=0.07", "--duration", "1"]
+    if command == "sweep":
+        args += ["--seeds", "0:1"]
+    assert main(args) == 2
+    assert "control.period = 0.07 s is not a whole number" in one_error_line(capsys, command)
+
+
+def test_sensitivity_runs_every_point_at_the_fixed_timing(capsys):
+    import json
+
+    from puckboard.cli import main
+
+    args = ["sensitivity", "line-follow", "--controller", "stock", "--profile", "epuck",
+            "--fields", "axle_length", "--values", "2", "--seeds", "0:1", "--duration", "1",
+            "--set", "control.period=0.1", "--workers", "1", "--json", "--quiet"]  # fmt: skip
+    assert main(args) == 0
+    fixed = json.loads(capsys.readouterr().out)["fixed"]
+    assert fixed == {"duration": 1.0, "control.period": 0.1}
+    assert main([*args[:-2], "--set", "profile.axle_length=0.05"]) == 2
+    assert "the robots are --profile's" in one_error_line(capsys, "sensitivity")
