@@ -411,7 +411,8 @@ def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--
         help="plausible: build each robot from numbers drawn within what the sources allow "
         f"(seeded by {seeded_by}, a robot each; its controller still believes the profile); "
         "reality-gap: the same robots, in conditions drawn within sourced ranges too (noise "
-        "levels, line contrast and width, obstacles' IR reflectance, a hand placement); "
+        "levels, line contrast and width, obstacles' IR reflectance, a hand placement, a real "
+        "link's control timing); "
         "default none: every robot exactly as its profile says",
     )
 

@@ -318,6 +318,21 @@ def _loop_timing(d: dict[str, Any]) -> str:
     )
 
 
+def _condition_lines(conditions: dict[str, Any] | None) -> list[str]:
+    """What ``--variation reality-gap`` drew, one setting a line (none for other
+    variations); per obstacle and per robot values by name."""
+    if not conditions:
+        return []
+    lines = ["", "conditions drawn (reality-gap):"]
+    for name, value in conditions.items():
+        if isinstance(value, dict):
+            shown = ", ".join(f"{k} {v:.4g}" for k, v in value.items())
+        else:
+            shown = value if isinstance(value, str) else f"{value:.4g}"
+        lines.append(f"  {name} = {shown}")
+    return lines
+
+
 def format_summary(result: Any) -> str:
     """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`."""
     d = result.to_dict()
@@ -339,6 +354,7 @@ def format_summary(result: Any) -> str:
             f"{r['obstacles_passed']:>11d}{passed:>14}"
         )
     lines += _profile_value_lines(d["robots"])
+    lines += _condition_lines(d.get("conditions"))
     lines.append("")
     if d["success"]:
         lines.append("outcome: SUCCESS")

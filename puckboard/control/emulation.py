@@ -87,6 +87,9 @@ class Emulation:
             from ..scenario.scenefile import load_scene
 
             scene = load_scene(scene)
+        from ..scenario.conversion import for_seed
+
+        scene = for_seed(scene, seed)  # a generated scene's track for this seed
         if profile is not None:  # it stands in for the physical robot
             from ..scenario.robot_profiles import scene_profile
 

@@ -42,7 +42,7 @@ from ..ir_response import _D, _RAW, _SIGMA, TABLE_RANGE, raw_from_distance, rela
 from ..profile import RobotProfile
 from .broadphase import close_pairs
 from .geometry import circle_hits, segment_hits
-from .reflectance import reflected, row_reflectance
+from .reflectance import reflectances, reflected, row_reflectance
 
 __all__ = ["PYTHON_BROAD_PHASE_MAX", "PolygonBound", "ProximitySensors", "WallSegment"]
 
@@ -154,16 +154,8 @@ class ProximitySensors:
         self.cone_candidates: dict[int, tuple[tuple[int, ...], tuple[int, ...]]] = {}
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         # robots' bodies reflect as the table's surface; None where every object does
-        self._circle_reflect = (
-            None
-            if circle_reflectance is None or all(r == 1.0 for r in circle_reflectance)
-            else np.concatenate([np.asarray(circle_reflectance, dtype=float), np.ones(n)])
-        )
-        self._seg_reflect = (
-            None
-            if seg_reflectance is None or all(r == 1.0 for r in seg_reflectance)
-            else np.asarray(seg_reflectance, dtype=float)
-        )
+        self._circle_reflect = reflectances(circle_reflectance, robots=n)
+        self._seg_reflect = reflectances(seg_reflectance)
         self.range = np.array([p.prox_range for p in profiles])[:, None]  # N×1
         self._far_nearest = np.repeat(self.range, 8, axis=1)  # what nothing seen reads
         self.cast_length = max(TABLE_RANGE, float(self.range.max()))

@@ -15,14 +15,24 @@ computed before reflectance existed.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import numpy.typing as npt
 
 from ..ir_response import FAR_RAW
 
-__all__ = ["reflected", "row_reflectance"]
+__all__ = ["reflectances", "reflected", "row_reflectance"]
 
 FloatArray = npt.NDArray[np.float64]
+
+
+def reflectances(values: Sequence[float] | None, robots: int = 0) -> FloatArray | None:
+    """``values`` as an array, followed by ``robots`` ones (the robots' bodies reflect as
+    the table's surface); None when every value is 1, so nothing needs scaling."""
+    if values is None or all(v == 1.0 for v in values):
+        return None
+    return np.concatenate([np.asarray(values, dtype=float), np.ones(robots)])
 
 
 def row_reflectance(

@@ -128,3 +128,29 @@ def test_it_is_judged_like_the_pass_scenes():
     assert [m["name"] for m in metrics] == ["left", "right"]
     assert all("obstacles_passed" in m and "passed_other" in m for m in metrics)
     assert all(m["progress_laps"] > 0.0 and math.isfinite(m["progress_laps"]) for m in metrics)
+
+
+def test_a_sweep_over_seeds_is_a_sweep_over_tracks():
+    from puckboard.sweep import InlineExecutor, SweepPlan, run_sweep
+
+    plan = SweepPlan.from_specs(
+        "generated-pass", controllers=["robust"], seeds="5:7", fixed={"duration": 1.0}
+    )
+    result = run_sweep(plan, GENERATED, executor=InlineExecutor())
+    by_seed = {o.seed: o for o in result.outcomes}
+    assert sorted(by_seed) == [5, 6]
+
+    def mean_laps(scene, seed: int) -> float:
+        robots = run_episode(scene, controller="robust", seed=seed, duration=1.0).to_dict()[
+            "robots"
+        ]
+        return sum(m["progress_laps"] for m in robots) / len(robots)  # as a row gives it
+
+    for seed, outcome in by_seed.items():
+        # each seed ran on its own track, not on the file's (seed 0's)
+        assert outcome.progress_laps == pytest.approx(
+            mean_laps(for_seed(GENERATED, seed), seed), abs=1e-5
+        )
+        assert outcome.progress_laps != pytest.approx(
+            mean_laps(for_seed(GENERATED, 0), seed), abs=1e-5
+        )

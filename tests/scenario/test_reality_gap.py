@@ -127,3 +127,16 @@ def test_the_link_timing_comes_from_a_real_robot_s_link():
         apply_scene_overrides(PASS, {"control.period": 0.1}), 4, "reality-gap", ["control.period"]
     )
     assert kept.control.period == 0.1 and kept.control.latency == drawn[4]["control.latency"]
+
+
+def test_the_text_report_lists_the_drawn_conditions_only_for_reality_gap(capsys):
+    from puckboard.cli import main
+
+    args = ["run", "two-robot-pass", "--seed", "3", "--duration", "0.2"]
+    assert main([*args, "--variation", "reality-gap"]) == 0
+    out = capsys.readouterr().out
+    drawn = draw_conditions(PASS, 3).to_dict()
+    assert "conditions drawn (reality-gap):" in out
+    assert f"control.link = {drawn['control.link']}" in out
+    assert main([*args, "--variation", "plausible"]) == 0
+    assert "conditions drawn" not in capsys.readouterr().out

@@ -8,11 +8,13 @@ import dataclasses
 import numpy as np
 import pytest
 from simworld_helpers import empty_scene, robot
+from test_sim_broadphase import _random_swarm
 from test_sim_ir import PS0, PS7, obstacle_on_sensor_axis, wall_facing_sensor
 
 from puckboard.ir_response import FAR_RAW
 from puckboard.profile import EPUCK, EPUCK_VREP
 from puckboard.scenario.scene import Track
+from puckboard.sim import proximity as proximity_module
 from puckboard.sim.world import World
 
 
@@ -75,3 +77,26 @@ def test_line_contrast_moves_the_line_towards_the_floor():
     assert floor == floor_again
     assert half_line == pytest.approx(floor - 0.5 * (floor - full_line), rel=1e-9)
     assert none_line == pytest.approx(floor, rel=1e-12)
+
+
+def test_dark_obstacles_read_the_same_through_either_broad_phase(monkeypatch):
+    swarm = _random_swarm(26, 7)
+    dark = dataclasses.replace(
+        swarm, obstacles=tuple(dataclasses.replace(o, ir_reflectance=0.3) for o in swarm.obstacles)
+    )
+    results = []
+    for scene in (swarm, dark):
+        for limit in (0, 1000):  # vectorised, then plain Python
+            monkeypatch.setattr(proximity_module, "PYTHON_BROAD_PHASE_MAX", limit)
+            world = World(scene, seed=2)
+            for i in range(26):
+                world.set_wheel_speeds(i, 4.0 + 0.1 * i, 5.0 - 0.1 * i)
+            seen = []
+            for _ in range(8):  # a robot starts beside the west post
+                world.step(1)
+                seen.append(world.prox_raw.copy())
+            results.append(np.array(seen))
+    light_numpy, light_python, dark_numpy, dark_python = results
+    assert np.array_equal(dark_numpy, dark_python)
+    assert np.array_equal(light_numpy, light_python)
+    assert not np.array_equal(light_numpy, dark_numpy)  # the obstacles are seen, and darker
