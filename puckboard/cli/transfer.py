@@ -13,11 +13,13 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from .common import CliError, check_plot_file
 from .experiment_options import (
     add_duration,
+    add_out,
+    add_quiet,
     add_where_to_run,
     check_numbers,
     execute,
@@ -95,13 +97,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     add_duration(parser)
     add_where_to_run(parser)
-    parser.add_argument(
-        "--out",
-        type=Path,
-        metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
-        "there",
-    )
+    add_out(parser)
     parser.add_argument("--json", action="store_true", help="print the report as one JSON object")
     parser.add_argument(
         "--plot",
@@ -110,7 +106,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="draw the families × controllers matrix and the radius bars (.png, .svg, .pdf; "
         "needs matplotlib)",
     )
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress display")
+    add_quiet(parser)
     parser.set_defaults(func=main)
 
 
@@ -149,7 +145,9 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
     )
     if result is None:
         return 1
-    result.wall_s = wall_time(args, result)
+    # a report counts, times and ends as the sweeps it ran do (TransferResult has their
+    # fields, summed)
+    result.wall_s = wall_time(args, cast(Any, result))
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
@@ -160,7 +158,7 @@ def _run(args: argparse.Namespace, executor: Any) -> int:
         plot_transfer(result, args.plot)
         if not args.json:
             print(f"\nplot written to {args.plot}")
-    return exit_status(args, result, stored=store is not None, command="transfer")
+    return exit_status(args, cast(Any, result), stored=store is not None, command="transfer")
 
 
 def _families(args: argparse.Namespace) -> Any:

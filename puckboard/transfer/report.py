@@ -11,6 +11,7 @@ the first scale that fell below; ``≥`` marks a radius the grid's end cut short
 
 from __future__ import annotations
 
+from ..sweep.plan import seeds_text
 from ..sweep.summary import GroupSummary, controller_labels, format_table
 from .families import DESIGN
 from .radius import GridPoint
@@ -116,12 +117,10 @@ def _lower_bound_note(result: TransferResult) -> str:
 
 def format_result(result: TransferResult, *, stored: str | None = None) -> str:
     """The whole report; ``stored`` names the ``--out`` file skipped episodes are in."""
-    counts = f"{result.ran} run" + (f", {result.skipped} already in {stored}" if stored else "")
     speed = f", {result.episodes_per_s:.1f} episodes/s" if result.ran else ""
-    seeds = result.to_dict()["seeds"]
     head = (
-        f"transfer: {result.episodes} of {len(result.plan)} episodes ({counts}), "
-        f"{result.wall_s:.1f} s{speed}; seeds {seeds} at every model"
+        f"transfer: {result.episodes_text(stored)}, {result.wall_s:.1f} s{speed}; seeds "
+        f"{seeds_text(result.plan.seeds)} at every model"
     )
     names = {k: short_name(v) for k, v in controller_labels(result.plan.controllers).items()}
     blocks: dict[tuple[str, str], list[Cell]] = {}

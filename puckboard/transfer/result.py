@@ -245,8 +245,26 @@ class TransferResult:
         return [e for s in self.sweeps for e in s.errors]
 
     @property
+    def outcomes(self) -> list[Outcome]:
+        """Every outcome of every sweep of the report."""
+        return [o for s in self.sweeps for o in s.outcomes]
+
+    # A report counts, times and heads itself as the sweeps it ran do: the same fields
+    # (plan, outcomes, ran, skipped, interrupted, errors, wall_s), summed over them.
+    @property
     def episodes_per_s(self) -> float:
+        """Episodes this run ran per wall-clock second, as a sweep's (0 when none ran)."""
         return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+
+    def counts(self) -> dict[str, Any]:
+        """:meth:`SweepResult.counts <puckboard.sweep.run.SweepResult.counts>` of the
+        whole report."""
+        return SweepResult.counts(cast(Any, self))
+
+    def episodes_text(self, stored: str | None = None) -> str:
+        """:meth:`SweepResult.episodes_text <puckboard.sweep.run.SweepResult.episodes_text>`
+        of the whole report."""
+        return SweepResult.episodes_text(cast(Any, self), stored)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: the plan, counts, timing and one entry per cell."""
@@ -261,9 +279,7 @@ class TransferResult:
             "seeds_for_lower_bound": seeds_for_lower_bound(self.threshold),
             "families": [f.to_dict() for f in self.plan.families],
             "episodes": self.episodes,
-            # the counts every experiment reports, in the sweep's words (a report has
-            # the same planned, ran, skipped, interrupted, errors and wall_s, summed)
-            **SweepResult.counts(cast(Any, self)),
+            **self.counts(),
             "episodes_per_s": self.episodes_per_s,
             "cells": [c.to_dict() for c in self.cells],
         }
