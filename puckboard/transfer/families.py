@@ -60,7 +60,8 @@ class Family:
     ``scaled`` settings are the scene's own value × the scale (the design model at 1);
     ``stepped`` settings are the scale in whole physics steps of the scene's ``dt`` (the
     loop's period and latency, which the simulator takes only in whole steps; the design
-    model at ``origin``: one step of period, no latency). ``link`` sets the loop's
+    model at ``origin``: one step of period, no latency); ``valued`` settings are the scale
+    itself (the design model at ``origin``, the scene's own value). ``link`` sets the loop's
     timing to that link's slow end (:func:`link_timing`). ``grid`` lists the scales a
     radius is read from, from ``origin`` (the design model) outward; ``scale`` is the
     held-out point reported as the family's band (``None``: a radius only). A family
