@@ -110,6 +110,17 @@ def files_of(subpackage: str) -> list[Path]:
                 "puckboard.control",
             ),
         ),
+        # a transfer report is points of sweeps: it runs episodes only through the sweep
+        (
+            "transfer",
+            (
+                "puckboard.cli",
+                "puckboard.behaviours",
+                "puckboard.backends",
+                "puckboard.sim",
+                "puckboard.control",
+            ),
+        ),
         # a study runs episodes only through the sweep; it builds a controller only to
         # name the numbers there are to tune
         ("tune", ("puckboard.cli", "puckboard.backends", "puckboard.sim", "puckboard.control")),

@@ -42,6 +42,7 @@ SUITES: dict[str, str] = {
     "web": "puckboard.bench.web:run_suite",
     "compare": "puckboard.bench.compare:run_suite",
     "sensitivity": "puckboard.bench.sensitivity:run_suite",
+    "transfer": "puckboard.bench.transfer:run_suite",
 }
 
 #: Suites run when none is named.

@@ -30,6 +30,7 @@ COMMANDS: tuple[str, ...] = (
     "sweep",
     "sensitivity",
     "tune",
+    "transfer",
     "plot",
     "replay",
     "monitor",

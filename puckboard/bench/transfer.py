@@ -1,0 +1,145 @@
+"""Benchmark suite ``transfer``: what the flagship transfer report costs.
+
+The flagship report (docs/transfer.md) judges three controllers, ``robust``, ``improved``
+and a student's (the tutorial's ``my_controller.py:my_controller``), with both profiles
+(``epuck``, ``epuck-vrep``) on both pass scenes (``two-robot-pass`` and
+``two-robot-pass-bend``) on every held-out family, at the command's default seeds.
+``puckboard bench --suite transfer [--steps N]`` runs exactly that on two local worker
+processes (``N``: seeds per model, default the command's) and times it from the start of
+the workers to the last row. The student's controller is the tutorial's
+``# my_controller.py`` block, read from ``docs/tutorial.md`` of a source checkout; where
+that page is not installed the suite runs the other two and says so.
+
+Reported: the wall time, episodes per second, the load average before and after (the
+machine may be shared) and, where the platform tells it, the workers' CPU seconds: on a
+machine busy with other work the wall time grows, the CPU seconds hardly do, and half of
+them is what two idle cores would take.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from ..sweep.executors import LocalExecutor
+from ..sweep.signals import stop_on_terminate
+
+__all__ = [
+    "FLAGSHIP_CONTROLLERS",
+    "FLAGSHIP_PROFILES",
+    "FLAGSHIP_SCENES",
+    "flagship_plan",
+    "run_suite",
+    "student_controller",
+]
+
+FLAGSHIP_SCENES = ("two-robot-pass", "two-robot-pass-bend")
+FLAGSHIP_PROFILES = ("epuck", "epuck-vrep")
+FLAGSHIP_CONTROLLERS = ("robust", "improved")
+#: The flagship's seeds: the command's default (puckboard.cli.transfer.DEFAULT_SEEDS).
+FLAGSHIP_SEEDS = (400, 404)
+WORKERS = 2
+#: What the flagship report should take on two cores (the issue's target).
+TARGET_S = 300.0
+
+_TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
+
+
+def _load() -> float | None:
+    return round(os.getloadavg()[0], 2) if hasattr(os, "getloadavg") else None
+
+
+def _children_cpu_s() -> float | None:
+    """CPU seconds of this process's ended children (the workers, once closed)."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return None
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def student_controller(folder: Path) -> str | None:
+    """The tutorial's ``my_controller.py`` saved in ``folder``, as its spec
+    (``…/my_controller.py:my_controller``); ``None`` without the tutorial page."""
+    if not _TUTORIAL.is_file():
+        return None
+    text = _TUTORIAL.read_text(encoding="utf-8")
+    blocks = re.findall(r"^```python\n(# my_controller\.py\n.*?)^```", text, re.M | re.S)
+    if len(blocks) != 1:
+        return None
+    path = folder / "my_controller.py"
+    path.write_text(blocks[0], encoding="utf-8")
+    return f"{path}:my_controller"
+
+
+def run_suite(steps: int | None = None) -> dict[str, Any]:
+    """The flagship report's wall time on two local workers; see the module docstring.
+    ``steps``: seeds per model (default: the flagship's)."""
+    with stop_on_terminate(), tempfile.TemporaryDirectory() as folder:
+        return _run_suite(steps or FLAGSHIP_SEEDS[1] - FLAGSHIP_SEEDS[0], Path(folder))
+
+
+def flagship_plan(n: int, folder: Path) -> tuple[Any, dict[str, Any], bool]:
+    """The flagship report at ``n`` seeds per model: its plan, every scene it runs on (by
+    name) and whether the student's controller (saved in ``folder``) is in it."""
+    from ..scenario.scenefile import load_scene
+    from ..transfer import FAMILIES, transfer_plan
+
+    student = student_controller(folder)
+    controllers = [*FLAGSHIP_CONTROLLERS, *([student] if student else [])]
+    scenes = [load_scene(name) for name in FLAGSHIP_SCENES]
+    replacements = {f.scene: load_scene(f.scene) for f in FAMILIES if f.scene is not None}
+    plan = transfer_plan(
+        scenes,
+        controllers=controllers,
+        profiles={s.name: list(FLAGSHIP_PROFILES) for s in scenes},
+        seeds=range(FLAGSHIP_SEEDS[0], FLAGSHIP_SEEDS[0] + n),
+        families=FAMILIES,
+        replacements=replacements,
+    )
+    return plan, {**replacements, **{s.name: s for s in scenes}}, student is not None
+
+
+def _run_suite(n: int, folder: Path) -> dict[str, Any]:
+    from ..transfer import run_transfer
+
+    plan, scenes, student = flagship_plan(n, folder)
+    out: dict[str, Any] = {
+        "scenes": list(FLAGSHIP_SCENES),
+        "profiles": list(FLAGSHIP_PROFILES),
+        "controllers": [*FLAGSHIP_CONTROLLERS, *(["my_controller"] if student else [])],
+        "student_controller": "tutorial's my_controller.py"
+        if student
+        else "not found (docs/tutorial.md is not installed)",
+        "families": [f.name for f in plan.families],
+        "seeds_per_model": n,
+        "episodes": len(plan),
+        "workers": WORKERS,
+        "load_average_before": _load(),
+    }
+    cpu_before = _children_cpu_s()
+    t0 = time.perf_counter()
+    executor = LocalExecutor(WORKERS)
+    try:
+        executor.start()
+        result = run_transfer(plan, scenes, executor=executor)
+    finally:
+        executor.close()
+    wall = time.perf_counter() - t0
+    cpu_after = _children_cpu_s()
+    cpu = None if cpu_before is None or cpu_after is None else cpu_after - cpu_before
+    out.update(
+        wall_s=round(wall, 1),
+        episodes_per_s=round(result.ran / wall, 2) if wall else None,
+        errors=len(result.errors),
+        workers_cpu_s=None if cpu is None else round(cpu, 1),
+        idle_two_cores_estimate_s=None if cpu is None else round(cpu / WORKERS, 1),
+        target_s=TARGET_S,
+        load_average_after=_load(),
+    )
+    return out

@@ -1,0 +1,234 @@
+"""``puckboard transfer``: a controller's pass rate on models it was not designed on.
+
+For each controller × profile × scene: the band on the design model (the scene with
+plausible robots, as the published bands), the band on each held-out family
+(:mod:`puckboard.transfer.families`), each with its 95 % Wilson interval, and each
+continuous perturbation's robustness radius on a grid declared up front. Runs on the
+sweep machinery: all local cores or a Dask cluster, ``--out`` rows to resume from,
+Ctrl-C keeps what ran. See ``docs/transfer.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any, cast
+
+from .common import CliError, check_plot_file
+from .experiment_options import (
+    add_duration,
+    add_out,
+    add_quiet,
+    add_where_to_run,
+    check_numbers,
+    execute,
+    exit_status,
+    open_out,
+    scene_or_error,
+    wall_time,
+    with_executor,
+)
+
+#: Seeds per model unless asked otherwise: seeds none of the shipped controllers was
+#: designed or validated on (robust: 0-199 design, 200-399 the published bands), as
+#: many as keep the flagship report (docs/transfer.md) within five minutes on two cores.
+DEFAULT_SEEDS = "400:404"
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    parser = subparsers.add_parser(
+        "transfer",
+        help="judge controllers on models they were not designed on: held-out bands and "
+        "robustness radii",
+        description=(
+            "For each controller, profile and scene, run the same seeds on the design model "
+            "(the scene with plausible robots, --variation plausible, as the published "
+            "bands) and on each held-out family of models (noise at twice the scene's, and "
+            "the families listed in docs/transfer.md), and report each pass rate with its "
+            "95 % Wilson interval. For each continuous perturbation (a family with a grid of "
+            "scales, declared before anything runs) report its robustness radius: the "
+            "furthest scale up to which the pass rate stays at or above 95 % (by point "
+            "estimate, with the interval of the point that supports it; --json also has the "
+            "radius by the interval's lower bound). Runs on all local cores or a Dask "
+            "cluster; --out keeps one row per episode, and the same command resumes from it."
+        ),
+        epilog=(
+            "Example: puckboard transfer two-robot-pass two-robot-pass-bend --controller "
+            "robust --controller improved --profile epuck --profile epuck-vrep --out "
+            "transfer.csv --plot transfer.png. Every band is repeatable as one run: "
+            "puckboard run SCENE --controller C --profile P --variation plausible --seed N "
+            "plus the family's --set values (the rows of --out hold them)."
+        ),
+    )
+    parser.add_argument(
+        "scenario",
+        nargs="+",
+        metavar="SCENE",
+        help="shipped scene names or .toml/.json scene files, one report block each",
+    )
+    parser.add_argument(
+        "--controller",
+        action="append",
+        default=[],
+        metavar="SPEC",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY (repeatable; default: each robot's controller from the scene)",
+    )
+    parser.add_argument(
+        "--seeds",
+        default=DEFAULT_SEEDS,
+        metavar="A:B",
+        help=f"seeds run on every model, a Python range (default: {DEFAULT_SEEDS})",
+    )
+    parser.add_argument(
+        "--profile",
+        action="append",
+        default=[],
+        metavar="NAME|FILE.toml",
+        help="robot profile for every robot, shipped or a profile file (repeatable; default: "
+        "each scene's)",
+    )
+    parser.add_argument(
+        "--families",
+        metavar="NAME,...",
+        help="only these held-out families, comma-separated (default: all; a wrong name "
+        "lists them)",
+    )
+    add_duration(parser)
+    add_where_to_run(parser)
+    add_out(parser)
+    parser.add_argument("--json", action="store_true", help="print the report as one JSON object")
+    parser.add_argument(
+        "--plot",
+        type=Path,
+        metavar="FILE",
+        help="draw the families × controllers matrix and the radius bars (.png, .svg, .pdf; "
+        "needs matplotlib)",
+    )
+    add_quiet(parser)
+    parser.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..sweep.signals import stop_on_terminate
+
+    with stop_on_terminate():
+        check_numbers(args)
+        if args.plot is not None:
+            check_plot_file(args.plot)
+        return with_executor(args, _run)
+
+
+def _run(args: argparse.Namespace, executor: Any) -> int:
+    from ..sweep import make_progress
+    from ..sweep.signals import interrupts_deferred
+    from ..transfer import format_result, run_transfer
+
+    with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
+        plan, scenes = _plan(args)
+        store = open_out(args)
+    result = execute(
+        args,
+        executor,
+        store,
+        "transfer",
+        lambda on: run_transfer(
+            plan,
+            scenes,
+            executor=on,
+            store=store,
+            batch_size=args.batch_size,
+            progress=make_progress(enabled=not args.quiet, label="transfer"),
+            episode_timeout=args.episode_timeout,
+        ),
+    )
+    if result is None:
+        return 1
+    # a report counts, times and ends as the sweeps it ran do (TransferResult has their
+    # fields, summed)
+    result.wall_s = wall_time(args, cast(Any, result))
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2))
+    else:
+        print(format_result(result, stored=str(args.out) if store is not None else None))
+    if args.plot is not None and result.episodes:
+        from ..transfer import plot_transfer
+
+        plot_transfer(result, args.plot)
+        if not args.json:
+            print(f"\nplot written to {args.plot}")
+    return exit_status(args, cast(Any, result), stored=store is not None, command="transfer")
+
+
+def _families(args: argparse.Namespace) -> Any:
+    from ..transfer import choose_families
+
+    names = None
+    if args.families is not None:
+        names = [n.strip() for n in args.families.split(",") if n.strip()]
+        if not names:
+            raise CliError("--families: name at least one family, e.g. --families noise")
+    try:
+        return choose_families(names)
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+
+
+def _profiles(args: argparse.Namespace, scenes: list[Any]) -> dict[str, list[Any]]:
+    """``--profile`` each as a shipped name or a profile, for every scene; else each
+    scene's one profile."""
+    from ..errors import PuckboardError
+    from ..scenario.robot_profiles import scene_profile
+
+    if args.profile:
+        try:
+            chosen = [scene_profile(ref) for ref in args.profile]
+        except PuckboardError as exc:
+            raise CliError(str(exc)) from None
+        return {scene.name: chosen for scene in scenes}
+    out = {}
+    for scene in scenes:
+        own = {json.dumps(_profile_id(r.profile)) for r in scene.robots}
+        if len(own) != 1:
+            raise CliError(
+                f"the robots of {scene.name} have different profiles; name the one to run "
+                "with --profile NAME (repeatable)"
+            )
+        out[scene.name] = [scene.robots[0].profile]
+    return out
+
+
+def _profile_id(profile: Any) -> Any:
+    return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]
+
+
+def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
+    """The report's points and every scene they run on, checked before anything runs."""
+    from ..errors import PuckboardError
+    from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan
+    from ..sweep.plan import parse_seeds
+    from ..transfer import transfer_plan
+
+    if len(set(args.scenario)) != len(args.scenario):
+        raise CliError(f"scene listed twice in {args.scenario}; give each once")
+    families = _families(args)
+    scenes = [scene_or_error(ref) for ref in args.scenario]
+    replacements = {f.scene: scene_or_error(f.scene) for f in families if f.scene is not None}
+    fixed = {} if args.duration is None else {"duration": args.duration}
+    try:
+        plan = transfer_plan(
+            scenes,
+            controllers=args.controller or [SCENE_CONTROLLERS],
+            profiles=_profiles(args, scenes),
+            seeds=parse_seeds(args.seeds),
+            families=families,
+            replacements=replacements,
+            fixed=fixed,
+        )
+        loaded = {**replacements, **{s.name: s for s in scenes}}
+        for sweep in plan.sweeps:
+            check_plan(sweep, loaded[sweep.scenario])
+    except (PlanError, PuckboardError) as exc:
+        raise CliError(str(exc)) from exc
+    return plan, loaded

@@ -1,0 +1,214 @@
+"""What a transfer report runs: the design model and every held-out family, per cell.
+
+A *cell* is one controller on one profile in one scene. For each scene and profile the
+plan holds one :class:`Point` per model: the design model (the scene with plausible
+robots), each family's held-out point, and every scale of each family's grid. Points
+with the same parameters on the same scene are one set of episodes (a noise family's
+scale 1 is the design model itself, its scale 2 its held-out band), and every point runs
+the same seeds (common random numbers: the same start jitter and draws at every scale,
+so differences along a grid are the perturbation's, not luck's).
+
+The episodes are ordinary sweeps (:class:`~puckboard.sweep.SweepPlan`, one per scene the
+episodes run on: a family with a replacement scene adds one), run on the sweep
+machinery: local cores or Dask, resumable ``--out`` rows, progress, Ctrl-C.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from .families import DESIGN, PLAUSIBLE, Family, link_timing, scene_value
+
+__all__ = ["Point", "Skipped", "TransferPlan", "family_params", "transfer_plan"]
+
+
+@dataclass(frozen=True)
+class Point:
+    """One model for one scene and profile: the ``family`` (:data:`DESIGN` for the design
+    model) at ``scale``, its episodes run on scene ``runs_on`` with ``params``."""
+
+    scene: str
+    profile: str
+    family: str
+    scale: float
+    runs_on: str
+    params: Mapping[str, Any]
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """A family that has nothing to change in one scene (``why`` says so)."""
+
+    scene: str
+    family: str
+    why: str
+
+
+@dataclass(frozen=True)
+class TransferPlan:
+    """Every point of a report and the sweeps that run them (one per scene run on)."""
+
+    scenes: tuple[str, ...]
+    controllers: tuple[str, ...]
+    profiles: Mapping[str, tuple[str, ...]]
+    seeds: range
+    families: tuple[Family, ...]
+    points: tuple[Point, ...]
+    sweeps: tuple[SweepPlan, ...]
+    skipped: tuple[Skipped, ...] = ()
+    fixed: Mapping[str, Any] | None = None
+    #: Each scene's physics step (s): what a stepped family's scales mean there.
+    dts: Mapping[str, float] | None = None
+
+    def point_key(self, point: Point) -> str:
+        """``point``'s parameters (the fixed ones included) as
+        :func:`~puckboard.sweep.plan.params_key` spells them."""
+        return params_key({**(self.fixed or {}), **point.params})
+
+    def sweep_for(self, scene: str) -> SweepPlan:
+        return next(s for s in self.sweeps if s.scenario == scene)
+
+    def __len__(self) -> int:
+        return sum(len(s) for s in self.sweeps)
+
+
+def family_params(
+    family: Family | None, scene: Any, scale: float, base: Mapping[str, Any]
+) -> dict[str, Any]:
+    """The parameters of ``family`` at ``scale`` on ``scene`` (``None``: the design model),
+    on top of ``base`` (the profile's). At the family's origin its scaled and stepped
+    settings keep the scene's values and are left out, so that point is the design
+    model's own episodes."""
+    if family is None:
+        return {**base, "variation": PLAUSIBLE}
+    params = {**base, "variation": family.variation, **family.sets}
+    if family.link is not None:  # only what differs from the design loop (one step, no delay)
+        design_loop = {"control.period": float(scene.dt), "control.latency": 0.0}
+        timing = link_timing(family.link, scene.dt)
+        params.update({k: v for k, v in timing.items() if abs(v - design_loop[k]) > 1e-12})
+    if scale != family.origin:
+        for name in family.scaled:
+            value = scene_value(scene, name)
+            if value:
+                params[name] = value * scale
+        for name in family.stepped:
+            params[name] = scale * scene.dt
+        for name in family.valued:
+            params[name] = scale
+    return params
+
+
+def _same_as_design(family: Family, scene: Any, base: Mapping[str, Any]) -> str | None:
+    """Why ``family`` is the design model itself on ``scene`` (every point of it), or
+    ``None`` when it changes something."""
+    design = family_params(None, scene, 1.0, base)
+    scales = [s for s in (family.band_scale, *family.grid) if s is not None]
+    if family.scene is not None:
+        return None
+    if "surface.line_contrast" in family.valued and scene.track is None:
+        return f"{scene.name} has no line"
+    if "obstacle.ir_reflectance" in family.valued and not scene.obstacles:
+        return f"{scene.name} has no obstacle"
+    for name in family.valued:  # the grid's origin must be the scene's own value
+        own = scene_value(scene, name)
+        if own != family.origin:
+            return f"{scene.name}'s own {name} is {own:g}, not the grid's origin {family.origin:g}"
+    if any(family_params(family, scene, s, base) != design for s in scales):
+        return None
+    if family.link is not None:
+        return f"at {scene.name}'s {scene.dt * 1000:g} ms step its slow end is the design loop"
+    return f"on {scene.name} it changes nothing (nothing to scale)"
+
+
+def transfer_plan(
+    scenes: Sequence[Any],
+    *,
+    controllers: Sequence[str],
+    profiles: Mapping[str, Sequence[Any]],
+    seeds: range,
+    families: Sequence[Family],
+    replacements: Mapping[str, Any] | None = None,
+    fixed: Mapping[str, Any] | None = None,
+) -> TransferPlan:
+    """The points of a report on ``scenes`` (loaded scenes): for each scene and each of
+    its ``profiles`` (by scene name: shipped names or profiles), the design model, then
+    each family's held-out point and grid, every point for every controller on ``seeds``.
+
+    ``replacements`` holds the loaded scene of each family's ``scene`` by name. Errors are
+    :class:`~puckboard.sweep.PlanError`, one line each.
+    """
+    if not scenes:
+        raise PlanError("a transfer report needs at least one scene")
+    names = [s.name for s in scenes]
+    if len(set(names)) != len(names):
+        raise PlanError(f"scene listed twice in {names}")
+    others = dict(replacements or {})
+    points: list[Point] = []
+    skipped: list[Skipped] = []
+    labels: dict[str, tuple[str, ...]] = {}
+    for scene in scenes:
+        chosen = list(profiles.get(scene.name, ()))
+        if not chosen:
+            raise PlanError(f"scene {scene.name}: no profile to run")
+        labels[scene.name] = tuple(_label(p) for p in chosen)
+        if len(set(labels[scene.name])) != len(chosen):
+            raise PlanError(f"profile listed twice in {list(labels[scene.name])}")
+        for profile, label in zip(chosen, labels[scene.name]):
+            base = profile_parameters(profile)
+            points.append(
+                Point(
+                    scene.name, label, DESIGN, 1.0, scene.name, family_params(None, scene, 1, base)
+                )
+            )
+            for family in families:
+                why = _same_as_design(family, scene, base)
+                if why is not None:
+                    if profile is chosen[0]:
+                        skipped.append(Skipped(scene.name, family.name, why))
+                    continue
+                runs_on = family.scene or scene.name
+                if family.scene is not None and family.scene not in others:
+                    raise PlanError(f"family {family.name}: scene {family.scene} is not loaded")
+                scales = [s for s in (family.band_scale, *family.grid) if s is not None]
+                for scale in dict.fromkeys(scales):
+                    params = family_params(family, scene, scale, base)
+                    points.append(Point(scene.name, label, family.name, scale, runs_on, params))
+    sweeps = _sweeps(points, controllers, seeds, fixed or {})
+    return TransferPlan(
+        scenes=tuple(names),
+        controllers=tuple(controllers),
+        profiles=labels,
+        seeds=seeds,
+        families=tuple(families),
+        points=tuple(points),
+        sweeps=sweeps,
+        skipped=tuple(skipped),
+        fixed=dict(fixed or {}),
+        dts={scene.name: float(scene.dt) for scene in scenes},
+    )
+
+
+def _label(profile: Any) -> str:
+    return profile if isinstance(profile, str) else str(profile.name)
+
+
+def _sweeps(
+    points: Sequence[Point], controllers: Sequence[str], seeds: range, fixed: Mapping[str, Any]
+) -> tuple[SweepPlan, ...]:
+    """One sweep per scene run on, each set of parameters once, in the points' order."""
+    by_scene: dict[str, dict[str, Mapping[str, Any]]] = {}
+    for point in points:
+        by_scene.setdefault(point.runs_on, {})[params_key(point.params)] = point.params
+    return tuple(
+        SweepPlan(
+            scenario=scene,
+            controllers=tuple(controllers),
+            seeds=seeds,
+            fixed=dict(fixed),
+            points=tuple(unique.values()),
+        )
+        for scene, unique in by_scene.items()
+    )
