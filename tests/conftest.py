@@ -36,6 +36,14 @@ def short_scene():
     return dataclasses.replace(load_scene("line-follow"), duration=DURATION)
 
 
+def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
+    """``-n auto``: one worker per CPU this process may run on. (pytest-xdist's own count
+    is the physical cores', which is 1 on a machine of two hardware threads, and ignores
+    a CPU affinity such as ``taskset``'s.)"""
+    affinity = getattr(os, "sched_getaffinity", None)  # not on Windows or macOS
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
 def pytest_configure(config: pytest.Config) -> None:
     """The session's cache folder (tests/support/session_cache.py), made by the process
     that starts the workers, who inherit its name, and removed when the session ends."""
