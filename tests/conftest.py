@@ -3,17 +3,28 @@
 Fixtures more than one folder uses are here; helpers are imported from tests/support by
 their own module names, never from a ``conftest`` (every folder's conftest shares that
 name, so two folders run together would collect one folder's helpers for the other's).
+
+The suite runs on every core (pytest-xdist, ``--dist loadgroup`` in pyproject.toml). Each
+worker is a process of its own, so a result cached in one is computed again in another.
+Hence the tests of one file always run in one worker (its module fixtures are computed
+once), and a result several files use is kept with tests/support/session_cache.py (as
+tests/support/episodes.py keeps episodes), or the files name one group,
+``pytestmark = pytest.mark.xdist_group("NAME")``, to run in one worker together.
 """
 
 import dataclasses
+import os
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent / "support"))
 
-from sweep_helpers import DURATION  # found through the path set above
+import session_cache  # found through the path set above
+from sweep_helpers import DURATION
 
 
 @pytest.fixture(scope="session")
@@ -23,3 +34,29 @@ def short_scene():
     from puckboard.scenario.scenefile import load_scene
 
     return dataclasses.replace(load_scene("line-follow"), duration=DURATION)
+
+
+def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
+    """``-n auto``: one worker per CPU this process may run on. (pytest-xdist's own count
+    is the physical cores', which is 1 on a machine of two hardware threads, and ignores
+    a CPU affinity such as ``taskset``'s.)"""
+    affinity = getattr(os, "sched_getaffinity", None)  # not on Windows or macOS
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """The session's cache folder (tests/support/session_cache.py), made by the process
+    that starts the workers, who inherit its name, and removed when the session ends."""
+    if hasattr(config, "workerinput"):  # a worker: the folder is its parent's
+        return
+    folder = tempfile.mkdtemp(prefix="puckboard-tests-")
+    os.environ[session_cache.ENV] = folder
+    config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """A test without a group runs in its file's group (its file's worker)."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is None:
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))

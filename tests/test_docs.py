@@ -17,6 +17,7 @@ from pathlib import Path
 
 import doc_pages
 import pytest
+from cli_runs import run_in
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -151,12 +152,9 @@ def test_tutorial_code_runs_in_order_and_prints_exactly_what_the_page_shows(
     assert set(on_line) == {0.25, 0.9}, out[-3000:]
     assert on_line[0.25] - on_line[0.9] >= 30, on_line
 
-    for command in shell_commands(page):
-        argv = [sys.executable, "-m", "puckboard", *shlex.split(command)[1:]]
-        done = subprocess.run(
-            argv, cwd=tmp_path, env=headless_env(), capture_output=True, text=True, timeout=300
-        )
-        assert done.returncode == 0, f"{command}\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"
+    for command in shell_commands(page):  # in this process, in the reader's folder
+        status, printed = run_in(tmp_path, shlex.split(command)[1:])
+        assert status == 0, f"{command}\n{printed[-2000:]}"
 
 
 # -- the site -----------------------------------------------------------------------------

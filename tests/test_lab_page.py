@@ -15,13 +15,12 @@ import itertools
 import json
 import re
 import shlex
-import subprocess
-import sys
 from pathlib import Path
 
 import doc_pages
 import numpy as np
 import pytest
+from cli_runs import run_in
 from episodes import episode
 from test_doc_claims import (
     BANDS,
@@ -85,12 +84,10 @@ def student_folder(tmp_path_factory) -> Path:
 
 
 def run_cli(argv: list[str], folder: Path) -> str:
-    done = subprocess.run(
-        [sys.executable, "-m", "puckboard", *argv],
-        cwd=folder, capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
-    assert done.returncode == 0, f"{argv}\n{done.stderr[-3000:]}"
-    return done.stdout
+    """What ``puckboard ARGV`` prints when run in ``folder`` (in this process: cli_runs)."""
+    status, printed = run_in(folder, argv)
+    assert status == 0, f"{argv}: exit {status}"
+    return printed
 
 
 @pytest.mark.slow

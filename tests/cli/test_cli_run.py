@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from puckboard.cli import main
+from puckboard.cli.run import realtime_text
 
 
 def test_json_prints_exactly_one_object_on_stdout(capsys):
@@ -100,3 +103,13 @@ def test_a_start_outside_the_arena_stops_the_run_with_one_line(tmp_path, capsys)
     (line,) = captured.err.strip().splitlines()
     assert "outside.toml: robots[0].x: robot 'solo' starts at (5, 0) m, outside the arena" in line
     assert "(x from -0.5 to 0.5 m, y from -0.5 to 0.5 m)" in line
+
+
+@pytest.mark.parametrize(
+    ("factor", "shown"),
+    [(185.3, "185x"), (12.4, "12x"), (1.94, "1.9x"), (0.1234, "0.12x"), (0.0123, "0.012x")],
+)
+def test_the_real_time_factor_keeps_two_significant_figures(factor, shown):
+    """The run's header writes its real-time factor with two significant figures
+    (issue 30, round 4, item 10)."""
+    assert realtime_text(factor) == shown

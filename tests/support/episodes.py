@@ -2,7 +2,8 @@
 
 The acceptance tests and the tests of the pages' measured claims look at the same
 episodes (the shipped scenes, a controller, a seed, a profile); an episode is fully
-determined by those, so each is run once and its result shared.
+determined by those, so each is run once and its result shared, within a process and
+between the session's worker processes (tests/support/session_cache.py).
 """
 
 from __future__ import annotations
@@ -10,6 +11,8 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 from typing import Any
+
+from session_cache import once
 
 from puckboard.control.episode import run_episode
 from puckboard.scenario.result import EpisodeResult
@@ -35,4 +38,7 @@ def episode(
 def _episode(
     scene: str, controller: str, seed: int, settings: tuple[tuple[str, Any], ...]
 ) -> EpisodeResult:
-    return run_episode(scene, controller=controller, seed=seed, overrides=dict(settings))
+    return once(
+        repr(("episode", scene, controller, seed, settings)),
+        lambda: run_episode(scene, controller=controller, seed=seed, overrides=dict(settings)),
+    )

@@ -140,18 +140,15 @@ def test_a_served_world_shows_its_clients_layers_and_judge():
     server = RemoteApiServer(load_scene("two-robot-pass"), host="127.0.0.1", port=0).start()
     view = watch_server(server, port=0)
     try:
-        stopped = json.loads(get(view.url + "frame.json")[1] or b"null")
-        deadline = time.monotonic() + 5
-        while stopped is None and time.monotonic() < deadline:  # observers run 4x/s when still
-            time.sleep(0.1)
-            stopped = json.loads(get(view.url + "frame.json")[1])
+        stopped = wait_for_frame(view, lambda f: True)  # observers run 4x/s when still
         assert stopped["status"] == "stopped" and stopped["t"] == 0.0
         result = run_episode(
             "two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port
         )
-        time.sleep(0.3)
-        details = json.loads(get(view.url + "details.json")[1])
-        assert details["left"]["source"] == "served sensors"
+        # the observers' next round after the run shows what the clients' sensors were
+        details = wait_for_json(
+            view, "details.json", lambda d: d["left"]["source"] == "served sensors"
+        )
     finally:
         view.close()
         server.close()
@@ -184,16 +181,23 @@ def test_cli_web_errors_are_one_line(monkeypatch, capsys):
     assert "use it with --web" in capsys.readouterr().err
 
 
-def wait_for_frame(view, ok, timeout: float = 5.0) -> dict:
-    """The served view's newest frame, once ``ok(frame)`` holds (observers run 4x/s when
-    the world stands still)."""
+def wait_for_json(view, name: str, ok, timeout: float = 60.0) -> dict:
+    """The served view's ``name`` (frame.json, details.json), once ``ok`` holds of it.
+
+    The view's observers refresh it on their own schedule (4x/s when the world stands
+    still), so a test waits for what it expects, generously, rather than for a time."""
     deadline = time.monotonic() + timeout
     while True:
-        frame = json.loads(get(view.url + "frame.json")[1] or b"null")
-        if frame is not None and ok(frame):
-            return frame
-        assert time.monotonic() < deadline, frame
+        shown = json.loads(get(view.url + name)[1] or b"null")
+        if shown is not None and ok(shown):
+            return shown
+        assert time.monotonic() < deadline, shown
         time.sleep(0.05)
+
+
+def wait_for_frame(view, ok, timeout: float = 60.0) -> dict:
+    """The served view's newest frame, once ``ok(frame)`` holds."""
+    return wait_for_json(view, "frame.json", ok, timeout)
 
 
 def path_length(points) -> float:
