@@ -221,6 +221,38 @@ def test_the_import_graph_has_no_circle():
     assert circles == []
 
 
+#: ARCHITECTURE.md's floors, lowest first: a module imports from its own floor or below.
+FLOORS = (
+    ("blackboard", "errors", "usercode", "geometry", "_version", "_extras"),
+    ("records", "ir_response", "profile"),
+    ("scenario",),
+    ("sim",),
+    ("behaviours",),
+    ("backends",),
+    ("estimation", "control"),
+    ("recording", "viz", "web"),
+    ("sweep", "sensitivity", "tune", "transfer", "calibration", "bench"),
+    ("cli",),
+)
+
+
+def test_every_part_of_the_package_has_a_floor_and_imports_none_above_it():
+    floor_of = {part: n for n, parts in enumerate(FLOORS) for part in parts}
+    parts = {p.name.removesuffix(".py") for p in PKG.iterdir() if not p.name.startswith(".")}
+    parts -= {"__init__", "__main__", "__pycache__", "py.typed"}
+    assert sorted(parts - set(floor_of)) == []  # a new part gets its floor here and there
+    upward = []
+    for path in PKG.rglob("*.py"):
+        part = path.relative_to(PKG).parts[0].removesuffix(".py")
+        if part in ("__init__", "__main__"):
+            continue
+        for name in imported_puckboard_modules(path):
+            target = name.split(".")[1] if name.count(".") else None
+            if target in floor_of and floor_of[target] > floor_of[part]:
+                upward.append(f"{path.relative_to(PKG.parent)} imports {name}")
+    assert upward == []
+
+
 def test_no_module_imports_its_own_package_init():
     """A module that imports the ``__init__`` of a package it lives in runs back up."""
     offenders = []
