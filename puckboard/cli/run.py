@@ -344,10 +344,6 @@ def format_summary(result: Any, *, simulated: bool = True) -> str:
     else:
         clock = f"{d['sim_time_s']:.1f} s on the robot ({steps})"
     lines = [
-        f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  "
-        f"{d['sim_time_s']:.1f} s simulated in {d['wall_s']:.2f} s "
-        f"({realtime_text(d['realtime_factor'])} real time, {d['steps']} step{'s' * (d['steps'] != 1)} "
-        f"of {d['dt_s'] * 1000:g} ms{_loop_timing(d)})",
         f"{d['scenario']}  controller={d['controller']}  seed={d['seed']}  {clock}",
         "",
         f"{'robot':<12}{'profile':<12}{'laps':>7}{'driven m':>10}{'collisions':>12}"
