@@ -4,12 +4,11 @@ Fixtures more than one folder uses are here; helpers are imported from tests/sup
 their own module names, never from a ``conftest`` (every folder's conftest shares that
 name, so two folders run together would collect one folder's helpers for the other's).
 
-The suite runs on every core (pytest-xdist, ``--dist loadgroup`` in pyproject.toml). Each
-worker is a process of its own, so a result cached in one is computed again in another.
-Hence the tests of one file always run in one worker (its module fixtures are computed
-once), and a result several files use is kept with tests/support/session_cache.py (as
-tests/support/episodes.py keeps episodes), or the files name one group,
-``pytestmark = pytest.mark.xdist_group("NAME")``, to run in one worker together.
+The suite runs on every core (pytest-xdist, ``--dist worksteal`` in pyproject.toml): an
+idle worker takes tests queued for a busy one. Each worker is a process of its own, so a
+result cached in one is computed again in another: a result several tests use is kept with
+tests/support/session_cache.py (as tests/support/episodes.py keeps episodes), computed by
+the first worker that asks and read by the others.
 """
 
 import dataclasses
@@ -52,11 +51,3 @@ def pytest_configure(config: pytest.Config) -> None:
     folder = tempfile.mkdtemp(prefix="puckboard-tests-")
     os.environ[session_cache.ENV] = folder
     config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
-
-
-@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """A test without a group runs in its file's group (its file's worker)."""
-    for item in items:
-        if item.get_closest_marker("xdist_group") is None:
-            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
