@@ -17,9 +17,12 @@ import re
 import socket
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from .._extras import missing_package_message
+
+if TYPE_CHECKING:
+    from ..control.episode import Episode
 
 __all__ = [
     "CliError",
@@ -245,7 +248,7 @@ def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path
 
 
 @contextlib.contextmanager
-def connection_loss_in_one_line(episode: Any) -> Iterator[None]:
+def connection_loss_in_one_line(episode: Episode) -> Iterator[None]:
     """Run ``episode`` inside this block: a lost simulator or robot ends the command
     with :func:`connection_lost_error`'s one line instead of a traceback.
 
@@ -284,7 +287,7 @@ def connection_loss_in_one_line(episode: Any) -> Iterator[None]:
                 logging.getLogger(record.name).handle(record)
 
 
-def connection_lost_error(episode: Any, exc: BaseException) -> CliError:
+def connection_lost_error(episode: Episode, exc: BaseException) -> CliError:
     """One line, status 1, for a simulator or robot that went away during ``episode``:
     when (simulated time, or run time on a real robot), whether a stop reached every
     robot's wheels, and what was lost (the error's own words)."""

@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .common import (
     CliError,
@@ -38,6 +38,10 @@ from .common import (
     start_web_view,
     web_url,
 )
+
+if TYPE_CHECKING:
+    from ..control.episode import Episode
+    from ..scenario.result import EpisodeResult
 
 #: A run longer than this (wall seconds) gets a progress indicator on stderr.
 PROGRESS_AFTER_S = 0.5
@@ -328,7 +332,7 @@ def _condition_lines(conditions: dict[str, Any] | None) -> list[str]:
     return lines
 
 
-def format_summary(result: Any, *, simulated: bool = True) -> str:
+def format_summary(result: EpisodeResult, *, simulated: bool = True) -> str:
     """A readable summary of an :class:`~puckboard.scenario.result.EpisodeResult`;
     ``simulated=False`` for a run on a robot (real or emulated), whose time is the run's
     own, not simulated."""
@@ -453,7 +457,7 @@ class _Progress:
                 pass
         self.plain = True
 
-    def update(self, episode: Any) -> None:
+    def update(self, episode: Episode) -> None:
         now = self.clock()
         if self.bar is None and not self.plain:
             if now - self.t0 < PROGRESS_AFTER_S:

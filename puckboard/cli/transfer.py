@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 from .common import CliError, check_plot_file
 from .experiment_options import (
@@ -29,6 +29,11 @@ from .experiment_options import (
     wall_time,
     with_executor,
 )
+
+if TYPE_CHECKING:
+    from ..profile import RobotProfile
+    from ..scenario.scene import Scene
+    from ..sweep.executors import SweepExecutor
 
 #: Seeds per model unless asked otherwise: seeds none of the shipped controllers was
 #: designed or validated on (robust: 0-199 design, 200-399 the published bands), as
@@ -120,7 +125,7 @@ def main(args: argparse.Namespace) -> int:
         return with_executor(args, _run)
 
 
-def _run(args: argparse.Namespace, executor: Any) -> int:
+def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     from ..sweep import make_progress
     from ..sweep.signals import interrupts_deferred
     from ..transfer import format_result, run_transfer
@@ -175,7 +180,7 @@ def _families(args: argparse.Namespace) -> Any:
         raise CliError(str(exc)) from None
 
 
-def _profiles(args: argparse.Namespace, scenes: list[Any]) -> dict[str, list[Any]]:
+def _profiles(args: argparse.Namespace, scenes: list[Scene]) -> dict[str, list[str | RobotProfile]]:
     """``--profile`` each as a shipped name or a profile, for every scene; else each
     scene's one profile."""
     from ..errors import PuckboardError
@@ -199,7 +204,7 @@ def _profiles(args: argparse.Namespace, scenes: list[Any]) -> dict[str, list[Any
     return out
 
 
-def _profile_id(profile: Any) -> Any:
+def _profile_id(profile: str | RobotProfile) -> str | list[Any]:
     return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]
 
 

@@ -32,6 +32,7 @@ class TickTimer:
     """Per robot: times its controller's ticks against ``period`` (seconds) and warns
     once, naming the slowest layer, when they take longer."""
 
+    # Any: the loop runs any object with tick(ns), not only a Controller (timed whole)
     def __init__(self, robot: str, controller: Any, period: float) -> None:
         self.robot = robot
         self.controller = controller

@@ -30,7 +30,10 @@ from __future__ import annotations
 import difflib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
 
 __all__ = [
     "DESIGN",
@@ -161,7 +164,7 @@ class Family:
         }
 
 
-def scene_value(scene: Any, name: str) -> float:
+def scene_value(scene: Scene, name: str) -> float:
     """The scene's own value of a setting a family scales (``noise.proximity`` → the
     scene's proximity noise); ``KeyError`` for a setting that cannot be scaled."""
     group, _, key = name.partition(".")

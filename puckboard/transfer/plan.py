@@ -17,10 +17,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 from .families import DESIGN, PLAUSIBLE, Family, link_timing, scene_value
+
+if TYPE_CHECKING:
+    from ..profile import RobotProfile
+    from ..scenario.scene import Scene
 
 __all__ = ["Point", "Skipped", "TransferPlan", "family_params", "transfer_plan"]
 
@@ -76,7 +80,7 @@ class TransferPlan:
 
 
 def family_params(
-    family: Family | None, scene: Any, scale: float, base: Mapping[str, Any]
+    family: Family | None, scene: Scene, scale: float, base: Mapping[str, Any]
 ) -> dict[str, Any]:
     """The parameters of ``family`` at ``scale`` on ``scene`` (``None``: the design model),
     on top of ``base`` (the profile's). At the family's origin its scaled and stepped
@@ -101,7 +105,7 @@ def family_params(
     return params
 
 
-def _same_as_design(family: Family, scene: Any, base: Mapping[str, Any]) -> str | None:
+def _same_as_design(family: Family, scene: Scene, base: Mapping[str, Any]) -> str | None:
     """Why ``family`` is the design model itself on ``scene`` (every point of it), or
     ``None`` when it changes something."""
     design = family_params(None, scene, 1.0, base)
@@ -124,10 +128,10 @@ def _same_as_design(family: Family, scene: Any, base: Mapping[str, Any]) -> str 
 
 
 def transfer_plan(
-    scenes: Sequence[Any],
+    scenes: Sequence[Scene],
     *,
     controllers: Sequence[str],
-    profiles: Mapping[str, Sequence[Any]],
+    profiles: Mapping[str, Sequence[str | RobotProfile]],
     seeds: range,
     families: Sequence[Family],
     replacements: Mapping[str, Any] | None = None,
@@ -191,7 +195,7 @@ def transfer_plan(
     )
 
 
-def _label(profile: Any) -> str:
+def _label(profile: str | RobotProfile) -> str:
     return profile if isinstance(profile, str) else str(profile.name)
 
 
