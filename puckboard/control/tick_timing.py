@@ -74,7 +74,7 @@ class TickTimer:
         )  # fmt: skip
 
 
-@contextmanager
+@contextmanager  # Any: as TickTimer's controller, any object with tick(ns)
 def _timed_layers(controller: Any, spent: dict[str, float]) -> Iterator[None]:
     """Within the block the controller adds each layer's seconds to ``spent[layer name]``
     (:meth:`~puckboard.behaviours.Controller.time_layers`; a controller of another kind
