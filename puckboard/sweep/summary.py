@@ -71,16 +71,23 @@ class GroupSummary:
             mean_collisions=sum(o.collisions for o in outcomes) / n if n else 0.0,
         )
 
-    def to_dict(self) -> dict[str, Any]:
+    def rate_dict(self) -> dict[str, Any]:
+        """The counts, the rate with its interval and the failures, as every report's
+        ``--json`` gives a group's pass rate."""
         return {
-            "controller": self.controller,
-            "params": dict(self.params),
             "episodes": self.episodes,
             "successes": self.successes,
             "success_rate": self.success_rate,
             "ci95_low": self.ci95_low,
             "ci95_high": self.ci95_high,
             "failures": dict(self.failures),
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "controller": self.controller,
+            "params": dict(self.params),
+            **self.rate_dict(),
             "mean_progress_laps": self.mean_progress_laps,
             "mean_collisions": self.mean_collisions,
         }

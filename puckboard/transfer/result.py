@@ -28,15 +28,7 @@ def stats_dict(g: GroupSummary | None) -> dict[str, Any] | None:
     """A band's counts, rate, interval and failures as ``--json`` gives them."""
     if g is None:
         return None
-    return {
-        "episodes": g.episodes,
-        "successes": g.successes,
-        "success_rate": g.success_rate,
-        "ci95_low": g.ci95_low,
-        "ci95_high": g.ci95_high,
-        "failures": dict(g.failures),
-        "mean_progress_laps": g.mean_progress_laps,
-    }
+    return {**g.rate_dict(), "mean_progress_laps": g.mean_progress_laps}
 
 
 @dataclass(frozen=True)

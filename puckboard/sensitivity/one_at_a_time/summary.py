@@ -48,7 +48,7 @@ class ValueResult:
     stats: GroupSummary
 
     def to_dict(self) -> dict[str, Any]:
-        return {"value": self.value, "shipped": self.shipped, **_stats(self.stats)}
+        return {"value": self.value, "shipped": self.shipped, **self.stats.rate_dict()}
 
 
 @dataclass(frozen=True)
@@ -115,24 +115,13 @@ class Analysis:
         return {
             "controller": self.controller,
             "profile": self.profile,
-            "shipped": None if self.shipped is None else _stats(self.shipped),
-            "plausible": None if self.plausible is None else _stats(self.plausible),
+            "shipped": None if self.shipped is None else self.shipped.rate_dict(),
+            "plausible": None if self.plausible is None else self.plausible.rate_dict(),
             "ranking": [
                 {"field": r.field.path, "spread": r.spread, "clear": r.clear} for r in self.fields
             ],
             "fields": [r.to_dict() for r in self.fields],
         }
-
-
-def _stats(g: GroupSummary) -> dict[str, Any]:
-    return {
-        "episodes": g.episodes,
-        "successes": g.successes,
-        "success_rate": g.success_rate,
-        "ci95_low": g.ci95_low,
-        "ci95_high": g.ci95_high,
-        "failures": dict(g.failures),
-    }
 
 
 def analyse(plan: SensitivityPlan, outcomes: Iterable[Outcome]) -> list[Analysis]:
