@@ -29,6 +29,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_SCENARIO",
+    "add_controllers",
     "add_duration",
     "add_out",
     "add_quiet",
@@ -58,6 +59,11 @@ def add_scene_and_controllers(parser: argparse.ArgumentParser) -> None:
         metavar="SCENARIO | SCENE_FILE",
         help=f"shipped scene name or a .toml/.json scene file (default: {DEFAULT_SCENARIO})",
     )
+    add_controllers(parser)
+
+
+def add_controllers(parser: argparse.ArgumentParser) -> None:
+    """The controllers compared (``--controller``, repeatable)."""
     parser.add_argument(
         "--controller",
         action="append",

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 from .common import CliError, check_plot_file
 from .experiment_options import (
+    add_controllers,
     add_duration,
     add_out,
     add_quiet,
@@ -72,14 +73,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         metavar="SCENE",
         help="shipped scene names or .toml/.json scene files, one report block each",
     )
-    parser.add_argument(
-        "--controller",
-        action="append",
-        default=[],
-        metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
-        "FILE.py:FACTORY (repeatable; default: each robot's controller from the scene)",
-    )
+    add_controllers(parser)
     parser.add_argument(
         "--seeds",
         default=DEFAULT_SEEDS,
