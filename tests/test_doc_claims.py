@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import ast
 import copy
-import functools
 import json
 import re
 import shlex
@@ -25,7 +24,9 @@ from pathlib import Path
 import doc_pages
 import numpy as np
 import pytest
-from episodes import episode
+from episodes import episode, episodes
+from session_cache import each
+from tutorial_file import tutorial_controller_path
 
 from puckboard.control.episode import Episode, run_episode
 from puckboard.scenario import load_scene, scene_from_dict, scene_to_dict
@@ -101,18 +102,9 @@ def both_passed(result: EpisodeResult) -> bool:
 
 # -- the tutorial's controller, as the reader saves it ------------------------------------
 @pytest.fixture(scope="module")
-def tutorial_controller(tmp_path_factory) -> str:
-    """``my_controller.py`` from the tutorial's block, plus the step 8 layer and factory
-    (the tutorial asks the reader to add them to the same file for the sweep)."""
-    page = text("docs/tutorial.md")
-    blocks = re.findall(r"^```python\n(.*?)^```", page, re.MULTILINE | re.DOTALL)
-    (saved,) = [b for b in blocks if b.startswith("# my_controller.py\n")]
-    (search,) = [b for b in blocks if "class FindLineWhereLastSeen(Layer)" in b]
-    (factory,) = [b for b in blocks if "def remembering_controller():" in b]
-    factory = factory[: factory.index("\n\nfor name")]
-    path = tmp_path_factory.mktemp("student") / "my_controller.py"
-    path.write_text("\n\n".join([saved, search, factory]), encoding="utf-8")
-    return str(path)
+def tutorial_controller() -> str:
+    """The tutorial's ``my_controller.py``, with the step 8 layer and factory."""
+    return str(tutorial_controller_path())
 
 
 # -- controllers.md: the 200-seed table, and its seeds 0-9 twin re-run here ---------------
@@ -165,7 +157,7 @@ def test_each_200_seed_figure_agrees_with_itself(row):
 def test_the_seeds_0_to_9_table_is_what_the_episodes_give(row, tutorial_controller):
     controller, overrides = run_settings(plain(row["controller"]), tutorial_controller)
     scene, profile = plain(row["scene"]), plain(row["profile"])
-    runs = [episode(scene, controller, seed, profile, overrides) for seed in range(10)]
+    runs = episodes(scene, controller, range(10), profile, overrides)
     measured = {
         "success of seeds 0–9": str(sum(r.success for r in runs)),
         "reported failures": failures_cell(Counter(r.failure for r in runs if not r.success)),
@@ -376,14 +368,11 @@ def test_the_other_reading_of_max_velocity_changes_the_outcome_as_the_page_says(
         r"every failure `lost_line`\)",
     )
     seeds = range(int(m.group(1)) + 1)
-    default = [episode("two-robot-pass", "improved", s, "epuck-vrep") for s in seeds]
-    fast = [
-        episode(
-            "two-robot-pass", "improved", s, "epuck-vrep",
-            {"layer.FrontObstacleLeftTurn.turn_speed": 6.28},
-        )
-        for s in seeds
-    ]  # fmt: skip
+    default = episodes("two-robot-pass", "improved", seeds, "epuck-vrep")
+    fast = episodes(
+        "two-robot-pass", "improved", seeds, "epuck-vrep",
+        {"layer.FrontObstacleLeftTurn.turn_speed": 6.28},
+    )  # fmt: skip
     n = str(len(seeds))
     assert m.group(3) == m.group(5) == n
     assert (m.group(2), m.group(4)) == (
@@ -404,7 +393,11 @@ def line_follow_and_arena_rows() -> list[dict[str, str]]:
 def test_line_follow_and_arena_outcomes_are_what_the_episodes_give(row):
     controller, scene = plain(row["controller"]), plain(row["scene"]).split()[0]
     first, last = (int(x) for x in row["seeds"].split("–"))
-    runs = [episode(scene, controller, s) for s in range(first, last + 1)]
+    runs = (
+        wedge_runs(scene, controller, first, last)
+        if scene == "arena"
+        else episodes(scene, controller, range(first, last + 1))
+    )
     ok = sum(r.success for r in runs)
     failures = failures_cell(Counter(r.failure for r in runs if not r.success))
     stated = row["outcome"]
@@ -476,38 +469,50 @@ def test_a_single_robot_meets_the_obstacles_as_the_page_says(row):
 SCENARIOS = "docs/scenarios.md"
 
 
-@functools.cache
 def first_touches(
     scene: str, controller: str, first: int, last: int
 ) -> tuple[tuple[float, str, str] | None, ...]:
     """Per seed of ``first``..``last``, the first touch of a run of ``scene`` (``arena``):
     when, which robot, and where on the wedge: its ``tip`` (the vertex farthest north),
     another ``corner``, or ``elsewhere`` (an edge, or not the wedge). None: no touch."""
-    found = []
-    for seed in range(first, last + 1):
-        run = Episode(scene, controller=controller, seed=seed)
-        (wedge,) = [o for o in run.scene.obstacles if o.name == "wedge"]
-        tip = int(np.argmax(wedge.vertices[:, 1]))
-        touch: list[tuple[float, str, str]] = []
+    return tuple(touch for _, touch in watched_episodes(scene, controller, first, last))
 
-        def note(
-            ep: Episode,
-            touch: list[tuple[float, str, str]] = touch,
-            corners: np.ndarray = wedge.vertices,
-            tip: int = tip,
-        ) -> None:
-            for i, count in enumerate(ep.world.collisions):
-                if count and not touch:
-                    x, y, _ = ep.world.poses[i]
-                    gaps = np.hypot(*(corners - (x, y)).T) - ep.world.actual[i].body_radius
-                    k = int(np.argmin(gaps))
-                    where = ("tip" if k == tip else "corner") if gaps[k] < 1e-3 else "elsewhere"
-                    touch.append((ep.world.time, ep.scene.robots[i].name, where))
 
-        run.add_observer(note)
-        run.run()
-        found.append(touch[0] if touch else None)
-    return tuple(found)
+def wedge_runs(scene: str, controller: str, first: int, last: int) -> list[EpisodeResult]:
+    """The results of ``first``..``last``: the runs :func:`first_touches` watched, so
+    each episode runs once for both."""
+    return [result for result, _ in watched_episodes(scene, controller, first, last)]
+
+
+def watched_episodes(
+    scene: str, controller: str, first: int, last: int
+) -> list[tuple[EpisodeResult, tuple[float, str, str] | None]]:
+    seeds = range(first, last + 1)
+    return each(
+        [repr(("first touch", scene, controller, seed)) for seed in seeds],
+        lambda i: watched_episode(scene, controller, seeds[i]),
+    )
+
+
+def watched_episode(
+    scene: str, controller: str, seed: int
+) -> tuple[EpisodeResult, tuple[float, str, str] | None]:
+    run = Episode(scene, controller=controller, seed=seed)
+    (wedge,) = [o for o in run.scene.obstacles if o.name == "wedge"]
+    tip = int(np.argmax(wedge.vertices[:, 1]))
+    touch: list[tuple[float, str, str]] = []
+
+    def note(ep: Episode) -> None:
+        for i, count in enumerate(ep.world.collisions):
+            if count and not touch:
+                x, y, _ = ep.world.poses[i]
+                gaps = np.hypot(*(wedge.vertices - (x, y)).T) - ep.world.actual[i].body_radius
+                k = int(np.argmin(gaps))
+                where = ("tip" if k == tip else "corner") if gaps[k] < 1e-3 else "elsewhere"
+                touch.append((ep.world.time, ep.scene.robots[i].name, where))
+
+    run.add_observer(note)
+    return run.run(), (touch[0] if touch else None)
 
 
 @pytest.mark.slow
@@ -520,7 +525,7 @@ def test_the_arena_paragraph_is_what_the_episodes_give():
     )
     last = int(m.group(1))
     seeds = range(last + 1)
-    improved = [episode("arena", "improved", s) for s in seeds]
+    improved = wedge_runs("arena", "improved", 0, last)
     touched = [min(event_times(r, "collision")) for r in improved if r.failure == "collision"]
     assert m.groups()[1:] == (
         str(len(touched)),
@@ -539,7 +544,7 @@ def test_the_arena_paragraph_is_what_the_episodes_give():
         r"The stock robot `(\w+)`, which starts heading for the wedge, grazes its tip on every "
         r"seed: `collision` (\d+) of (\d+), the first touch between (\S+) and (\S+) s",
     )
-    stock = [episode("arena", "stock", s) for s in seeds]
+    stock = wedge_runs("arena", "stock", 0, last)
     first_touch = [min(event_times(r, "collision")) for r in stock]
     assert m.groups()[1:] == (
         str(sum(r.failure == "collision" for r in stock)),
@@ -564,7 +569,7 @@ def test_the_arena_description_says_what_the_episodes_give():
     improved = [t for t in first_touches("arena", "improved", 0, last) if t is not None]
     assert len(improved) == int(m.group(4)), improved
     assert all(t[0] >= int(m.group(3)) and t[2] != "elsewhere" for t in improved), improved
-    assert all(episode("arena", "stock", s).failure == "collision" for s in range(last + 1))
+    assert all(r.failure == "collision" for r in wedge_runs("arena", "stock", 0, last))
 
 
 def event_times(result: EpisodeResult, kind: str) -> list[float]:
@@ -593,9 +598,9 @@ def test_the_line_follow_goal_takes_as_long_as_the_page_says():
         r"Goal: 2\.5 laps \(the shipped controllers take (\d+)–(\d+) s for them on seeds 0–4\)",
     )
     times = [
-        event_times(episode("line-follow", c, s), "success")[0]
+        event_times(r, "success")[0]
         for c in ("stock", "improved")
-        for s in range(5)
+        for r in episodes("line-follow", c, range(5))
     ]
     assert m.groups() == (f"{min(times) // 1:.0f}", f"{-(-max(times) // 1):.0f}"), times
 
@@ -633,7 +638,7 @@ def test_thirty_robots_end_as_the_swarm_paragraph_says():
         r"measured on seeds 0–(\d+), two robots end up driving side by side within (\d+) s "
         r"\(`parallel_driving`\)",
     )
-    runs = [episode("swarm", "improved", s) for s in range(int(m.group(1)) + 1)]
+    runs = episodes("swarm", "improved", range(int(m.group(1)) + 1))
     assert {r.failure for r in runs} == {"parallel_driving"}
     latest = max(min(event_times(r, "parallel_driving")) for r in runs)
     assert latest < int(m.group(2)) <= latest + 1, latest
@@ -650,11 +655,8 @@ def test_the_tutorial_s_sweep_of_ten_seeds_ranks_as_it_says(tutorial_controller)
         r"That ranks your controller first with (\d+) passes out of 10, and the improved "
         r"controller second with (\d+) \(on seeds? ([\d, and]+?) a robot lost the line",
     )
-    mine = [
-        episode("two-robot-pass", f"{tutorial_controller}:my_controller", s, VREP)
-        for s in range(10)
-    ]
-    improved = [episode("two-robot-pass", "improved", s, VREP) for s in range(10)]
+    mine = episodes("two-robot-pass", f"{tutorial_controller}:my_controller", range(10), VREP)
+    improved = episodes("two-robot-pass", "improved", range(10), VREP)
     lost = [s for s, r in enumerate(improved) if not r.success]
     assert m.groups()[:2] == (
         str(sum(r.success for r in mine)),
@@ -673,12 +675,13 @@ def test_the_remembering_controller_drives_the_same_episodes(tutorial_controller
         r"on seeds 0–(\d+) every episode drives exactly the same with either controller, "
         r"with either profile",
     )
-    for seed in range(int(m.group(1)) + 1):
-        mine = episode("two-robot-pass", f"{tutorial_controller}:my_controller", seed, profile)
-        other = episode(
-            "two-robot-pass", f"{tutorial_controller}:remembering_controller", seed, profile
-        )
-        assert same_run(mine, other), (profile, seed)
+    seeds = range(int(m.group(1)) + 1)
+    mine = episodes("two-robot-pass", f"{tutorial_controller}:my_controller", seeds, profile)
+    other = episodes(
+        "two-robot-pass", f"{tutorial_controller}:remembering_controller", seeds, profile
+    )
+    for seed in seeds:
+        assert same_run(mine[seed], other[seed]), (profile, seed)
 
 
 def same_run(a: EpisodeResult, b: EpisodeResult) -> bool:
@@ -734,14 +737,12 @@ def test_noting_the_side_in_applies_loses_the_line_as_the_page_says(tutorial_con
         str(len(runs) - sum(r.success for r in runs)),
     )
     assert set(failures) <= {"lost_line"}, failures
-    improved = sum(episode("two-robot-pass", "improved", s, VREP).success for s in seeds)
+    improved = sum(r.success for r in episodes("two-robot-pass", "improved", seeds, VREP))
     m = claim(TUTORIAL, r"the improved\s+controller's (\d+) on the same seeds, and short of the "
               r"(\d+) that either line search passes")  # fmt: skip
     assert m.group(1) == str(improved)
     for factory in ("my_controller", "remembering_controller"):
-        searched = [
-            episode("two-robot-pass", f"{tutorial_controller}:{factory}", s, VREP) for s in seeds
-        ]
+        searched = episodes("two-robot-pass", f"{tutorial_controller}:{factory}", seeds, VREP)
         assert m.group(2) == str(sum(r.success for r in searched)), factory
 
 
@@ -754,7 +755,7 @@ def test_the_lecturer_notes_seeds_fail_and_pass_as_they_say():
         r"0–(\d+) with V-REP's e-puck model, the scene's, seeds? ([\d, and]+?) fails?, all this "
         r"way\): the robot that dodged to the outside of the loop drives off",
     )
-    runs = [episode("two-robot-pass", "improved", s, VREP) for s in range(int(m.group(2)) + 1)]
+    runs = episodes("two-robot-pass", "improved", range(int(m.group(2)) + 1), VREP)
     lost = [s for s, r in enumerate(runs) if not r.success]
     assert seed_list(m.group(3)) == lost
     assert int(m.group(1)) in lost
@@ -777,9 +778,10 @@ def test_the_stock_robots_collide_where_the_pages_say_so():
         r"with the left turn they pass each other right side to right side \(seeds 0–(\d+): "
         r"every one\)",
     )
-    for seed in range(int(m.group(1)) + 1):
-        assert both_passed(episode("two-robot-pass", "improved", seed, VREP))
-        assert episode("two-robot-pass", "stock", seed, VREP).failure == "collision"
+    seeds = range(int(m.group(1)) + 1)
+    assert all(both_passed(r) for r in episodes("two-robot-pass", "improved", seeds, VREP))
+    stock = episodes("two-robot-pass", "stock", seeds, VREP)
+    assert all(r.failure == "collision" for r in stock)
 
 
 @pytest.mark.slow
@@ -903,9 +905,9 @@ def test_the_lost_line_threshold_s_reason_is_what_the_episodes_give():
     )
     spells = []
     for profile in PROFILES:
-        for seed in range(int(m.group(3)) + 1):
+        for run in episodes("two-robot-pass", "improved", range(int(m.group(3)) + 1), profile):
             left: dict[str, float] = {}
-            for e in episode("two-robot-pass", "improved", seed, profile).events:
+            for e in run.events:
                 if e.kind == "left_line":
                     left[e.robot] = e.time_s
                 elif e.kind == "back_on_line" and e.robot in left:
@@ -922,7 +924,7 @@ def test_the_acceptance_tests_measured_figure_is_today_s():
         r"(\d+) of (\d+)\)",
     )
     seeds = range(int(m.group(2)) + 1)
-    successes = sum(episode("two-robot-pass", "improved", s, VREP).success for s in seeds)
+    successes = sum(r.success for r in episodes("two-robot-pass", "improved", seeds, VREP))
     assert (m.group(3), m.group(4)) == (str(successes), str(len(seeds)))
     assert successes >= int(m.group(1))
 
@@ -958,7 +960,7 @@ def test_the_acceptance_tests_state_today_s_figures(tutorial_controller):
     seeds = range(20)
 
     def passed(controller: str, profile: str) -> str:
-        return str(sum(episode("two-robot-pass", controller, s, profile).success for s in seeds))
+        return str(sum(r.success for r in episodes("two-robot-pass", controller, seeds, profile)))
 
     text = acceptance_text("test_improved_passes_two_robot_pass_on_most_seeds_with_vrep_s_model")
     two_hundred(text, long_row(*IMPROVED_PASS, "epuck-vrep"))
@@ -1066,7 +1068,7 @@ def test_the_pages_knife_edge_figures_are_the_band_s():
 def test_the_plausible_robots_seeds_0_to_9_are_what_the_episodes_give(row, tutorial_controller):
     controller, profile = band_key(row)
     spec = f"{tutorial_controller}:my_controller" if controller.startswith("my_") else controller
-    runs = [episode("two-robot-pass", spec, s, profile, PLAUSIBLE) for s in range(10)]
+    runs = episodes("two-robot-pass", spec, range(10), profile, PLAUSIBLE)
     assert row["plausible, seeds 0–9"] == str(sum(r.success for r in runs)), row
 
 
@@ -1089,7 +1091,7 @@ def test_the_knife_edge_on_seeds_0_to_9_is_what_the_episodes_give():
             if degrees == f"{np.degrees(shipped):.3g}"
             else {"profile.prox_heading.front": values[degrees]}
         )
-        runs = [episode("two-robot-pass", "improved", s, "epuck", overrides) for s in range(10)]
+        runs = episodes("two-robot-pass", "improved", range(10), "epuck", overrides)
         assert sum(r.success for r in runs) == int(count), (degrees, count)
 
 

@@ -12,17 +12,14 @@ claims that the measurements contradict stay as strict expected failures.
 from __future__ import annotations
 
 import math
-import re
-from pathlib import Path
 
 import pytest
-from episodes import episode
+from episodes import episode, episodes
+from tutorial_file import tutorial_controller_path
 
 from puckboard.behaviours import load_controller
 from puckboard.control.episode import Episode
 from puckboard.scenario.judge import FAILURES
-
-TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 
 IMPROVED_SEEDS = range(20)
 STOCK_SEEDS = range(10)
@@ -38,16 +35,22 @@ def run(scene, controller, seed=0, profile="epuck-vrep", **overrides):
     return episode(scene, controller, seed, profile, overrides)
 
 
+def runs_by_seed(scene, controller, seeds, profile, overrides=None):
+    """Episodes by seed, run once per session and shared between the worker processes."""
+    seeds = list(seeds)
+    return dict(zip(seeds, episodes(scene, controller, seeds, profile, overrides)))
+
+
 @pytest.fixture(scope="module", params=PROFILES)
 def improved_runs(request):
     profile = request.param
-    return profile, {s: run("two-robot-pass", "improved", s, profile) for s in IMPROVED_SEEDS}
+    return profile, runs_by_seed("two-robot-pass", "improved", IMPROVED_SEEDS, profile)
 
 
 @pytest.fixture(scope="module", params=PROFILES)
 def stock_runs(request):
     profile = request.param
-    return profile, {s: run("two-robot-pass", "stock", s, profile) for s in STOCK_SEEDS}
+    return profile, runs_by_seed("two-robot-pass", "stock", STOCK_SEEDS, profile)
 
 
 @pytest.mark.slow
@@ -88,7 +91,7 @@ def test_improved_passes_two_robot_pass_on_most_seeds_with_vrep_s_model(improved
     ),
 )
 def test_improved_passes_two_robot_pass_on_most_seeds_with_the_physical_e_puck():
-    runs = [run("two-robot-pass", "improved", s, "epuck") for s in IMPROVED_SEEDS]
+    runs = episodes("two-robot-pass", "improved", IMPROVED_SEEDS, "epuck")
     assert sum(r.success for r in runs) >= 10, [r.failure for r in runs]
 
 
@@ -132,18 +135,8 @@ def test_without_noise_the_physical_e_puck_still_loses_the_line():
     assert all(m.passed_other for m in result.robots)
 
 
-def tutorial_controller_file(tmp_path: Path) -> Path:
-    """The tutorial's ``my_controller.py`` block, saved as the reader is told to."""
-    text = TUTORIAL.read_text(encoding="utf-8")
-    blocks = re.findall(r"^```python\n(# my_controller\.py\n.*?)^```", text, re.M | re.S)
-    assert len(blocks) == 1, "the tutorial should have exactly one '# my_controller.py' block"
-    path = tmp_path / "my_controller.py"
-    path.write_text(blocks[0], encoding="utf-8")
-    return path
-
-
 @pytest.mark.slow
-def test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses(improved_runs, tmp_path):
+def test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses(improved_runs):
     """The failure is the controller's, not the scene's: the tutorial's controller (the
     improved layers plus ``FindLineOnTheRight``) finds the line again where improved lost
     it, with either profile, and with V-REP's model passes. With the physical e-puck a
@@ -153,10 +146,9 @@ def test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses(improv
     lost = [s for s, r in runs.items() if not r.success]
     if not lost:
         pytest.skip("improved passed every seed; nothing to recover")
-    spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
+    spec = f"{tutorial_controller_path()}:my_controller"
     load_controller(spec)  # a bad spec fails here, with its own message
-    for seed in lost:
-        result = run("two-robot-pass", spec, seed, profile)
+    for seed, result in runs_by_seed("two-robot-pass", spec, lost, profile).items():
         assert "lost_line" not in result.failures, (profile, seed, result.failures)
         if profile == "epuck-vrep":
             assert result.success, (profile, seed, result.failures, result.events)
@@ -174,11 +166,10 @@ def test_one_line_search_layer_finds_the_line_on_the_seeds_improved_loses(improv
         "(collision). See docs/controllers.md."
     ),
 )
-def test_the_tutorial_controller_passes_every_seed_with_the_physical_e_puck(tmp_path):
-    spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
+def test_the_tutorial_controller_passes_every_seed_with_the_physical_e_puck():
+    spec = f"{tutorial_controller_path()}:my_controller"
     failures = {}
-    for seed in IMPROVED_SEEDS:
-        result = run("two-robot-pass", spec, seed, "epuck")
+    for seed, result in runs_by_seed("two-robot-pass", spec, IMPROVED_SEEDS, "epuck").items():
         if not result.success:
             failures[seed] = result.failures
     assert not failures
@@ -195,7 +186,7 @@ def test_the_tutorial_controller_passes_every_seed_with_the_physical_e_puck(tmp_
     ),
 )
 def test_improved_passes_two_robot_pass_on_every_seed():
-    runs = {s: run("two-robot-pass", "improved", s) for s in IMPROVED_SEEDS}
+    runs = runs_by_seed("two-robot-pass", "improved", IMPROVED_SEEDS, "epuck-vrep")
     failures = {s: r.failure for s, r in runs.items() if not r.success}
     assert not failures
 
@@ -259,8 +250,7 @@ def test_stock_robots_meeting_in_a_bend_drive_off_side_by_side():
 def test_the_judge_names_figure_4_6_when_stock_robots_meet_in_a_bend(profile):
     """Measured: parallel_driving is the verdict on 200 of 200 seeds with either profile;
     the touch before it stays in the failures list."""
-    for seed in range(5):
-        result = run("two-robot-pass-bend", "stock", seed, profile)
+    for seed, result in runs_by_seed("two-robot-pass-bend", "stock", range(5), profile).items():
         assert result.failure == "parallel_driving", (profile, seed, result.failures)
         assert "parallel_driving" in result.failures
 
@@ -268,8 +258,7 @@ def test_the_judge_names_figure_4_6_when_stock_robots_meet_in_a_bend(profile):
 @pytest.mark.slow
 @pytest.mark.parametrize("profile", PROFILES)
 def test_improved_robots_meeting_in_a_bend_pass_each_other(profile):
-    for seed in range(5):
-        result = run("two-robot-pass-bend", "improved", seed, profile)
+    for seed, result in runs_by_seed("two-robot-pass-bend", "improved", range(5), profile).items():
         assert all(m.passed_other for m in result.robots), (profile, seed, result.events)
         assert not set(result.failures) & MEETING_FAILURES, (profile, seed, result.failures)
 
@@ -282,9 +271,7 @@ VARIED = {"variation": "plausible"}
 @pytest.fixture(scope="module", params=PROFILES)
 def varied_improved_runs(request):
     profile = request.param
-    return profile, {
-        s: run("two-robot-pass", "improved", s, profile, **VARIED) for s in IMPROVED_SEEDS
-    }
+    return profile, runs_by_seed("two-robot-pass", "improved", IMPROVED_SEEDS, profile, VARIED)
 
 
 @pytest.mark.slow
@@ -318,14 +305,14 @@ def test_plausible_robots_of_vrep_s_model_pass_on_most_seeds(varied_improved_run
 
 @pytest.mark.slow
 @pytest.mark.parametrize("profile", PROFILES)
-def test_the_line_search_layer_finds_the_line_on_plausible_robots_too(profile, tmp_path):
+def test_the_line_search_layer_finds_the_line_on_plausible_robots_too(profile):
     """Measured over seeds 0..199 on plausible robots: the tutorial's controller never
     loses the line with either profile; with V-REP's model it passes all 200, with the
     physical robot 50 (25 %, 95 % interval 20-31 %; 4 of seeds 0..19), every failure a
     robot grazing the cylinder it has just rounded (collision). Floors: 15 of 20 and 1 of
     20."""
-    spec = f"{tutorial_controller_file(tmp_path)}:my_controller"
-    runs = [run("two-robot-pass", spec, s, profile, **VARIED) for s in IMPROVED_SEEDS]
+    spec = f"{tutorial_controller_path()}:my_controller"
+    runs = episodes("two-robot-pass", spec, IMPROVED_SEEDS, profile, VARIED)
     for seed, result in zip(IMPROVED_SEEDS, runs):
         assert all(m.passed_other for m in result.robots), (profile, seed)
         assert "lost_line" not in result.failures, (profile, seed, result.failures)
@@ -339,7 +326,7 @@ def test_the_line_search_layer_finds_the_line_on_plausible_robots_too(profile, t
 def test_plausible_stock_robots_still_fail_at_the_meeting(profile):
     """Measured over seeds 0..199 on plausible robots: 0 successes with either profile;
     V-REP's model collision 200, the physical one collision 133, parallel_driving 67."""
-    runs = {s: run("two-robot-pass", "stock", s, profile, **VARIED) for s in STOCK_SEEDS}
+    runs = runs_by_seed("two-robot-pass", "stock", STOCK_SEEDS, profile, VARIED)
     for seed, result in runs.items():
         assert not result.success, (profile, seed)
         first = result.failures[0]

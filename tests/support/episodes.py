@@ -3,21 +3,25 @@
 The acceptance tests and the tests of the pages' measured claims look at the same
 episodes (the shipped scenes, a controller, a seed, a profile); an episode is fully
 determined by those, so each is run once and its result shared, within a process and
-between the session's worker processes (tests/support/session_cache.py).
+between the session's worker processes (tests/support/session_cache.py). Ask for a
+test's episodes together (:func:`episodes`): the worker processes then share the work
+instead of one waiting while the other runs what both need.
 """
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
-from session_cache import once
+from session_cache import each
 
 from puckboard.control.episode import run_episode
 from puckboard.scenario.result import EpisodeResult
 
-__all__ = ["episode"]
+__all__ = ["episode", "episodes"]
+
+_Key = tuple[str, str, int, tuple[tuple[str, Any], ...]]
+_known: dict[_Key, EpisodeResult] = {}  # this process's results
 
 
 def episode(
@@ -28,17 +32,29 @@ def episode(
     overrides: Mapping[str, Any] | None = None,
 ) -> EpisodeResult:
     """The result of one episode of a shipped scene (``profile`` None: the scene's)."""
+    return episodes(scene, controller, [seed], profile, overrides)[0]
+
+
+def episodes(
+    scene: str,
+    controller: str,
+    seeds: Iterable[int],
+    profile: str | None = None,
+    overrides: Mapping[str, Any] | None = None,
+) -> list[EpisodeResult]:
+    """The results of one episode per seed, in the order of ``seeds``."""
     settings = dict(overrides or {})
     if profile is not None:
         settings["robot.profile"] = profile
-    return _episode(scene, controller, seed, tuple(sorted(settings.items())))
-
-
-@functools.cache
-def _episode(
-    scene: str, controller: str, seed: int, settings: tuple[tuple[str, Any], ...]
-) -> EpisodeResult:
-    return once(
-        repr(("episode", scene, controller, seed, settings)),
-        lambda: run_episode(scene, controller=controller, seed=seed, overrides=dict(settings)),
-    )
+    frozen = tuple(sorted(settings.items()))
+    keys: list[_Key] = [(scene, controller, int(s), frozen) for s in seeds]
+    missing = [k for k in dict.fromkeys(keys) if k not in _known]
+    found = each(
+        [repr(("episode", *k)) for k in missing],
+        lambda i: run_episode(
+            missing[i][0], controller=missing[i][1], seed=missing[i][2],
+            overrides=dict(missing[i][3]),
+        ),
+    )  # fmt: skip
+    _known.update(zip(missing, found))
+    return [_known[k] for k in keys]
