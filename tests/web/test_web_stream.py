@@ -146,8 +146,12 @@ def test_a_served_world_shows_its_clients_layers_and_judge():
             "two-robot-pass", duration=8.0, backend="coppeliasim", port=server.port
         )
         # the observers' next round after the run shows what the clients' sensors were
+        # and the timeline so far (a round during the run's first steps, before any
+        # layer has driven, shows an empty one: the view refreshes on its own schedule)
         details = wait_for_json(
-            view, "details.json", lambda d: d["left"]["source"] == "served sensors"
+            view,
+            "details.json",
+            lambda d: d["left"]["source"] == "served sensors" and d["right"]["timeline"],
         )
     finally:
         view.close()
