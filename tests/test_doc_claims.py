@@ -24,8 +24,10 @@ from pathlib import Path
 import doc_pages
 import numpy as np
 import pytest
+from cli_runs import run_in
 from episodes import episode, episodes
 from session_cache import each
+from shared_sweeps import sweeps_share_episodes
 from tutorial_file import tutorial_controller_path
 
 from puckboard.control.episode import Episode, run_episode
@@ -810,12 +812,10 @@ def sweep_example(tmp_path: Path, *extra: str) -> str:
     if extra:
         at = argv.index("--out")
         argv[at : at + 2] = list(extra)
-    done = subprocess.run(
-        [sys.executable, "-m", "puckboard", *argv, "--workers", "1"],
-        cwd=tmp_path, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stderr[-3000:]
-    return done.stdout
+    with sweeps_share_episodes():
+        status, printed = run_in(tmp_path, [*argv, "--workers", "1"])
+    assert status == 0, printed
+    return printed
 
 
 @pytest.mark.slow
@@ -862,12 +862,10 @@ def test_the_sweeps_page_shows_what_its_sensitivity_analysis_prints(tmp_path):
                       page, re.MULTILINE | re.DOTALL)  # fmt: skip
     assert shown, "the sensitivity section should show a command and what it prints"
     argv = shlex.split(shown.group(1))[1:]
-    done = subprocess.run(
-        [sys.executable, "-m", "puckboard", *argv, "--workers", "1", "--quiet"],
-        cwd=tmp_path, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stderr[-3000:]
-    doc_pages.assert_shown(shown.group(2), done.stdout, SWEEPS)
+    with sweeps_share_episodes():
+        status, printed = run_in(tmp_path, [*argv, "--workers", "1", "--quiet"])
+    assert status == 0, printed
+    doc_pages.assert_shown(shown.group(2), printed, SWEEPS)
 
 
 @pytest.mark.slow
