@@ -8,6 +8,7 @@ import logging
 import pytest
 from coppeliasim_support import stop_server
 
+from puckboard.backends.coppeliasim.factory import open_coppeliasim
 from puckboard.cli import main
 from puckboard.control.loop import ControlLoop
 
@@ -35,6 +36,9 @@ def test_a_server_that_goes_away_mid_run_ends_in_one_line(
     if command == "monitor":
         pytest.importorskip("rich")
     stop_at_cycle(monkeypatch, LOST_AT_CYCLE, lambda: stop_server(server))
+    # silence is noticed after the link's timeout (5 s by default); the subject here is
+    # what the command says once it is, so the test waits 1 s instead
+    monkeypatch.setitem(open_coppeliasim.__kwdefaults__, "timeout", 1.0)
     argv = [command, "--backend", "coppeliasim", "--port", str(server.port), "--duration", "60"]
     if command == "monitor":
         argv += ["--speed", "0"]
