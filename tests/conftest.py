@@ -4,8 +4,8 @@ Fixtures more than one folder uses are here; helpers are imported from tests/sup
 their own module names, never from a ``conftest`` (every folder's conftest shares that
 name, so two folders run together would collect one folder's helpers for the other's).
 
-The suite runs on every core (pytest-xdist, ``--dist worksteal`` in pyproject.toml): an
-idle worker takes tests queued for a busy one. Each worker is a process of its own, so a
+The suite runs on every core, with one worker more than there are cores (pytest-xdist,
+``--dist worksteal`` in pyproject.toml): an idle worker takes tests queued for a busy one. Each worker is a process of its own, so a
 result cached in one is computed again in another: a result several tests use is kept with
 tests/support/session_cache.py (as tests/support/episodes.py keeps episodes), computed by
 the first worker that asks and read by the others.
@@ -36,11 +36,14 @@ def short_scene():
 
 
 def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
-    """``-n auto``: one worker per CPU this process may run on. (pytest-xdist's own count
-    is the physical cores', which is 1 on a machine of two hardware threads, and ignores
-    a CPU affinity such as ``taskset``'s.)"""
+    """``-n auto``: one worker per CPU this process may run on, and one more. Some tests
+    wait rather than compute (an emulated robot in real time, a browser drawing a page,
+    a server's timeout): the extra worker computes while they wait. (pytest-xdist's own
+    count is the physical cores', which is 1 on a machine of two hardware threads, and
+    ignores a CPU affinity such as ``taskset``'s.)"""
     affinity = getattr(os, "sched_getaffinity", None)  # not on Windows or macOS
-    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+    cpus = len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+    return cpus + 1
 
 
 def pytest_configure(config: pytest.Config) -> None:

@@ -6,6 +6,7 @@ import json
 import sys
 
 import pytest
+from shared_sweeps import sweeps_share_episodes
 
 from puckboard.cli import main
 
@@ -48,14 +49,17 @@ def test_json_gives_the_best_parameters_with_design_and_validation_rates(capsys,
 
 @pytest.mark.slow
 def test_the_documented_command_reports_and_then_resumes(capsys, tmp_path):
-    study = ["--study", str(tmp_path / "tune.journal"), "--workers", "2", "--quiet"]
-    assert main([*DONE_WHEN, *study]) == 0
-    data = json.loads(capsys.readouterr().out)
-    assert (data["ran"], len(data["trials"])) == (6, 6)
-    assert INNER in data["best"]["params"]
-    assert [c["episodes"] for c in data["design"]] == [4]
-    assert [c["episodes"] for c in data["validation"]] == [4]
-    assert main([*DONE_WHEN, *study]) == 0
+    """Whole episodes, run in this process (tests/support/shared_sweeps.py): the worker
+    pool's part is tested with SMALL and by tests/tune/test_tune_interrupts.py."""
+    study = ["--study", str(tmp_path / "tune.journal"), "--quiet"]
+    with sweeps_share_episodes():
+        assert main([*DONE_WHEN, *study]) == 0
+        data = json.loads(capsys.readouterr().out)
+        assert (data["ran"], len(data["trials"])) == (6, 6)
+        assert INNER in data["best"]["params"]
+        assert [c["episodes"] for c in data["design"]] == [4]
+        assert [c["episodes"] for c in data["validation"]] == [4]
+        assert main([*DONE_WHEN, *study]) == 0
     again = json.loads(capsys.readouterr().out)
     assert (again["ran"], again["skipped"], again["best"]) == (0, 6, data["best"])
 
