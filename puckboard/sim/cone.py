@@ -20,12 +20,17 @@ A sensor then reads the smallest of those distances if it lies between the profi
 Its raw value is what a real e-puck would send for that distance, the calibrated curve
 (:func:`puckboard.ir_response.calibrated_from_distance`), 0 for nothing: V-REP reports
 no such value, and a threshold on ``raw`` then means the same with every profile.
-Everything is computed for all sensors of all cone robots and all objects at once, as
-M×K arrays (M sensors, K objects), a handful of numpy calls per step.
+Everything is computed for all sensors of the cone robots at once, as M×K arrays (M
+sensors, K objects), a handful of numpy calls per step. A cone sees nothing beyond its
+maximum distance from its apex, so the cone robots have a broad phase of their own
+(:class:`~.broadphase.SensorBroadPhase`, with that reach: a third less than the IR rays')
+that first finds which robots have anything that near, and what: the others read
+"nothing" without a geometric test (most steps), the rest test only their candidates.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -35,6 +40,7 @@ import numpy.typing as npt
 
 from ..ir_response import calibrated_from_distance
 from ..profile import RobotProfile
+from .broadphase import PolygonBound, SensorBroadPhase, WallSegment
 
 __all__ = ["ConeSensors"]
 
@@ -80,7 +86,8 @@ class ConeSensors:
 
     ``static_circles`` are (x, y, r) of round obstacles; every robot's body is a circle of
     its profile's ``body_radius`` at its pose; ``seg_start``/``seg_vector`` (K×2) are
-    every static segment. A robot never sees its own body.
+    every static segment, ``polygons`` and ``walls`` say which belong to what, for the
+    broad phase. A robot never sees its own body.
     """
 
     def __init__(
@@ -91,6 +98,8 @@ class ConeSensors:
         static_circles: Sequence[tuple[float, float, float]],
         seg_start: FloatArray,
         seg_vector: FloatArray,
+        polygons: Sequence[PolygonBound],
+        walls: Sequence[WallSegment],
     ) -> None:
         self.robots = np.array(robots, dtype=np.intp)
         #: world robot index -> position among the cone robots
@@ -135,6 +144,25 @@ class ConeSensors:
         self._seg_ex = np.append(self.seg_e[:, 0], 0.0)
         self._seg_ey = np.append(self.seg_e[:, 1], 0.0)
         self._plans: dict[Any, _Plan] = {}
+        # A cone sees nothing beyond prox_max_distance from its apex, so that plus the
+        # apex's offset from the centre is a cone robot's reach (widened by a hair so that
+        # rounding never leaves out an object at exactly that distance).
+        reach = [
+            max(math.hypot(q.x, q.y) for q in p.prox_poses)
+            + p.prox_max_distance * (1.0 + 1e-9)
+            + 1e-9
+            for p in cone
+        ]
+        #: which objects each cone robot may see
+        self.broad_phase = SensorBroadPhase(
+            [int(i) for i in robots],
+            reach,
+            self.body_radii.tolist(),
+            static_circles=static_circles,
+            polygons=polygons,
+            walls=walls,
+            n_segments=len(self.seg_a),
+        )
 
     # -- the step ------------------------------------------------------------------------------
     def sense(
@@ -142,34 +170,34 @@ class ConeSensors:
         poses: Sequence[Sequence[float]],
         distance: FloatArray,
         raw: FloatArray,
-        near: Sequence[int] | None = None,
-        candidates: Mapping[int, tuple[tuple[int, ...], tuple[int, ...]]] | None = None,
+        *,
+        every_object: bool = False,
     ) -> None:
         """Write the cone robots' rows of ``distance`` (N×8 m) and ``raw`` for ``poses``.
 
-        ``near`` (world robot indices) says which cone robots have anything within reach,
-        from the ray sensors' conservative broad phase; the others read nothing without a
-        single geometric test, which is most steps of a line-following run. With it,
-        ``candidates`` may give, per near robot, the circles (static ones first, then
-        robots) and segments it may see: only those are tested. A nearest distance is a
-        minimum over objects, and an object left out lies beyond every sensor's reach,
-        so the readings are those of testing every object.
+        The broad phase says which cone robots have anything within reach; the others
+        read nothing without a single geometric test, which is most steps of a
+        line-following run. The rest test only the circles (static ones first, then
+        robots) and segments it found for them. A nearest distance is a minimum over
+        objects, and an object left out lies beyond every sensor's reach, so the readings
+        are those of testing every object, which ``every_object`` does (every cone robot
+        against everything: what the tests compare with).
         """
         if not len(self.robots):
             return
         rows = self._rows  # a slice when every robot is a cone robot: cheaper to assign
         distance[rows] = self.nothing
         raw[rows] = self.nothing_raw
-        if near is None:
+        candidates: Mapping[int, tuple[tuple[int, ...], tuple[int, ...]]] | None
+        if every_object:
             picked = list(range(len(self.robots)))
             candidates = None
         else:
-            if not near:
+            candidates = self.broad_phase.candidates(poses)
+            if not candidates:
                 return  # nothing within any cone robot's reach (most steps)
             cone_index = self._cone_index
-            picked = [cone_index[i] for i in near if i in cone_index]
-            if not picked:
-                return
+            picked = [cone_index[i] for i in candidates]
         plan = self._plan(picked, candidates)
         k_static = self._k_static
         if candidates is None:

@@ -4,17 +4,17 @@ Each sensor casts ``rays`` rays spread over its aperture (see docs/simulator.md 
 Casting them one by one from Python would cost tens of microseconds each, so all rays of
 all robots are tested against the objects near them in one set of numpy calls per step
 (:func:`~puckboard.sim.geometry.segment_hits`, :func:`~puckboard.sim.geometry.circle_hits`),
-and only when something is near: a conservative broad phase finds which robots can see
-anything and, for each of them, which circles and segments it may see. Most steps of a
-line-following run cast no ray at all.
+and only when something is near: a conservative broad phase
+(:class:`~.broadphase.SensorBroadPhase`, the same the cone sensors of :mod:`.cone` use
+with their own reach) finds which robots can see anything and, for each of them, which
+circles and segments it may see. Most steps of a line-following run cast no ray at all.
 
 Each robot's rays are tested against *its own* candidates only, one row per (robot,
 candidate) pair, not against every object near anyone: with 50 robots that is a few
-objects per ray instead of thirty, and the cost per robot stays flat. The broad phase
-runs in plain Python for a few robots (a few microseconds, and the arrays it selects are
-cached per outcome), and in numpy for more: robot pairs from :mod:`.broadphase` and one
-array test per kind of static object. It also tells the cone sensors (:mod:`.cone`)
-which of their robots have something within their own, shorter reach, and what.
+objects per ray instead of thirty, and the cost per robot stays flat. For a few robots
+the broad phase answers in plain Python and the arrays each outcome selects are cached
+(outcomes change every few dozen steps); for more it answers in arrays, and the cast is
+built from them each step.
 
 Per sensor the model computes what its photodiode reads: the Gaussian-weighted mean of
 the rays' responses through the Webots table (:mod:`puckboard.ir_response`), times the
@@ -33,48 +33,19 @@ import cmath
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from ..geometry import project_on_segment, project_on_segments
 from ..ir_response import _D, _RAW, _SIGMA, TABLE_RANGE, raw_from_distance, relative_sigma
 from ..profile import RobotProfile
-from .broadphase import close_pairs
+from .broadphase import PolygonBound, SensorBroadPhase, WallSegment
 from .geometry import circle_hits, segment_hits
 from .reflectance import reflectances, reflected, row_reflectance
 
-__all__ = ["PYTHON_BROAD_PHASE_MAX", "PolygonBound", "ProximitySensors", "WallSegment"]
+__all__ = ["ProximitySensors"]
 
 FloatArray = npt.NDArray[np.float64]
-
-#: Up to this many robots the broad phase runs in plain Python (each outcome's arrays
-#: cached); above, in numpy (:meth:`ProximitySensors._cast_numpy`). Its ≈60 calls cost
-#: more than the loops for a few robots and less from about 30 (phase and cast, measured:
-#: Python 30, 62, 229, 415 µs at 3, 10, 30, 50 robots; numpy 79, 111, 218, 294 µs).
-PYTHON_BROAD_PHASE_MAX = 24
-
-
-@dataclass(frozen=True)
-class PolygonBound:
-    """A polygon obstacle for the broad phase: bounding circle and its edges' indices."""
-
-    x: float
-    y: float
-    radius: float
-    segments: tuple[int, ...]
-
-
-@dataclass(frozen=True)
-class WallSegment:
-    """An arena wall for the broad phase: tested exactly (walls are long)."""
-
-    ax: float
-    ay: float
-    ex: float
-    ey: float
-    index: int
 
 
 @dataclass(frozen=True)
@@ -113,10 +84,12 @@ class _Cast:
 class ProximitySensors:
     """IR sensor layout of N robots and the static things their rays can hit.
 
-    ``seg_start``/``seg_vector`` are every static segment (polygon edges, walls);
-    circles are the static round obstacles followed by one circle per robot (their
-    centres are the poses passed to :meth:`sense` each step). ``polygons`` and ``walls`` say which
-    segments belong to what, for the broad phase. ``circle_reflectance`` (one per static
+    ``robots`` (world indices) are those that sense with rays; the others (V-REP's cone
+    model, :mod:`.cone`) read what their own sensors give, and this class only keeps their
+    rows of the N×8 arrays. ``seg_start``/``seg_vector`` are every static segment
+    (polygon edges, walls); circles are the static round obstacles followed by one circle
+    per robot (their centres are the poses passed to :meth:`sense` each step).
+    ``polygons`` and ``walls`` say which segments belong to what, for the broad phase. ``circle_reflectance`` (one per static
     circle) and ``seg_reflectance`` (one per segment) are the objects' IR reflectance
     (:mod:`.reflectance`); None: every one 1.
     """
@@ -125,6 +98,7 @@ class ProximitySensors:
         self,
         profiles: Sequence[RobotProfile],
         *,
+        robots: Sequence[int],
         rays: int,
         seg_start: FloatArray,
         seg_vector: FloatArray,
@@ -143,16 +117,10 @@ class ProximitySensors:
         self.seg_vector = seg_vector
         self.static_circles = tuple(static_circles)
         self.n_static = len(static_circles)
-        self.polygons = tuple(polygons)
-        self.walls = tuple(
-            (w.ax, w.ay, w.ex, w.ey, w.ex * w.ex + w.ey * w.ey, w.index) for w in walls
-        )
+        #: the robots that cast rays (increasing world indices)
+        self.robots = tuple(sorted(robots))
+        self.any_rays = bool(self.robots)
         self.robot_radii = [p.body_radius for p in profiles]
-        # robots whose sensors are cones (V-REP's model) cast no rays: sim.cone computes them
-        self.casts = [p.prox_model == "rays" for p in profiles]
-        self.any_rays = any(self.casts)
-        self.cones_near: list[int] = []
-        self.cone_candidates: dict[int, tuple[tuple[int, ...], tuple[int, ...]]] = {}
         self.circle_radii = np.array([c[2] for c in static_circles] + self.robot_radii, dtype=float)
         # robots' bodies reflect as the table's surface; None where every object does
         self._circle_reflect = reflectances(circle_reflectance, robots=n)
@@ -190,47 +158,25 @@ class ProximitySensors:
         # how far from a robot's centre its rays can reach
         offset = max(math.hypot(q.x, q.y) for p in profiles for q in p.prox_poses)
         self.reach = offset + self.cast_length
-        # A cone sees nothing beyond its own maximum distance from its apex, so a cone
-        # robot's broad phase uses that (a third less than the rays' reach: fewer steps
-        # compute cones at all; what it leaves out would read "nothing" anyway).
-        self.reach_of = [
-            self.reach
-            if cast
-            else max(math.hypot(q.x, q.y) for q in p.prox_poses)
-            + p.prox_max_distance * (1.0 + 1e-9)
-            + 1e-9
-            for p, cast in zip(profiles, self.casts)
-        ]
-        # squared broad-phase limits, computed once per distinct reach (one for the rays)
-        by_reach: dict[float, tuple[tuple[Any, ...], tuple[Any, ...]]] = {}
-        for reach in set(self.reach_of):
-            by_reach[reach] = (
-                tuple(
-                    (k, cx, cy, (reach + cr) * (reach + cr))
-                    for k, (cx, cy, cr) in enumerate(self.static_circles)
-                ),
-                tuple(
-                    (p.x, p.y, (reach + p.radius) * (reach + p.radius), p.segments)
-                    for p in self.polygons
-                ),
-            )
-        self._circle_bounds_of = [by_reach[r][0] for r in self.reach_of]
-        self._polygon_bounds_of = [by_reach[r][1] for r in self.reach_of]
-        # i may see robot j within (reach of i + radius of j)
-        self._robot_lim2 = [
-            [(reach + r) * (reach + r) for r in self.robot_radii] for reach in self.reach_of
-        ]
+        #: which objects each casting robot may see within the rays' reach
+        self.broad_phase = SensorBroadPhase(
+            self.robots,
+            [self.reach] * len(self.robots),
+            self.robot_radii,
+            static_circles=static_circles,
+            polygons=polygons,
+            walls=walls,
+            n_segments=int(seg_start.shape[0]),
+        )
         self._cache: dict[tuple[tuple[int, tuple[int, ...], tuple[int, ...]], ...], _Cast] = {}
         self._far_sigma_noise = math.nan
         self._far_sigma_value = self._far_nearest
         self._build_vector_tables()
 
     def _build_vector_tables(self) -> None:
-        """The broad phase's limits and every object's data as arrays, built once.
+        """Every object's data as arrays, built once.
 
         Circles are the static ones, then the robots (their centres written each step).
-        Static circles and polygons' bounding circles are one table of bounds, so the
-        vectorised broad phase tests them in one N×K array test.
         """
         n, n_static = self.n, self.n_static
         self._centres = np.zeros((n_static + n, 2))
@@ -241,93 +187,15 @@ class ProximitySensors:
         self._n_segments = int(self.seg_start.shape[0])
         # one row per segment (ax, ay, ex, ey): a candidate list gathers all four at once
         self._segments = np.hstack([self.seg_start, self.seg_vector]).reshape(-1, 4)
-        # the same limits as the Python broad phase (the same floats: computed there)
-        self._reach_array = np.array(self.reach_of)
-        self._radius_array = np.array(self.robot_radii)
-        self._robot_pair_reach = max(self.reach_of) + max(self.robot_radii)
-        self._casts_array = np.array(self.casts, dtype=bool)
-        # static circles and polygons' bounding circles: centres (2×K), limits (N×K)
-        bounds = [(cx, cy, _r) for cx, cy, _r in self.static_circles]
-        bounds += [(p.x, p.y, p.radius) for p in self.polygons]
-        self._bounds = np.array(bounds, dtype=float).reshape(-1, 3)[:, :2].T.copy()
-        self._bounds_limit = np.array(
-            [
-                [b[3] for b in circles] + [b[2] for b in polys]
-                for circles, polys in zip(self._circle_bounds_of, self._polygon_bounds_of)
-            ],
-            dtype=float,
-        ).reshape(n, -1)
-        self._wall_reach2 = np.array([r * r for r in self.reach_of])[:, None]
-        polys = self.polygons
-        self._poly_segments = np.array([k for p in polys for k in p.segments], dtype=np.intp)
-        self._poly_owner = n_static + np.array(
-            [owner for owner, p in enumerate(polys) for _ in p.segments], dtype=np.intp
-        )
-        walls = self.walls
-        self._walls = np.array([w[:5] for w in walls], dtype=float).reshape(-1, 5).T.copy()
-        self._wall_segments = np.array([w[5] for w in walls], dtype=np.intp)
 
-    # -- broad phase -----------------------------------------------------------------------
-    def candidates(
-        self, poses: Sequence[Sequence[float]]
-    ) -> tuple[list[int], list[list[int]], list[list[int]]]:
-        """The robots whose rays can see anything, and per robot the circles and segments
-        it may see, in plain Python.
-
-        Conservative (bounding circles, exact wall distances), so it never drops a hit.
-        Also sets :attr:`cones_near`, the robots without rays that have something within
-        reach. Circle indices count static circles first, then robots.
-        """
-        robots: list[int] = []
-        cones: list[int] = []
-        n = self.n
-        n_static = self.n_static
-        circles_of: list[list[int]] = [[] for _ in range(n)]
-        segments_of: list[list[int]] = [[] for _ in range(n)]
-        # each robot pair's distance once: i may see j, and j may see i
-        lim2 = self._robot_lim2
-        for i in range(n):
-            xi, yi = poses[i][0], poses[i][1]
-            for j in range(i + 1, n):
-                dx, dy = xi - poses[j][0], yi - poses[j][1]
-                d2 = dx * dx + dy * dy
-                if d2 < lim2[i][j]:
-                    circles_of[i].append(n_static + j)
-                if d2 < lim2[j][i]:
-                    circles_of[j].append(n_static + i)
-        for i in range(n):
-            x, y = poses[i][0], poses[i][1]
-            circles = circles_of[i]
-            segments = segments_of[i]
-            reach = self.reach_of[i]
-            reach2 = reach * reach
-            for k, cx, cy, climit in self._circle_bounds_of[i]:
-                dx, dy = x - cx, y - cy
-                if dx * dx + dy * dy < climit:
-                    circles.append(k)
-            for px, py, plimit, poly_segments in self._polygon_bounds_of[i]:
-                dx, dy = x - px, y - py
-                if dx * dx + dy * dy < plimit:
-                    segments.extend(poly_segments)
-            for ax, ay, ex, ey, len2, k in self.walls:
-                _, qx, qy = project_on_segment(x - ax, y - ay, ex, ey, len2)
-                if qx * qx + qy * qy < reach2:
-                    segments.append(k)
-            if circles or segments:
-                (robots if self.casts[i] else cones).append(i)
-        #: robots without rays (V-REP's cone model) that have something within reach,
-        #: and the circles and segments each of them may see
-        self.cones_near = cones
-        self.cone_candidates = {i: (tuple(circles_of[i]), tuple(segments_of[i])) for i in cones}
-        return robots, circles_of, segments_of
-
+    # -- the cast of one broad-phase outcome -------------------------------------------
     def _cast_python(self, poses: Sequence[Sequence[float]]) -> _Cast | None:
         """The cast for this step from the Python broad phase (None: nobody casts).
 
         Which robots are near which objects changes only every few dozen steps, so the
         arrays of each outcome are built once and cached.
         """
-        robots, circles_of, segments_of = self.candidates(poses)
+        robots, circles_of, segments_of = self.broad_phase.lists(poses)
         if not robots:
             return None
         key = tuple((i, tuple(circles_of[i]), tuple(segments_of[i])) for i in robots)
@@ -350,83 +218,12 @@ class ProximitySensors:
         return cast
 
     def _cast_numpy(self, xy: FloatArray) -> _Cast | None:
-        """The cast for this step from the vectorised broad phase (None: nobody casts).
-
-        The same tests as :meth:`candidates`, with the same arithmetic per pair, on
-        arrays: robot pairs from :func:`~.broadphase.close_pairs`, static objects in one
-        N×K test per kind (bounding circles, walls). Also sets :attr:`cones_near`.
-        """
-        n, n_static = self.n, self.n_static
-        x = xy[:, 0]
-        y = xy[:, 1]
-        rows: list[npt.NDArray[np.intp]] = []  # (robot, circle) candidates
-        cols: list[npt.NDArray[np.intp]] = []
-        i, j = close_pairs(x, y, self._robot_pair_reach)
-        if i.shape[0]:
-            dx = x[i] - x[j]
-            dy = y[i] - y[j]
-            d2 = dx * dx + dy * dy
-            # (reach of the seer + radius of the seen)², as the Python broad phase
-            reach, radius = self._reach_array, self._radius_array
-            i_lim = reach[i] + radius[j]
-            j_lim = reach[j] + radius[i]
-            i_sees_j = d2 < i_lim * i_lim
-            j_sees_i = d2 < j_lim * j_lim
-            rows += [i[i_sees_j], j[j_sees_i]]
-            cols += [j[i_sees_j] + n_static, i[j_sees_i] + n_static]
-        seg_hit = np.zeros((n, self._n_segments), dtype=bool)
-        if self._bounds.shape[1]:
-            bx, by = self._bounds
-            sx = x[:, None] - bx
-            sy = y[:, None] - by
-            bound_hit = sx * sx + sy * sy < self._bounds_limit
-            if n_static:
-                r, c = np.nonzero(bound_hit[:, :n_static])
-                rows.append(r)
-                cols.append(c)
-            if self._poly_segments.shape[0]:
-                seg_hit[:, self._poly_segments] = bound_hit[:, self._poly_owner]
-        if self._wall_segments.shape[0]:
-            ax, ay, ex, ey, len2 = self._walls
-            _, qx, qy = project_on_segments(x[:, None] - ax, y[:, None] - ay, ex, ey, len2=len2)
-            seg_hit[:, self._wall_segments] = qx * qx + qy * qy < self._wall_reach2
-        circle_rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
-        circle_cols = np.concatenate(cols) if cols else np.zeros(0, dtype=np.intp)
-        found: npt.NDArray[np.bool_] = np.any(seg_hit, axis=1)
-        found[circle_rows] = True
-        self.cones_near = np.flatnonzero(found & ~self._casts_array).tolist()
-        if self.cones_near:
-            self.cone_candidates = self._cone_candidates(circle_rows, circle_cols, seg_hit)
-        robots = np.flatnonzero(found & self._casts_array)
-        k = robots.shape[0]
-        if k == 0:
+        """The cast for this step from the vectorised broad phase (None: nobody casts)."""
+        robots, circle_rows, circle_index, seg_hit = self.broad_phase.arrays(xy)
+        if robots.shape[0] == 0:
             return None
-        if k < n:
-            # cast robot number (0..k-1) of each candidate row; the others see nothing
-            column = np.full(n, -1, dtype=np.intp)
-            column[robots] = np.arange(k)
-            circle_rows = column[circle_rows]
-            casting = circle_rows >= 0
-            circle_rows, circle_cols = circle_rows[casting], circle_cols[casting]
-            seg_hit = seg_hit[robots]
         seg_rows, seg_index = np.nonzero(seg_hit)
-        return self._make_cast(robots, circle_rows, circle_cols, seg_rows, seg_index)
-
-    def _cone_candidates(
-        self,
-        circle_rows: npt.NDArray[np.intp],
-        circle_cols: npt.NDArray[np.intp],
-        seg_hit: npt.NDArray[np.bool_],
-    ) -> dict[int, tuple[tuple[int, ...], tuple[int, ...]]]:
-        """Per cone robot near something, the circles and segments it may see (sorted)."""
-        circles: dict[int, list[int]] = {i: [] for i in self.cones_near}
-        for i, c in zip(circle_rows.tolist(), circle_cols.tolist()):
-            if i in circles:
-                circles[i].append(c)
-        return {
-            i: (tuple(sorted(circles[i])), tuple(np.flatnonzero(seg_hit[i]).tolist()))
-            for i in self.cones_near
-        }
+        return self._make_cast(robots, circle_rows, circle_index, seg_rows, seg_index)
 
     def _make_cast(
         self,
@@ -495,9 +292,10 @@ class ProximitySensors:
         :attr:`baseline_raw` times ``1 +`` :meth:`far_noise`, and the table look-ups
         would decide nothing: the caller takes it from there.
         """
+        if not self.any_rays:
+            return False  # every robot senses with V-REP's cones (:mod:`.cone`)
         cast, frames = self._broad_phase(poses)
-        if cast is None or not self.any_rays:
-            # (with cones only, V-REP's model, only the broad phase was needed, for them)
+        if cast is None:
             return False
         nearest = self._respond(cast, frames, raw, noise > 0 and z is not None)
         if noise > 0 and z is not None:
@@ -522,8 +320,8 @@ class ProximitySensors:
         """Every sensor's noise-free response at ``poses`` (N×8, as :meth:`sense` fills
         ``raw``), in a new array: what a calibration averages its many samples to."""
         raw = np.empty((self.n, 8))
-        cast, frames = self._broad_phase(poses)
-        if cast is None or not self.any_rays:
+        cast, frames = self._broad_phase(poses) if self.any_rays else (None, None)
+        if cast is None:
             raw[:] = self.baseline_raw
         else:
             self._respond(cast, frames, raw, False)
@@ -535,7 +333,7 @@ class ProximitySensors:
         """This step's cast and each casting robot's (position, rotation) as complex numbers."""
         n_static = self.n_static
         frames = None
-        if self.n <= PYTHON_BROAD_PHASE_MAX:
+        if self.broad_phase.in_python():
             cast = self._cast_python(poses)
             if cast is not None:
                 if cast.circle_rows is not None:

@@ -58,8 +58,12 @@ class Sensing:
         self.floor = floor
         self._proximity_noise = proximity_noise
         self._ground_noise = ground_noise
+        # each robot's profile names its IR model: Webots' rays or V-REP's exact cones
+        ray_robots = [i for i, p in enumerate(profiles) if p.prox_model == "rays"]
+        cone_robots = [i for i, p in enumerate(profiles) if p.prox_model == "cone"]
         self.proximity = ProximitySensors(
             profiles,
+            robots=ray_robots,
             rays=rays,
             seg_start=surfaces.seg_start,
             seg_vector=surfaces.seg_vector,
@@ -70,14 +74,15 @@ class Sensing:
             seg_reflectance=surfaces.seg_reflectance,
         )
         self.calibration = IrCalibration(profiles, self.proximity.baseline_raw)
-        # robots whose profile senses as V-REP does: exact cones, computed after the rays
-        cone_robots = [i for i, p in enumerate(profiles) if p.prox_model == "cone"]
+        # the cones are computed after the rays: they overwrite their robots' rows
         self.cones = ConeSensors(
             profiles,
             cone_robots,
             static_circles=surfaces.static_circles,
             seg_start=surfaces.seg_start,
             seg_vector=surfaces.seg_vector,
+            polygons=surfaces.polygons,
+            walls=surfaces.walls,
         )
         # ground sensors: local positions, and their centroid for the segment grid
         self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in profiles]
@@ -127,13 +132,7 @@ class Sensing:
             # nobody near anything: every response is its baseline, with its noise
             far = self.proximity.far_noise(noise, ir_normals)
             self.calibration.apply_to_nothing(self.prox_raw, self.prox_distance, far)
-        self.cones.sense(
-            poses,
-            self.prox_distance,
-            self.prox_raw,
-            near=self.proximity.cones_near,
-            candidates=self.proximity.cone_candidates,
-        )
+        self.cones.sense(poses, self.prox_distance, self.prox_raw)
         self._sense_ground(poses, ground_normals)
 
     def _sense_ground(self, poses: list[list[float]], normals: FloatArray | None) -> None:
@@ -168,6 +167,6 @@ class Sensing:
         """Robot ``i`` re-measures its IR baselines at ``poses``, as the e-puck2 firmware
         does on request (:meth:`.ir_calibration.IrCalibration.recalibrate`); a robot with
         V-REP's cone sensors has no baselines and is left as it is."""
-        if self.proximity.casts[i]:
+        if i in self.proximity.robots:
             response = self.proximity.response(poses)[i]
             self.calibration.recalibrate(i, response, self.prox_raw, self.prox_distance)

@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..scenario.scene import CircleObstacle, PolygonObstacle, Scene
-from .proximity import PolygonBound, WallSegment
+from .broadphase import PolygonBound, WallSegment
 
 __all__ = ["OBSTACLE_HEIGHT", "ROBOT_HEIGHT", "WALL_HEIGHT", "Surfaces", "stack_surfaces"]
 

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import puckboard.sim.proximity as proximity_module
+import puckboard.sim.broadphase as broadphase_module
 from puckboard.bench.scale import swarm_with
 from puckboard.scenario.scene import RobotSpec
 from puckboard.sim.broadphase import DENSE_MAX, close_pairs
@@ -91,26 +91,54 @@ def _as_sets(candidates):
     return {i: (set(circles), set(segments)) for i, (circles, segments) in candidates.items()}
 
 
+def _random_poses(rng, n):
+    return [
+        [float(rng.uniform(-0.95, 0.95)), float(rng.uniform(-0.75, 0.75)), 0.0] for _ in range(n)
+    ]
+
+
 @pytest.mark.parametrize("swarm", [_random_swarm, _mixed_swarm])
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("n", [12, 30, 50])
-def test_vectorised_ir_broad_phase_equals_the_python_one(seed, n, swarm):
+def test_vectorised_sensor_broad_phase_equals_the_python_one(seed, n, swarm, monkeypatch):
+    world = World(swarm(n, seed), seed=seed)
+    rng = np.random.default_rng(seed)
+    # the rays' broad phase and the cones' (none has seers in a swarm of one model)
+    phases = [world.sensing.proximity.broad_phase, world.sensing.cones.broad_phase]
+    for _ in range(5):
+        poses = _random_poses(rng, n)
+        for broad in phases:
+            near, circles_of, segments_of = broad.lists(poses)
+            assert set(near) <= set(broad.seers), "only the model's own robots see"
+            got, rows, cols, seg_hit = broad.arrays(np.array(poses)[:, :2])
+            assert got.tolist() == near
+            circles: list[set[int]] = [set() for _ in near]
+            for row, c in zip(rows.tolist(), cols.tolist()):
+                circles[row].add(c)
+            assert circles == [set(circles_of[i]) for i in near]
+            assert [set(np.flatnonzero(h).tolist()) for h in seg_hit] == [
+                set(segments_of[i]) for i in near
+            ]
+            # and the per-robot tuples the cones read, through either answer
+            answers = []
+            for limit in (0, 1000):  # vectorised, then plain Python
+                monkeypatch.setattr(broadphase_module, "PYTHON_BROAD_PHASE_MAX", limit)
+                answers.append(broad.candidates(poses))
+            assert list(answers[0]) == list(answers[1]) == near
+            assert _as_sets(answers[0]) == _as_sets(answers[1])
+
+
+@pytest.mark.parametrize("swarm", [_random_swarm, _mixed_swarm])
+@pytest.mark.parametrize("seed", range(2))
+@pytest.mark.parametrize("n", [30, 50])
+def test_the_rays_cast_from_arrays_holds_the_python_candidates(seed, n, swarm):
     world = World(swarm(n, seed), seed=seed)
     sensors = world.sensing.proximity
     rng = np.random.default_rng(seed)
     for _ in range(5):
-        poses = [
-            [float(rng.uniform(-0.95, 0.95)), float(rng.uniform(-0.75, 0.75)), 0.0]
-            for _ in range(n)
-        ]
-        robots, circles_of, segments_of = sensors.candidates(poses)
-        cones = list(sensors.cones_near)
-        # a cone's reading is a minimum over its candidates: their order does not matter
-        cone_candidates = _as_sets(sensors.cone_candidates) if cones else {}
+        poses = _random_poses(rng, n)
+        robots, circles_of, segments_of = sensors.broad_phase.lists(poses)
         cast = sensors._cast_numpy(np.array(poses)[:, :2])
-        assert sensors.cones_near == cones
-        if cones:  # what each cone robot may see, as the Python broad phase has it
-            assert _as_sets(sensors.cone_candidates) == cone_candidates
         if cast is None:
             assert robots == []
             continue
@@ -136,7 +164,7 @@ def test_readings_do_not_depend_on_which_broad_phase_ran(n, swarm, monkeypatch):
     scene = swarm(n, 7)
     results = []
     for limit in (0, 1000):  # vectorised, then plain Python
-        monkeypatch.setattr(proximity_module, "PYTHON_BROAD_PHASE_MAX", limit)
+        monkeypatch.setattr(broadphase_module, "PYTHON_BROAD_PHASE_MAX", limit)
         world = World(scene, seed=2)
         for i in range(n):
             world.set_wheel_speeds(i, 4.0 + 0.1 * i, 5.0 - 0.1 * i)
@@ -178,12 +206,9 @@ def test_cones_through_the_broad_phase_equal_cones_against_everything(n):
             ]
             for _ in range(n)
         ]
-        world.sensing.proximity.sense(poses, np.zeros((n, 8)))
-        near = world.sensing.proximity.cones_near
-        candidates = world.sensing.proximity.cone_candidates
         distance, raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.sensing.cones.sense(poses, distance, raw, near=near, candidates=candidates)
+        world.sensing.cones.sense(poses, distance, raw)
         every_distance, every_raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.sensing.cones.sense(poses, every_distance, every_raw)
+        world.sensing.cones.sense(poses, every_distance, every_raw, every_object=True)
         assert np.array_equal(distance, every_distance)
         assert np.array_equal(raw, every_raw)

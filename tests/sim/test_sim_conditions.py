@@ -14,7 +14,7 @@ from test_sim_ir import PS0, PS7, obstacle_on_sensor_axis, wall_facing_sensor
 from puckboard.ir_response import FAR_RAW
 from puckboard.profile import EPUCK, EPUCK_VREP
 from puckboard.scenario.scene import Track
-from puckboard.sim import proximity as proximity_module
+from puckboard.sim import broadphase as broadphase_module
 from puckboard.sim.world import World
 
 
@@ -87,7 +87,7 @@ def test_dark_obstacles_read_the_same_through_either_broad_phase(monkeypatch):
     results = []
     for scene in (swarm, dark):
         for limit in (0, 1000):  # vectorised, then plain Python
-            monkeypatch.setattr(proximity_module, "PYTHON_BROAD_PHASE_MAX", limit)
+            monkeypatch.setattr(broadphase_module, "PYTHON_BROAD_PHASE_MAX", limit)
             world = World(scene, seed=2)
             for i in range(26):
                 world.set_wheel_speeds(i, 4.0 + 0.1 * i, 5.0 - 0.1 * i)
