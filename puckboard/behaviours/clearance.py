@@ -16,9 +16,15 @@ judge counts a collision (``two-robot-pass``, plausible physical robots).
 the far-side wheel at ``away_factor * speed``; 1 drives straight). It never turns
 towards the obstacle, whatever the layers below would have done, and lets go as soon
 as the obstacle is out of that near band, so line following and line search resume.
+
+``side`` can be changed after construction (``--set layer.ClearanceGuard.side=left``):
+the watched sensors follow it, each mirrored to the new side, so a guard never watches
+one side while it turns away from the other.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 from ..records import PROX_NAMES, WheelCommand
 from .cruise import DEFAULT_SPEED
@@ -31,6 +37,13 @@ SIDE_SENSORS: dict[str, tuple[str, ...]] = {
     "left": ("diagonal_left", "left", "rear_left"),
 }
 """The sensors that look to each side, front to back, which a guard watches by default."""
+
+
+def _mirrored(sensor: str) -> str:
+    """The sensor in the mirror position (``diagonal_right`` ↔ ``diagonal_left``)."""
+    if "right" in sensor:
+        return sensor.replace("right", "left")
+    return sensor.replace("left", "right")
 
 
 class ClearanceGuard(Layer):
@@ -55,19 +68,35 @@ class ClearanceGuard(Layer):
         name: str | None = None,
     ) -> None:
         super().__init__(name)
-        if side not in SIDE_SENSORS:
-            raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+        _check_side(side)
         chosen = SIDE_SENSORS[side] if sensors is None else tuple(sensors)
         unknown = [s for s in chosen if s not in PROX_NAMES]
         if unknown or not chosen:
             raise ValueError(
                 f"sensors must be proximity sensor names ({', '.join(PROX_NAMES)}), got {chosen!r}"
             )
-        self.side = side
+        self._side = side
         self.sensors = chosen
         self.clearance = clearance
         self.speed = speed
         self.away_factor = away_factor
+
+    @property
+    def side(self) -> str:
+        """The side watched and turned away from; setting it mirrors the watched sensors."""
+        return self._side
+
+    @side.setter
+    def side(self, value: str) -> None:
+        _check_side(value)
+        if value != self._side:
+            self.sensors = tuple(_mirrored(s) for s in self.sensors)
+        self._side = value
+
+    def parameters(self) -> dict[str, Any]:
+        """As every layer's, with ``side`` (a property, so that setting it moves the
+        sensors too)."""
+        return {**super().parameters(), "side": self._side}
 
     def applies(self, frame: Frame) -> bool:
         prox = frame.proximity
@@ -81,3 +110,8 @@ class ClearanceGuard(Layer):
         near, far = self.speed, self.away_factor * self.speed
         # turning away from the right means the right (near) wheel runs faster
         return WheelCommand(far, near) if self.side == "right" else WheelCommand(near, far)
+
+
+def _check_side(side: object) -> None:
+    if side not in SIDE_SENSORS:
+        raise ValueError(f"side must be 'left' or 'right', got {side!r}")

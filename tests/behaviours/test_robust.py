@@ -20,6 +20,7 @@ from puckboard.behaviours import (
     load_controller,
     robust,
 )
+from puckboard.behaviours.clearance import SIDE_SENSORS
 from puckboard.behaviours.layer import Frame
 from puckboard.behaviours.overrides import apply_layer_overrides
 from puckboard.blackboard import Blackboard
@@ -86,6 +87,38 @@ def test_guard_watches_only_the_sensors_it_is_given():
 def test_guard_refuses_bad_sides_and_sensors(kwargs, message):
     with pytest.raises(ValueError, match=message):
         ClearanceGuard(**kwargs)
+
+
+def test_setting_the_guard_s_side_moves_its_sensors_too():
+    """Set after construction (as ``--set layer.ClearanceGuard.side=left`` does), the
+    side takes its sensors along: watching the right while turning away from the left
+    would steer towards what it sees."""
+    guard = ClearanceGuard("right", speed=MAX, away_factor=0.8)
+    guard.side = "left"
+    assert guard.sensors == SIDE_SENSORS["left"]
+    assert guard.applies(frame(prox(left=0.01)))
+    assert not guard.applies(frame(prox(right=0.01)))
+    cmd = guard.command(frame(prox(left=0.01)))
+    assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(0.8 * MAX))
+    assert guard.parameters()["side"] == "left"
+
+
+def test_a_guard_s_own_sensors_are_mirrored_with_its_side():
+    guard = ClearanceGuard("right", sensors=("right",))
+    guard.side = "left"
+    assert guard.sensors == ("left",)
+    guard.side = "left"  # the same side again: nothing moves
+    assert guard.sensors == ("left",)
+    with pytest.raises(ValueError, match="side must be"):
+        guard.side = "up"
+    assert guard.side == "left"
+
+
+def test_the_guard_s_side_is_set_from_the_command_line_with_its_sensors():
+    controllers = {"r": robust()}
+    apply_layer_overrides(controllers, {"layer.ClearanceGuard.side": "left"})
+    guard = controllers["r"].find("ClearanceGuard")
+    assert (guard.side, guard.sensors) == ("left", SIDE_SENSORS["left"])
 
 
 # -- LineSearch -------------------------------------------------------------------------
