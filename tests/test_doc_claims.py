@@ -1241,7 +1241,7 @@ def test_robust_and_improved_make_the_same_laps_on_line_follow():
     )
     shown = [m.group(1)]
     for controller in ("robust", "improved"):
-        runs = [episode("line-follow", controller, seed) for seed in range(5)]
+        runs = episodes("line-follow", controller, range(5))
         assert all(r.success for r in runs), controller
         assert {f"{r.robots[0].progress_laps:.1f}" for r in runs} == {m.group(1)}
         times = [r.sim_time_s for r in runs]
