@@ -18,6 +18,7 @@ relative to the test's folder) runs as it is, uncached.
 from __future__ import annotations
 
 import contextlib
+import functools
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -77,10 +78,18 @@ def sweeps_share_episodes() -> Iterator[None]:
 def _is_shipped(scene: Any, name: str) -> bool:
     if isinstance(scene, str):
         return True
+    shipped = _shipped_scene(name)
+    return shipped is not None and scene_to_dict(scene) == shipped
+
+
+@functools.cache
+def _shipped_scene(name: str) -> dict[str, Any] | None:
+    """The shipped scene called ``name`` in its explicit form, read once per process (a
+    sweep asks for every one of its episodes); None when no shipped scene has the name."""
     try:
-        return bool(scene_to_dict(scene) == scene_to_dict(load_scene(name)))
+        return scene_to_dict(load_scene(name))
     except Exception:  # not a shipped scene's name
-        return False
+        return None
 
 
 def _names_one_controller(spec: Any) -> bool:
