@@ -8,6 +8,11 @@ threads and in-process alike, on every platform — unlike ``SIGALRM``, which is
 and main-thread-only. The exception arrives at the next Python bytecode, so a controller
 blocked inside one long C call (``time.sleep(1e9)``) is not stopped until that call
 returns; the episode then still ends as an ``error`` row and the worker lives on.
+
+Under a tracer (coverage, a debugger) the exception can arrive while the tracer's own
+code runs. The episode is still stopped, but the tracer may not recover: on Python 3.11
+coverage then hangs (coveragepy issue 1626). Measure coverage on sweeps without an
+episode limit, or with controllers that return.
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import multiprocessing.connection
+import sys
 import time
 from pathlib import Path
 
@@ -338,6 +339,14 @@ def test_a_dying_worker_process_is_reported_not_hung():
         list(executor.run(os._exit, [(3,)]))
 
 
+@pytest.mark.skipif(
+    sys.gettrace() is not None,
+    reason=(
+        "a tracer is active (coverage, a debugger): the watchdog's exception stops the "
+        "episode, but on Python 3.11 it can land inside the tracer, and coverage then hangs "
+        "(coveragepy issue 1626); puckboard/sweep/watchdog.py says so"
+    ),
+)
 def test_a_controller_that_never_returns_is_stopped_by_the_episode_timeout(tmp_path, short_scene):
     spinning = tmp_path / "spinning.py"
     spinning.write_text(
