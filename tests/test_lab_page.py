@@ -21,7 +21,8 @@ import doc_pages
 import numpy as np
 import pytest
 from cli_runs import run_in
-from episodes import episode
+from episodes import episode, episodes
+from shared_sweeps import sweeps_share_episodes
 from test_doc_claims import (
     BANDS,
     REPLAYS,
@@ -366,7 +367,7 @@ def test_the_trials_bends_end_as_the_page_says(student_folder):
     assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
 
 
-WORDS = {"six": 6, "eight": 8, "twelve": 12}
+WORDS = {"four": 4, "six": 6, "eight": 8, "twelve": 12}
 
 
 def span(seeds: str) -> int:
@@ -438,3 +439,147 @@ def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
     ok, n, low, high, failures = read["two-robot-pass-bend"]
     kind, count = failures.split()
     assert m.groups()[3:] == (str(ok), str(n), str(low), str(high), count, kind)
+
+
+# -- from robust to real: the transfer ----------------------------------------------------
+def transfer_shown() -> tuple[list[str], str]:
+    return shown_after("puckboard transfer")
+
+
+@pytest.fixture(scope="module")
+def transferred(student_folder) -> tuple[str, dict]:
+    """The page's transfer as the reader runs it (what it prints, and its ``--json``),
+    its episodes the session's: the controller file named by its absolute path, which
+    its label does not show, so that both runs and the seed re-run below share them."""
+    argv, _ = transfer_shown()
+    spec = argv[argv.index("--controller") + 1]
+    argv[argv.index(spec)] = str(student_folder / spec)
+    with sweeps_share_episodes():
+        printed = run_cli([*argv, "--quiet"], student_folder)
+        report = json.loads(run_cli([*argv, "--quiet", "--json"], student_folder))
+    return printed, report
+
+
+@pytest.mark.slow
+def test_the_transfer_prints_what_the_page_shows(transferred):
+    printed, _ = transferred
+    doc_pages.assert_shown(transfer_shown()[1], printed, "lab page: the transfer")
+
+
+def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
+    """The tuning's "use it" line, on the transfer's default seeds (none of the lab's),
+    with every link the page's table names and the family of its radius."""
+    from puckboard.cli.transfer import DEFAULT_SEEDS
+    from puckboard.sweep.plan import parse_seeds
+
+    argv, _ = transfer_shown()
+    _, tune_shown = shown_after("puckboard tune")
+    use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
+    assert use is not None and use.group(1) in shlex.join(argv)
+    assert "--seeds" not in argv
+    seeds = parse_seeds(DEFAULT_SEEDS)
+    used = []  # every seed range the lab's other commands run
+    for command, _ in shown_commands():
+        words = shlex.split(command)
+        used += [words[i + 1] for i, w in enumerate(words) if w in ("--seeds", "--validate")]
+    assert len(used) == 5 and all(parse_seeds(u).stop <= seeds.start for u in used), used
+    stated(rf"every model on the same seeds, from {seeds.start} on: seeds none of the steps")
+    families = argv[argv.index("--families") + 1].split(",")
+    table = re.findall(r"^\| [^|]+ \| `(link [\w-]+)` \|$", page(), re.MULTILINE)
+    assert families == [*table, "latency"], (families, table)
+
+
+def test_the_words_around_the_transfer_are_its_report(transferred):
+    from puckboard.profile.links import get_link
+    from puckboard.scenario.scenefile import load_scene
+    from puckboard.transfer import FAMILIES, transfer_plan
+    from puckboard.transfer.families import link_timing
+
+    printed, report = transferred
+    (cell,) = report["cells"]
+    design = cell["design"]
+    n = span(report["seeds"])
+    four = stated(r"on (\w+) fresh seeds: (\d+) of (\d+)\.\s+(\w+) seeds are a screen, not a "
+                  r"verdict: (\d+) of (\d+) is (\d+)–(\d+) %\.").groups()  # fmt: skip
+    assert WORDS[four[0]] == WORDS[four[3].lower()] == n
+    assert four[1:3] == (str(design["successes"]), str(n))
+    assert four[4:] == (str(n), str(n), *(str(round(100 * x)) for x in wilson_interval(n, n)))
+    # the two slow links share one loop; USB's slow end is the design loop
+    dt = load_scene("two-robot-pass").dt
+    m = stated(r"a period of (\d+) ms and a latency of (\d+) ms, so the two rows are one\s+set "
+               r"of episodes: (\d+) of (\d+)\. Over USB the slow end \((\d+) ms, (\d+) ms\)")  # fmt: skip
+    for link in ("epuck2-wifi", "bluetooth-sercom"):
+        timing = link_timing(link, dt)
+        ms = (round(1000 * timing["control.period"]), round(1000 * timing["control.latency"]))
+        assert (m.group(1), m.group(2)) == tuple(str(x) for x in ms), link
+    bands = {b["family"]: b["stats"] for b in cell["families"]}
+    assert {(s["successes"], s["episodes"]) for s in bands.values()} == {
+        (int(m.group(3)), int(m.group(4)))
+    }
+    usb = get_link("usb-sercom")
+    assert (m.group(5), m.group(6)) == (f"{1000 * usb.period[1]:g}", f"{1000 * usb.latency[1]:g}")
+    assert [s["family"] for s in cell["not_applicable"]] == ["link usb-sercom"]
+    # the radius as printed, and read in words
+    (radius,) = cell["radii"]
+    row = re.search(r"^radius: latency\s+(.*)$", printed, re.MULTILINE)
+    assert row is not None
+    quoted = re.escape(row.group(1)).replace("\\ ", " ")  # stated() takes a space for any
+    stated(rf"\*\*The radius\*\*, `{quoted}`, reads")
+    at, beyond = radius["at"], radius["beyond"]
+    low, high = wilson_interval(at["successes"], at["episodes"])
+    words = stated(r"up to a latency of (\d+) ms\s+\((\d+) of (\d+) there, its interval "
+                   r"(\d+)–(\d+) %\), and (\d+) ms is the first step where it did not\s+"
+                   r"\((\d+) of (\d+)\)").groups()  # fmt: skip
+    assert words == tuple(str(x) for x in (
+        round(1000 * at["scale"] * dt), at["successes"], at["episodes"], round(100 * low),
+        round(100 * high), round(1000 * beyond["scale"] * dt), beyond["successes"],
+        beyond["episodes"],
+    ))  # fmt: skip
+    (latency,) = [f for f in FAMILIES if f.name == "latency"]
+    m = stated(
+        r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)"
+    )
+    assert [float(x) for x in m.groups()[:3]] == list(latency.grid)
+    assert [int(x) for x in m.groups()[3:]] == [round(1000 * s * dt) for s in latency.grid]
+    # the links' sources against the radius's 50 ms
+    m = stated(r"The Wi-Fi link's sources put its latency at (\d+) ms at most, inside\s+the "
+               r"radius; Bluetooth's slow end, (\d+) ms, is assumed")  # fmt: skip
+    wifi, bluetooth = get_link("epuck2-wifi").latency[1], get_link("bluetooth-sercom").latency[1]
+    radius_s = at["scale"] * dt
+    assert (m.group(1), m.group(2)) == (f"{1000 * wifi:g}", f"{1000 * bluetooth:g}")
+    assert wifi <= radius_s < bluetooth < beyond["scale"] * dt
+    profiles = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
+    (row_text,) = [r for r in profiles.splitlines() if r.startswith("| `bluetooth-sercom`")]
+    assert "latency high: assumed" in row_text
+    # "every family on this cell, 60 episodes"
+    scene = load_scene("two-robot-pass")
+    every = transfer_plan(
+        [scene], controllers=[cell["controller"]], profiles={scene.name: ["epuck"]},
+        seeds=range(n), families=FAMILIES, fixed=report["fixed"],
+        replacements={"generated-pass": load_scene("generated-pass")},
+    )  # fmt: skip
+    stated(rf"every family on this cell, {len(every)} episodes")
+
+
+@pytest.mark.slow
+def test_the_run_that_breaks_is_the_first_seed_that_failed(transferred, student_folder):
+    """The page's ``puckboard run`` at 100 ms of latency: each seed before it passed, it
+    fails (the transfer's own episodes, from the session's cache)."""
+    from puckboard.sweep.plan import parse_set
+
+    _, report = transferred
+    m = stated(r"`(puckboard run two-robot-pass --controller my_controller\S* [^`]*)` is the "
+               r"first seed that failed at\s+(\d+) ms")  # fmt: skip
+    argv = shlex.split(m.group(1))
+    overrides = dict(PLAUSIBLE)
+    for i, word in enumerate(argv):
+        if word == "--set":
+            name, (value,) = parse_set(argv[i + 1])
+            overrides[name] = value
+    assert overrides["control.latency"] * 1000 == pytest.approx(float(m.group(2)))
+    assert argv[argv.index("--profile") + 1] == report["profiles"]["two-robot-pass"][0]
+    spec = str(student_folder / argv[argv.index("--controller") + 1])
+    seed = int(argv[argv.index("--seed") + 1])
+    first = int(report["seeds"].split(":")[0])
+    runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
+    assert [r.success for r in runs] == [True] * (seed - first) + [False]
