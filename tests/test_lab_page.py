@@ -583,3 +583,12 @@ def test_the_run_that_breaks_is_the_first_seed_that_failed(transferred, student_
     first = int(report["seeds"].split(":")[0])
     runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
     assert [r.success for r in runs] == [True] * (seed - first) + [False]
+
+
+def test_the_lecturer_notes_count_the_transfer_s_episodes():
+    """ "The last step's transfer runs 16 episodes": what the page's output counts."""
+    _, shown = transfer_shown()
+    counted = re.match(r"transfer: (\d+) of \1 episodes", shown)
+    assert counted is not None
+    notes = " ".join((ROOT / "docs" / "lecturer-notes.md").read_text(encoding="utf-8").split())
+    assert f"The last step's transfer runs {counted.group(1)} episodes" in notes
