@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 import re
 import shlex
 from pathlib import Path
@@ -22,6 +23,7 @@ import numpy as np
 import pytest
 from cli_runs import run_in
 from episodes import episode, episodes
+from session_cache import ENV
 from shared_sweeps import sweeps_share_episodes
 from test_doc_claims import (
     BANDS,
@@ -447,23 +449,74 @@ def transfer_shown() -> tuple[list[str], str]:
 
 
 @pytest.fixture(scope="module")
-def transferred(student_folder) -> tuple[str, dict]:
-    """The page's transfer as the reader runs it (what it prints, and its ``--json``),
-    its episodes the session's: the controller file named by its absolute path, which
-    its label does not show, so that both runs and the seed re-run below share them."""
-    argv, _ = transfer_shown()
-    spec = argv[argv.index("--controller") + 1]
-    argv[argv.index(spec)] = str(student_folder / spec)
-    with sweeps_share_episodes():
-        printed = run_cli([*argv, "--quiet"], student_folder)
-        report = json.loads(run_cli([*argv, "--quiet", "--json"], student_folder))
-    return printed, report
+def lab_file(student_folder) -> Path:
+    """The student's ``my_controller.py`` at one path for the whole session, in the
+    session's folder (as tests/support/tutorial_file.py keeps the tutorial's): episodes
+    are cached under their controller's spec, so the session's worker processes share
+    the transfer's only when they name the same file."""
+    text = (student_folder / "my_controller.py").read_text(encoding="utf-8")
+    session = os.environ.get(ENV)
+    if not session:
+        return student_folder / "my_controller.py"
+    path = Path(session) / "lab-student" / "my_controller.py"
+    path.parent.mkdir(exist_ok=True)
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        partial = path.with_suffix(f".{os.getpid()}.part")
+        partial.write_text(text, encoding="utf-8")
+        partial.replace(path)  # atomic: another worker reads all of it or the old one
+    return path
+
+
+BAND = r"(\d+)/(\d+) \[(\d+), (\d+)\] %"
+
+
+def shown_row(label: str) -> str:
+    """What the page's transfer output shows for one model (its row's cell)."""
+    row = re.search(rf"^{re.escape(label)}\s+(\S.*)$", transfer_shown()[1], re.MULTILINE)
+    assert row is not None, label
+    return row.group(1)
+
+
+def lab_spec(spec: str, lab_file: Path) -> str:
+    """A command's ``my_controller.py:FACTORY`` as the session's file."""
+    file, _, factory = spec.partition(":")
+    assert file == lab_file.name, spec
+    return f"{lab_file}:{factory}"
 
 
 @pytest.mark.slow
-def test_the_transfer_prints_what_the_page_shows(transferred):
-    printed, _ = transferred
-    doc_pages.assert_shown(transfer_shown()[1], printed, "lab page: the transfer")
+def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(
+    student_folder, lab_file
+):
+    """The page's transfer as the reader runs it, then the ``puckboard run`` the page
+    says is the first seed that failed at 100 ms: the seeds before it passed, it fails.
+    The controller file is named by its absolute path (its label does not show it), so
+    that the run's episodes are the transfer's, from the session's cache. One test, so
+    that no second worker process waits for the transfer's episodes."""
+    from puckboard.sweep.plan import parse_set
+
+    argv, shown = transfer_shown()
+    at = argv.index("--controller") + 1
+    argv[at] = lab_spec(argv[at], lab_file)
+    with sweeps_share_episodes():
+        printed = run_cli([*argv, "--quiet"], student_folder)
+    doc_pages.assert_shown(shown, printed, "lab page: the transfer")
+
+    m = stated(r"`(puckboard run two-robot-pass --controller my_controller\S* [^`]*)` is the "
+               r"first seed that failed at\s+(\d+) ms")  # fmt: skip
+    run = shlex.split(m.group(1))
+    overrides = dict(PLAUSIBLE)
+    for i, word in enumerate(run):
+        if word == "--set":
+            name, (value,) = parse_set(run[i + 1])
+            overrides[name] = value
+    assert overrides["control.latency"] * 1000 == pytest.approx(float(m.group(2)))
+    assert run[run.index("--profile") + 1] == argv[argv.index("--profile") + 1]
+    spec = lab_spec(run[run.index("--controller") + 1], lab_file)
+    seed = int(run[run.index("--seed") + 1])
+    first = int(re.search(r"; seeds (\d+):", shown).group(1))  # type: ignore[union-attr]
+    runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
+    assert [r.success for r in runs] == [True] * (seed - first) + [False]
 
 
 def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
@@ -472,12 +525,13 @@ def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
     from puckboard.cli.transfer import DEFAULT_SEEDS
     from puckboard.sweep.plan import parse_seeds
 
-    argv, _ = transfer_shown()
+    argv, shown = transfer_shown()
     _, tune_shown = shown_after("puckboard tune")
     use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
     assert use is not None and use.group(1) in shlex.join(argv)
     assert "--seeds" not in argv
     seeds = parse_seeds(DEFAULT_SEEDS)
+    assert f"; seeds {DEFAULT_SEEDS} at every model" in shown
     used = []  # every seed range the lab's other commands run
     for command, _ in shown_commands():
         words = shlex.split(command)
@@ -489,20 +543,23 @@ def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
     assert families == [*table, "latency"], (families, table)
 
 
-def test_the_words_around_the_transfer_are_its_report(transferred):
+def test_the_words_around_the_transfer_are_its_output():
+    """What the page says of the output is the output's (which the test above compares
+    with a run), the links' sources' and the plan's."""
     from puckboard.profile.links import get_link
     from puckboard.scenario.scenefile import load_scene
+    from puckboard.sweep.plan import parse_set
     from puckboard.transfer import FAMILIES, transfer_plan
     from puckboard.transfer.families import link_timing
 
-    printed, report = transferred
-    (cell,) = report["cells"]
-    design = cell["design"]
-    n = span(report["seeds"])
+    argv, shown = transfer_shown()
+    n = span(re.search(r"; seeds (\S+) at every model", shown).group(1))  # type: ignore[union-attr]
+    design = re.fullmatch(BAND, shown_row("design"))
+    assert design is not None
     four = stated(r"on (\w+) fresh seeds: (\d+) of (\d+)\.\s+(\w+) seeds are a screen, not a "
                   r"verdict: (\d+) of (\d+) is (\d+)–(\d+) %\.").groups()  # fmt: skip
     assert WORDS[four[0]] == WORDS[four[3].lower()] == n
-    assert four[1:3] == (str(design["successes"]), str(n))
+    assert four[1:3] == design.groups()[:2]
     assert four[4:] == (str(n), str(n), *(str(round(100 * x)) for x in wilson_interval(n, n)))
     # the two slow links share one loop; USB's slow end is the design loop
     dt = load_scene("two-robot-pass").dt
@@ -512,77 +569,49 @@ def test_the_words_around_the_transfer_are_its_report(transferred):
         timing = link_timing(link, dt)
         ms = (round(1000 * timing["control.period"]), round(1000 * timing["control.latency"]))
         assert (m.group(1), m.group(2)) == tuple(str(x) for x in ms), link
-    bands = {b["family"]: b["stats"] for b in cell["families"]}
-    assert {(s["successes"], s["episodes"]) for s in bands.values()} == {
-        (int(m.group(3)), int(m.group(4)))
-    }
+        assert f"link {link}: period {ms[0]} ms, latency {ms[1]} ms: " in shown
+        band = re.fullmatch(BAND, shown_row(f"link {link}"))
+        assert band is not None and band.groups()[:2] == (m.group(3), m.group(4))
     usb = get_link("usb-sercom")
     assert (m.group(5), m.group(6)) == (f"{1000 * usb.period[1]:g}", f"{1000 * usb.latency[1]:g}")
-    assert [s["family"] for s in cell["not_applicable"]] == ["link usb-sercom"]
-    # the radius as printed, and read in words
-    (radius,) = cell["radii"]
-    row = re.search(r"^radius: latency\s+(.*)$", printed, re.MULTILINE)
-    assert row is not None
-    quoted = re.escape(row.group(1)).replace("\\ ", " ")  # stated() takes a space for any
+    assert (
+        "link usb-sercom: not run, at two-robot-pass's 50 ms step its slow end is the design"
+        in shown
+    )
+    # the radius as shown, and read in words
+    radius = shown_row("radius: latency")
+    quoted = re.escape(radius).replace("\\ ", " ")  # stated() takes a space for any
     stated(rf"\*\*The radius\*\*, `{quoted}`, reads")
-    at, beyond = radius["at"], radius["beyond"]
-    low, high = wilson_interval(at["successes"], at["episodes"])
+    read = re.fullmatch(rf"(\d+) ms: {BAND}; (\d+) ms (\d+)/(\d+)", radius)
+    assert read is not None
     words = stated(r"up to a latency of (\d+) ms\s+\((\d+) of (\d+) there, its interval "
                    r"(\d+)–(\d+) %\), and (\d+) ms is the first step where it did not\s+"
                    r"\((\d+) of (\d+)\)").groups()  # fmt: skip
-    assert words == tuple(str(x) for x in (
-        round(1000 * at["scale"] * dt), at["successes"], at["episodes"], round(100 * low),
-        round(100 * high), round(1000 * beyond["scale"] * dt), beyond["successes"],
-        beyond["episodes"],
-    ))  # fmt: skip
+    assert words == read.groups()
     (latency,) = [f for f in FAMILIES if f.name == "latency"]
-    m = stated(
-        r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)"
-    )
+    m = stated(r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)")  # fmt: skip
     assert [float(x) for x in m.groups()[:3]] == list(latency.grid)
     assert [int(x) for x in m.groups()[3:]] == [round(1000 * s * dt) for s in latency.grid]
-    # the links' sources against the radius's 50 ms
+    assert f"grid {', '.join(f'{x} ms' for x in m.groups()[3:])}; " in shown
+    # the links' sources against the radius
     m = stated(r"The Wi-Fi link's sources put its latency at (\d+) ms at most, inside\s+the "
                r"radius; Bluetooth's slow end, (\d+) ms, is assumed")  # fmt: skip
     wifi, bluetooth = get_link("epuck2-wifi").latency[1], get_link("bluetooth-sercom").latency[1]
-    radius_s = at["scale"] * dt
     assert (m.group(1), m.group(2)) == (f"{1000 * wifi:g}", f"{1000 * bluetooth:g}")
-    assert wifi <= radius_s < bluetooth < beyond["scale"] * dt
+    assert 1000 * wifi <= int(read.group(1)) < 1000 * bluetooth < int(read.group(6))
     profiles = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
     (row_text,) = [r for r in profiles.splitlines() if r.startswith("| `bluetooth-sercom`")]
     assert "latency high: assumed" in row_text
     # "every family on this cell, 60 episodes"
+    fixed = dict(parse_set(argv[i + 1]) for i, w in enumerate(argv) if w == "--set")
     scene = load_scene("two-robot-pass")
     every = transfer_plan(
-        [scene], controllers=[cell["controller"]], profiles={scene.name: ["epuck"]},
-        seeds=range(n), families=FAMILIES, fixed=report["fixed"],
+        [scene], controllers=[argv[argv.index("--controller") + 1]],
+        profiles={scene.name: [argv[argv.index("--profile") + 1]]}, seeds=range(n),
+        families=FAMILIES, fixed={k: v[0] for k, v in fixed.items()},
         replacements={"generated-pass": load_scene("generated-pass")},
     )  # fmt: skip
     stated(rf"every family on this cell, {len(every)} episodes")
-
-
-@pytest.mark.slow
-def test_the_run_that_breaks_is_the_first_seed_that_failed(transferred, student_folder):
-    """The page's ``puckboard run`` at 100 ms of latency: each seed before it passed, it
-    fails (the transfer's own episodes, from the session's cache)."""
-    from puckboard.sweep.plan import parse_set
-
-    _, report = transferred
-    m = stated(r"`(puckboard run two-robot-pass --controller my_controller\S* [^`]*)` is the "
-               r"first seed that failed at\s+(\d+) ms")  # fmt: skip
-    argv = shlex.split(m.group(1))
-    overrides = dict(PLAUSIBLE)
-    for i, word in enumerate(argv):
-        if word == "--set":
-            name, (value,) = parse_set(argv[i + 1])
-            overrides[name] = value
-    assert overrides["control.latency"] * 1000 == pytest.approx(float(m.group(2)))
-    assert argv[argv.index("--profile") + 1] == report["profiles"]["two-robot-pass"][0]
-    spec = str(student_folder / argv[argv.index("--controller") + 1])
-    seed = int(argv[argv.index("--seed") + 1])
-    first = int(report["seeds"].split(":")[0])
-    runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
-    assert [r.success for r in runs] == [True] * (seed - first) + [False]
 
 
 def test_the_lecturer_notes_count_the_transfer_s_episodes():
