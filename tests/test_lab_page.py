@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import os
 import re
 import shlex
 from pathlib import Path
@@ -23,7 +22,6 @@ import numpy as np
 import pytest
 from cli_runs import run_in
 from episodes import episode, episodes
-from session_cache import ENV
 from shared_sweeps import sweeps_share_episodes
 from test_doc_claims import (
     BANDS,
@@ -448,25 +446,6 @@ def transfer_shown() -> tuple[list[str], str]:
     return shown_after("puckboard transfer")
 
 
-@pytest.fixture(scope="module")
-def lab_file(student_folder) -> Path:
-    """The student's ``my_controller.py`` at one path for the whole session, in the
-    session's folder (as tests/support/tutorial_file.py keeps the tutorial's): episodes
-    are cached under their controller's spec, so the session's worker processes share
-    the transfer's only when they name the same file."""
-    text = (student_folder / "my_controller.py").read_text(encoding="utf-8")
-    session = os.environ.get(ENV)
-    if not session:
-        return student_folder / "my_controller.py"
-    path = Path(session) / "lab-student" / "my_controller.py"
-    path.parent.mkdir(exist_ok=True)
-    if not path.exists() or path.read_text(encoding="utf-8") != text:
-        partial = path.with_suffix(f".{os.getpid()}.part")
-        partial.write_text(text, encoding="utf-8")
-        partial.replace(path)  # atomic: another worker reads all of it or the old one
-    return path
-
-
 BAND = r"(\d+)/(\d+) \[(\d+), (\d+)\] %"
 
 
@@ -477,27 +456,25 @@ def shown_row(label: str) -> str:
     return row.group(1)
 
 
-def lab_spec(spec: str, lab_file: Path) -> str:
-    """A command's ``my_controller.py:FACTORY`` as the session's file."""
+def absolute(spec: str, folder: Path) -> str:
+    """A command's ``my_controller.py:FACTORY`` with the file's absolute path."""
     file, _, factory = spec.partition(":")
-    assert file == lab_file.name, spec
-    return f"{lab_file}:{factory}"
+    assert (folder / file).is_file(), spec
+    return f"{folder / file}:{factory}"
 
 
 @pytest.mark.slow
-def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(
-    student_folder, lab_file
-):
+def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(student_folder):
     """The page's transfer as the reader runs it, then the ``puckboard run`` the page
     says is the first seed that failed at 100 ms: the seeds before it passed, it fails.
     The controller file is named by its absolute path (its label does not show it), so
-    that the run's episodes are the transfer's, from the session's cache. One test, so
-    that no second worker process waits for the transfer's episodes."""
+    that the run's episodes are the transfer's (tests/support/shared_sweeps.py). One
+    test, so that the transfer runs in one worker process only."""
     from puckboard.sweep.plan import parse_set
 
     argv, shown = transfer_shown()
     at = argv.index("--controller") + 1
-    argv[at] = lab_spec(argv[at], lab_file)
+    argv[at] = absolute(argv[at], student_folder)
     with sweeps_share_episodes():
         printed = run_cli([*argv, "--quiet"], student_folder)
     doc_pages.assert_shown(shown, printed, "lab page: the transfer")
@@ -512,7 +489,7 @@ def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(
             overrides[name] = value
     assert overrides["control.latency"] * 1000 == pytest.approx(float(m.group(2)))
     assert run[run.index("--profile") + 1] == argv[argv.index("--profile") + 1]
-    spec = lab_spec(run[run.index("--controller") + 1], lab_file)
+    spec = absolute(run[run.index("--controller") + 1], student_folder)
     seed = int(run[run.index("--seed") + 1])
     first = int(re.search(r"; seeds (\d+):", shown).group(1))  # type: ignore[union-attr]
     runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
