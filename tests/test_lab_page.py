@@ -470,6 +470,7 @@ def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(s
     The controller file is named by its absolute path (its label does not show it), so
     that the run's episodes are the transfer's (tests/support/shared_sweeps.py). One
     test, so that the transfer runs in one worker process only."""
+    from puckboard.cli import build_parser
     from puckboard.sweep.plan import parse_set
 
     argv, shown = transfer_shown()
@@ -482,6 +483,7 @@ def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(s
     m = stated(r"`(puckboard run two-robot-pass --controller my_controller\S* [^`]*)` is the "
                r"first seed that failed at\s+(\d+) ms")  # fmt: skip
     run = shlex.split(m.group(1))
+    assert build_parser().parse_args(run[1:]).command == "run"
     overrides = dict(PLAUSIBLE)
     for i, word in enumerate(run):
         if word == "--set":
