@@ -99,12 +99,15 @@ def add_fixed_sets(parser: argparse.ArgumentParser, example: str) -> None:
     )
 
 
-def fixed_sets(args: argparse.Namespace, *, why_one: str) -> dict[str, Any]:
+def fixed_sets(
+    args: argparse.Namespace, *, why_one: str, robots: str = "--profile's and --variation's"
+) -> dict[str, Any]:
     """``--duration`` and each ``--set PARAM=V`` as the parameters every episode shares.
 
-    The robots are the command's ``--profile`` and variation to say (a profile file sets
-    their numbers), so ``profile.*``, ``robot.*`` and ``variation`` are refused; so is a
-    second value (``why_one`` says why the command takes one) and a parameter given twice.
+    The robots are the command's ``--profile`` and variation to say (``robots`` names
+    them; a profile file sets their numbers), so ``profile.*``, ``robot.*`` and
+    ``variation`` are refused; so is a second value (``why_one`` says why the command
+    takes one) and a parameter given twice.
     """
     from ..sweep.plan import PlanError, parse_set
 
@@ -116,7 +119,7 @@ def fixed_sets(args: argparse.Namespace, *, why_one: str) -> dict[str, Any]:
             raise CliError(str(exc)) from None
         if name.startswith(("profile.", "robot.")) or name == "variation":
             raise CliError(
-                f"--set {name}: the robots are --profile's and --variation's to say; "
+                f"--set {name}: the robots are {robots} to say; "
                 "--set takes the other parameters (control.*, noise.*, dt, layer.* ...)"
             )
         if len(values) != 1:

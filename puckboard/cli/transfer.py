@@ -222,7 +222,9 @@ def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     scenes = [scene_or_error(ref) for ref in args.scenario]
     replacements = {f.scene: scene_or_error(f.scene) for f in families if f.scene is not None}
     fixed = fixed_sets(
-        args, why_one="a report judges one set of numbers; sweep --set compares them"
+        args,
+        why_one="a report judges one set of numbers; sweep --set compares them",
+        robots="--profile's and each family's",
     )
     try:
         plan = transfer_plan(

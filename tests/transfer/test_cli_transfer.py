@@ -158,7 +158,7 @@ def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
         (["--workers", "0"], "--workers must be at least 1"),
         (["--set", "noise.proximity=0.1"], "--set noise.proximity: the family 'noise' decides it"),
         (["--set", "control.period=0.1,0.2"], "--set control.period: give one value"),
-        (["--set", "variation=reality-gap"], "--set variation: the robots are --profile's"),
+        (["--set", "variation=reality-gap"], "the robots are --profile's and each family's to say"),
         (["--set", "control.period"], "expected PARAM=V1,V2,..."),
     ],
 )
