@@ -528,7 +528,7 @@ def test_the_words_around_the_transfer_are_its_output():
     from puckboard.profile.links import get_link
     from puckboard.scenario.scenefile import load_scene
     from puckboard.sweep.plan import parse_set
-    from puckboard.transfer import FAMILIES, transfer_plan
+    from puckboard.transfer import FAMILIES, seeds_for_lower_bound, transfer_plan
     from puckboard.transfer.families import link_timing
 
     argv, shown = transfer_shown()
@@ -581,6 +581,8 @@ def test_the_words_around_the_transfer_are_its_output():
     profiles = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
     (row_text,) = [r for r in profiles.splitlines() if r.startswith("| `bluetooth-sercom`")]
     assert "latency high: assumed" in row_text
+    m = stated(r"the lower end of an interval reaches 95 % only from (\d+) of (\d+)")
+    assert int(m.group(1)) == int(m.group(2)) == seeds_for_lower_bound()
     # "every family on this cell, 60 episodes"
     fixed = dict(parse_set(argv[i + 1]) for i, w in enumerate(argv) if w == "--set")
     scene = load_scene("two-robot-pass")
