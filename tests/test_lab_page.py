@@ -578,6 +578,8 @@ def test_the_words_around_the_transfer_are_its_output():
     wifi, bluetooth = get_link("epuck2-wifi").latency[1], get_link("bluetooth-sercom").latency[1]
     assert (m.group(1), m.group(2)) == (f"{1000 * wifi:g}", f"{1000 * bluetooth:g}")
     assert 1000 * wifi <= int(read.group(1)) < 1000 * bluetooth < int(read.group(6))
+    stated(r"falls in that gap, and its row ran it rounded to one step\.")
+    assert link_timing("bluetooth-sercom", dt)["control.latency"] == pytest.approx(dt)
     profiles = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
     (row_text,) = [r for r in profiles.splitlines() if r.startswith("| `bluetooth-sercom`")]
     assert "latency high: assumed" in row_text
