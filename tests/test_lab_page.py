@@ -21,7 +21,8 @@ import doc_pages
 import numpy as np
 import pytest
 from cli_runs import run_in
-from episodes import episode
+from episodes import episode, episodes
+from shared_sweeps import sweeps_share_episodes
 from test_doc_claims import (
     BANDS,
     REPLAYS,
@@ -366,7 +367,7 @@ def test_the_trials_bends_end_as_the_page_says(student_folder):
     assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
 
 
-WORDS = {"six": 6, "eight": 8, "twelve": 12}
+WORDS = {"four": 4, "six": 6, "eight": 8, "twelve": 12}
 
 
 def span(seeds: str) -> int:
@@ -438,3 +439,168 @@ def test_the_validation_sweeps_run_the_tuned_numbers_on_fresh_seeds():
     ok, n, low, high, failures = read["two-robot-pass-bend"]
     kind, count = failures.split()
     assert m.groups()[3:] == (str(ok), str(n), str(low), str(high), count, kind)
+
+
+# -- from robust to real: the transfer ----------------------------------------------------
+def transfer_shown() -> tuple[list[str], str]:
+    return shown_after("puckboard transfer")
+
+
+BAND = r"(\d+)/(\d+) \[(\d+), (\d+)\] %"
+
+
+def shown_row(label: str) -> str:
+    """What the page's transfer output shows for one model (its row's cell)."""
+    row = re.search(rf"^{re.escape(label)}\s+(\S.*)$", transfer_shown()[1], re.MULTILINE)
+    assert row is not None, label
+    return row.group(1)
+
+
+def absolute(spec: str, folder: Path) -> str:
+    """A command's ``my_controller.py:FACTORY`` with the file's absolute path."""
+    file, _, factory = spec.partition(":")
+    assert (folder / file).is_file(), spec
+    return f"{folder / file}:{factory}"
+
+
+@pytest.mark.slow
+def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(student_folder):
+    """The page's transfer as the reader runs it, then the ``puckboard run`` the page
+    says is the first seed that failed at 100 ms: the seeds before it passed, it fails.
+    The controller file is named by its absolute path (its label does not show it), so
+    that the run's episodes are the transfer's (tests/support/shared_sweeps.py). One
+    test, so that the transfer runs in one worker process only."""
+    from puckboard.cli import build_parser
+    from puckboard.sweep.plan import parse_set
+
+    argv, shown = transfer_shown()
+    at = argv.index("--controller") + 1
+    argv[at] = absolute(argv[at], student_folder)
+    with sweeps_share_episodes():
+        printed = run_cli([*argv, "--quiet"], student_folder)
+    doc_pages.assert_shown(shown, printed, "lab page: the transfer")
+
+    m = stated(r"`(puckboard run two-robot-pass --controller my_controller\S* [^`]*)` is the "
+               r"first seed that failed at\s+(\d+) ms")  # fmt: skip
+    run = shlex.split(m.group(1))
+    assert build_parser().parse_args(run[1:]).command == "run"
+    overrides = dict(PLAUSIBLE)
+    for i, word in enumerate(run):
+        if word == "--set":
+            name, (value,) = parse_set(run[i + 1])
+            overrides[name] = value
+    assert overrides["control.latency"] * 1000 == pytest.approx(float(m.group(2)))
+    assert run[run.index("--profile") + 1] == argv[argv.index("--profile") + 1]
+    spec = absolute(run[run.index("--controller") + 1], student_folder)
+    seed = int(run[run.index("--seed") + 1])
+    first = int(re.search(r"; seeds (\d+):", shown).group(1))  # type: ignore[union-attr]
+    runs = episodes("two-robot-pass", spec, range(first, seed + 1), "epuck", overrides)
+    assert [r.success for r in runs] == [True] * (seed - first) + [False]
+
+
+def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
+    """The tuning's "use it" line, on the transfer's default seeds (none of the lab's),
+    with every link the page's table names and the family of its radius."""
+    from puckboard.cli.transfer import DEFAULT_SEEDS
+    from puckboard.sweep.plan import parse_seeds
+
+    argv, shown = transfer_shown()
+    _, tune_shown = shown_after("puckboard tune")
+    use = re.search(r"^use it:\n\s+(.*)$", tune_shown, re.MULTILINE)
+    assert use is not None and use.group(1) in shlex.join(argv)
+    assert "--seeds" not in argv
+    seeds = parse_seeds(DEFAULT_SEEDS)
+    assert f"; seeds {DEFAULT_SEEDS} at every model" in shown
+    used = []  # every seed range the lab's other commands run
+    for command, _ in shown_commands():
+        words = shlex.split(command)
+        used += [words[i + 1] for i, w in enumerate(words) if w in ("--seeds", "--validate")]
+    assert len(used) == 5 and all(parse_seeds(u).stop <= seeds.start for u in used), used
+    stated(rf"every model on the same seeds, from {seeds.start} on: seeds none of the steps")
+    families = argv[argv.index("--families") + 1].split(",")
+    table = re.findall(r"^\| [^|]+ \| `(link [\w-]+)` \|$", page(), re.MULTILINE)
+    assert families == [*table, "latency"], (families, table)
+
+
+def test_the_words_around_the_transfer_are_its_output():
+    """What the page says of the output is the output's (which the test above compares
+    with a run), the links' sources' and the plan's."""
+    from puckboard.profile.links import get_link
+    from puckboard.scenario.scenefile import load_scene
+    from puckboard.sweep.plan import parse_set
+    from puckboard.transfer import FAMILIES, seeds_for_lower_bound, transfer_plan
+    from puckboard.transfer.families import link_timing
+
+    argv, shown = transfer_shown()
+    n = span(re.search(r"; seeds (\S+) at every model", shown).group(1))  # type: ignore[union-attr]
+    design = re.fullmatch(BAND, shown_row("design"))
+    assert design is not None
+    four = stated(r"on (\w+) fresh seeds: (\d+) of (\d+)\.\s+(\w+) seeds are a screen, not a "
+                  r"verdict: (\d+) of (\d+) is (\d+)–(\d+) %\.").groups()  # fmt: skip
+    assert WORDS[four[0]] == WORDS[four[3].lower()] == n
+    assert four[1:3] == design.groups()[:2]
+    assert four[4:] == (str(n), str(n), *(str(round(100 * x)) for x in wilson_interval(n, n)))
+    # the two slow links share one loop; USB's slow end is the design loop
+    dt = load_scene("two-robot-pass").dt
+    m = stated(r"a period of (\d+) ms and a latency of (\d+) ms, so the two rows are one\s+set "
+               r"of episodes: (\d+) of (\d+)\. Over USB the slow end \((\d+) ms, (\d+) ms\)")  # fmt: skip
+    for link in ("epuck2-wifi", "bluetooth-sercom"):
+        timing = link_timing(link, dt)
+        ms = (round(1000 * timing["control.period"]), round(1000 * timing["control.latency"]))
+        assert (m.group(1), m.group(2)) == tuple(str(x) for x in ms), link
+        assert f"link {link}: period {ms[0]} ms, latency {ms[1]} ms: " in shown
+        band = re.fullmatch(BAND, shown_row(f"link {link}"))
+        assert band is not None and band.groups()[:2] == (m.group(3), m.group(4))
+    usb = get_link("usb-sercom")
+    assert (m.group(5), m.group(6)) == (f"{1000 * usb.period[1]:g}", f"{1000 * usb.latency[1]:g}")
+    assert (
+        "link usb-sercom: not run, at two-robot-pass's 50 ms step its slow end is the design"
+        in shown
+    )
+    # the radius as shown, and read in words
+    radius = shown_row("radius: latency")
+    quoted = re.escape(radius).replace("\\ ", " ")  # stated() takes a space for any
+    stated(rf"\*\*The radius\*\*, `{quoted}`, reads")
+    read = re.fullmatch(rf"(\d+) ms: {BAND}; (\d+) ms (\d+)/(\d+)", radius)
+    assert read is not None
+    words = stated(r"up to a latency of (\d+) ms\s+\((\d+) of (\d+) there, its interval "
+                   r"(\d+)–(\d+) %\), and (\d+) ms is the first step where it did not\s+"
+                   r"\((\d+) of (\d+)\)").groups()  # fmt: skip
+    assert words == read.groups()
+    (latency,) = [f for f in FAMILIES if f.name == "latency"]
+    m = stated(r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)")  # fmt: skip
+    assert [float(x) for x in m.groups()[:3]] == list(latency.grid)
+    assert [int(x) for x in m.groups()[3:]] == [round(1000 * s * dt) for s in latency.grid]
+    assert f"grid {', '.join(f'{x} ms' for x in m.groups()[3:])}; " in shown
+    # the links' sources against the radius
+    m = stated(r"The Wi-Fi link's sources put its latency at (\d+) ms at most, inside\s+the "
+               r"radius; Bluetooth's slow end, (\d+) ms, is assumed")  # fmt: skip
+    wifi, bluetooth = get_link("epuck2-wifi").latency[1], get_link("bluetooth-sercom").latency[1]
+    assert (m.group(1), m.group(2)) == (f"{1000 * wifi:g}", f"{1000 * bluetooth:g}")
+    assert 1000 * wifi <= int(read.group(1)) < 1000 * bluetooth < int(read.group(6))
+    stated(r"falls in that gap, and its row ran it rounded to one step\.")
+    assert link_timing("bluetooth-sercom", dt)["control.latency"] == pytest.approx(dt)
+    profiles = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
+    (row_text,) = [r for r in profiles.splitlines() if r.startswith("| `bluetooth-sercom`")]
+    assert "latency high: assumed" in row_text
+    m = stated(r"the lower end of an interval reaches 95 % only from (\d+) of (\d+)")
+    assert int(m.group(1)) == int(m.group(2)) == seeds_for_lower_bound()
+    # "every family on this cell, 60 episodes"
+    fixed = dict(parse_set(argv[i + 1]) for i, w in enumerate(argv) if w == "--set")
+    scene = load_scene("two-robot-pass")
+    every = transfer_plan(
+        [scene], controllers=[argv[argv.index("--controller") + 1]],
+        profiles={scene.name: [argv[argv.index("--profile") + 1]]}, seeds=range(n),
+        families=FAMILIES, fixed={k: v[0] for k, v in fixed.items()},
+        replacements={"generated-pass": load_scene("generated-pass")},
+    )  # fmt: skip
+    stated(rf"every family on this cell, {len(every)} episodes")
+
+
+def test_the_lecturer_notes_count_the_transfer_s_episodes():
+    """ "The last step's transfer runs 16 episodes": what the page's output counts."""
+    _, shown = transfer_shown()
+    counted = re.match(r"transfer: (\d+) of \1 episodes", shown)
+    assert counted is not None
+    notes = " ".join((ROOT / "docs" / "lecturer-notes.md").read_text(encoding="utf-8").split())
+    assert f"The last step's transfer runs {counted.group(1)} episodes" in notes

@@ -17,7 +17,7 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from .common import CliError, check_seconds, check_writable
 
@@ -31,6 +31,7 @@ __all__ = [
     "DEFAULT_SCENARIO",
     "add_controllers",
     "add_duration",
+    "add_fixed_sets",
     "add_out",
     "add_quiet",
     "add_scene_and_controllers",
@@ -39,6 +40,7 @@ __all__ = [
     "dask_executor",
     "execute",
     "exit_status",
+    "fixed_sets",
     "open_out",
     "scene_or_error",
     "wall_time",
@@ -82,6 +84,51 @@ def add_duration(parser: argparse.ArgumentParser) -> None:
         metavar="S",
         help="simulated seconds per episode (default: scene's)",
     )
+
+
+def add_fixed_sets(parser: argparse.ArgumentParser, example: str) -> None:
+    """``--set PARAM=V`` (repeatable): one value each, every episode's (read by
+    :func:`fixed_sets`); ``example`` ends the help (what the command's own sets are for)."""
+    parser.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        metavar="PARAM=V",
+        help=f"a fixed episode parameter, one value, as for sweep --set (repeatable; {example})",
+    )
+
+
+def fixed_sets(
+    args: argparse.Namespace, *, why_one: str, robots: str = "--profile's and --variation's"
+) -> dict[str, Any]:
+    """``--duration`` and each ``--set PARAM=V`` as the parameters every episode shares.
+
+    The robots are the command's ``--profile`` and variation to say (``robots`` names
+    them; a profile file sets their numbers), so ``profile.*``, ``robot.*`` and
+    ``variation`` are refused; so is a second value (``why_one`` says why the command
+    takes one) and a parameter given twice.
+    """
+    from ..sweep.plan import PlanError, parse_set
+
+    fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
+    for text in args.sets:
+        try:
+            name, values = parse_set(text)
+        except PlanError as exc:
+            raise CliError(str(exc)) from None
+        if name.startswith(("profile.", "robot.")) or name == "variation":
+            raise CliError(
+                f"--set {name}: the robots are {robots} to say; "
+                "--set takes the other parameters (control.*, noise.*, dt, layer.* ...)"
+            )
+        if len(values) != 1:
+            raise CliError(f"--set {name}: give one value ({why_one})")
+        if name in fixed:
+            flag = "--duration and --set duration" if name == "duration" else f"--set {name}"
+            raise CliError(f"{flag}: given twice; give it once")
+        fixed[name] = values[0]
+    return fixed
 
 
 def add_where_to_run(parser: argparse.ArgumentParser) -> None:

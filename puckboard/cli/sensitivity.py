@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 from .common import CliError, check_plot_file
 from .experiment_options import (
     add_duration,
+    add_fixed_sets,
     add_out,
     add_quiet,
     add_scene_and_controllers,
@@ -29,6 +30,7 @@ from .experiment_options import (
     check_numbers,
     execute,
     exit_status,
+    fixed_sets,
     open_out,
     scene_or_error,
     with_executor,
@@ -140,14 +142,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "at most 100); the shipped value is a point of its own",
     )
     add_duration(parser)
-    parser.add_argument(
-        "--set",
-        dest="sets",
-        action="append",
-        default=[],
-        metavar="PARAM=V",
-        help="a fixed episode parameter, one value, as for sweep --set (e.g. "
-        "control.period=0.1, noise.ground=0.05); the robots' numbers come from --profile",
+    add_fixed_sets(
+        parser,
+        "e.g. control.period=0.1, noise.ground=0.05; the robots' numbers come from --profile",
     )
     parser.add_argument(
         "--variation",
@@ -354,23 +351,7 @@ def _plan(args: argparse.Namespace, scene: Scene) -> SensitivityPlan:
 
 def _fixed(args: argparse.Namespace) -> dict[str, Any]:
     """The parameters every episode of the analysis shares: ``--duration`` and ``--set``."""
-    from ..sweep.plan import PlanError, parse_set
-
-    fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
-    for text in args.sets:
-        try:
-            name, values = parse_set(text)
-        except PlanError as exc:
-            raise CliError(str(exc)) from None
-        if name.startswith(("profile.", "robot.")) or name == "variation":
-            raise CliError(
-                f"--set {name}: the robots are --profile's and --variation's to say; "
-                "--set takes the other parameters (control.*, noise.*, dt, layer.* ...)"
-            )
-        if len(values) != 1:
-            raise CliError(f"--set {name}: give one value (the analysis varies the robots)")
-        fixed[name] = values[0]
-    return fixed
+    return fixed_sets(args, why_one="the analysis varies the robots")
 
 
 def _run_joint(args: argparse.Namespace, executor: SweepExecutor | None) -> int:

@@ -19,12 +19,14 @@ from .common import CliError, check_plot_file
 from .experiment_options import (
     add_controllers,
     add_duration,
+    add_fixed_sets,
     add_out,
     add_quiet,
     add_where_to_run,
     check_numbers,
     execute,
     exit_status,
+    fixed_sets,
     open_out,
     scene_or_error,
     wall_time,
@@ -95,6 +97,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "lists them)",
     )
     add_duration(parser)
+    add_fixed_sets(
+        parser,
+        "e.g. layer.KeepClear.clearance=0.39, the numbers a tuning chose: every model's "
+        "base, each family's changes on top",
+    )
     add_where_to_run(parser)
     add_out(parser)
     parser.add_argument("--json", action="store_true", help="print the report as one JSON object")
@@ -214,7 +221,11 @@ def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     families = _families(args)
     scenes = [scene_or_error(ref) for ref in args.scenario]
     replacements = {f.scene: scene_or_error(f.scene) for f in families if f.scene is not None}
-    fixed = {} if args.duration is None else {"duration": args.duration}
+    fixed = fixed_sets(
+        args,
+        why_one="a report judges one set of numbers; sweep --set compares them",
+        robots="--profile's and each family's",
+    )
     try:
         plan = transfer_plan(
             scenes,

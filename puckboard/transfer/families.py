@@ -108,6 +108,18 @@ class Family:
         return self.scaled or self.stepped or self.valued
 
     @property
+    def changes(self) -> frozenset[str]:
+        """Every setting the family decides at some model (the loop's period and latency
+        for a link; ``dt`` where its models are whole physics steps): a fixed value of one
+        of them would be overridden there, or the model mislabelled."""
+        names = {"variation", *self.sets, *self.moves}
+        if self.link is not None:
+            names |= {"control.period", "control.latency"}
+        if self.link is not None or self.stepped:
+            names.add("dt")
+        return frozenset(names)
+
+    @property
     def band_scale(self) -> float | None:
         """The scale of the family's own band: ``scale``, or the one model of a family
         without a grid; ``None`` for a radius only."""

@@ -141,7 +141,9 @@ def transfer_plan(
     its ``profiles`` (by scene name: shipped names or profiles), the design model, then
     each family's held-out point and grid, every point for every controller on ``seeds``.
 
-    ``replacements`` holds the loaded scene of each family's ``scene`` by name. Errors are
+    ``replacements`` holds the loaded scene of each family's ``scene`` by name. ``fixed``
+    parameters (``--duration``, ``--set``) are every model's base, each family's changes
+    on top; one a family decides (:attr:`Family.changes`) is refused. Errors are
     :class:`~puckboard.sweep.PlanError`, one line each.
     """
     if not scenes:
@@ -149,6 +151,13 @@ def transfer_plan(
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
         raise PlanError(f"scene listed twice in {names}")
+    for name in fixed or {}:
+        decided = [f.name for f in families if name in f.changes]
+        if decided:
+            raise PlanError(
+                f"--set {name}: the family {decided[0]!r} decides it at its models; drop the "
+                "--set, or leave that family out (--families)"
+            )
     others = dict(replacements or {})
     points: list[Point] = []
     skipped: list[Skipped] = []

@@ -21,9 +21,10 @@ WALL_CLOCK = (
     (re.compile(r"simulated in [\d.]+ s \([\d,.]+x real time"), "simulated in <s> (<x> real time"),
     # "60 of 60 episodes (60 run, 0 already in runs.csv), 7.6 s" (puckboard sweep's header)
     (re.compile(r"(episodes \([^)]*\)), [\d.]+ s$", re.MULTILINE), r"\1, <s>"),
-    # "... episodes (32 run), 3.5 s, 9.0 episodes/s" (puckboard sensitivity's header)
+    # "... episodes (32 run), 3.5 s, 9.0 episodes/s" (puckboard sensitivity's header;
+    # transfer's goes on: "...; seeds 400:404 at every model")
     (
-        re.compile(r"(episodes \([^)]*\)), [\d.]+ s, [\d.]+ episodes/s$", re.MULTILINE),
+        re.compile(r"(episodes \([^)]*\)), [\d.]+ s, [\d.]+ episodes/s(?=$|;)", re.MULTILINE),
         r"\1, <s>, <rate>",
     ),
     (re.compile(r"\b\d{4}-\d{2}-\d{2}([T ]\d{2}:\d{2}(:\d{2}(\.\d+)?)?)?\b"), "<date>"),

@@ -3,6 +3,7 @@ and mistakes, on a few seconds of line following."""
 
 from __future__ import annotations
 
+import csv
 import json
 
 import pytest
@@ -105,6 +106,19 @@ def test_out_resumes_and_the_plot_is_written(capsys, tmp_path, in_process):
     assert first.startswith(f"transfer: {EPISODES} of {EPISODES} episodes (0 run, {EPISODES} ")
 
 
+def test_set_is_every_model_s_base(capsys, tmp_path, in_process):
+    """``--set`` (as a tuning's "use it" line gives it) reaches the design model and every
+    family's, each family's own changes on top."""
+    out = tmp_path / "runs.csv"
+    assert main([*SMALL, "--set", "control.period=0.1", "--out", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["fixed"] == {"duration": 2.0, "control.period": 0.1}
+    with out.open(newline="", encoding="utf-8") as handle:
+        rows = [json.loads(row["params"]) for row in csv.DictReader(handle)]
+    assert len(rows) == EPISODES
+    assert all(params["control.period"] == 0.1 for params in rows)
+    assert len({params.get("noise.proximity") for params in rows}) == 3  # the noise family's
+
+
 def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
     capsys, tmp_path, monkeypatch, in_process
 ):
@@ -142,6 +156,10 @@ def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
         (["--plot", "figure.txt"], "--plot 'figure.txt': use a .png, .svg or .pdf file name"),
         (["--out", "runs.txt"], "use a .csv or .parquet file name"),
         (["--workers", "0"], "--workers must be at least 1"),
+        (["--set", "noise.proximity=0.1"], "--set noise.proximity: the family 'noise' decides it"),
+        (["--set", "control.period=0.1,0.2"], "--set control.period: give one value"),
+        (["--set", "variation=reality-gap"], "the robots are --profile's and each family's to say"),
+        (["--set", "control.period"], "expected PARAM=V1,V2,..."),
     ],
 )
 def test_mistakes_are_one_line_before_anything_runs(capsys, tmp_path, monkeypatch, change, message):

@@ -228,6 +228,26 @@ def test_links_with_the_same_timing_in_whole_steps_share_their_episodes():
     assert len(sweep.points) == 2  # the design model and the one 100 ms / 50 ms loop
 
 
+@pytest.mark.parametrize(
+    ("family", "name"),
+    [("link epuck2-wifi", "control.latency"), ("latency", "dt"), ("noise", "noise.ground"),
+     ("reality-gap", "variation"), ("obstacle reflectance", "obstacle.ir_reflectance")],
+)  # fmt: skip
+def test_a_fixed_value_a_family_decides_is_refused(family, name):
+    """A fixed value would be overridden at the family's models, or (``dt``, which its
+    whole steps are counted in) make them other than the report names them."""
+    with pytest.raises(PlanError, match=f"--set {name}: the family '{family}' decides it"):
+        plan_for(families=choose_families([family]), fixed={name: 0.1})
+
+
+def test_fixed_values_are_every_model_s_base():
+    fixed = {"layer.ClearanceGuard.clearance": 0.5}
+    plan = plan_for(families=choose_families(["link epuck2-wifi", "latency"]), fixed=fixed)
+    assert [dict(sweep.fixed) for sweep in plan.sweeps] == [fixed]
+    assert len(plan.sweeps[0].points) == 4  # design, the link, latency 50 and 100 ms
+    assert not any(set(fixed) & set(p.params) for p in plan.points)  # none overrides it
+
+
 def test_period_and_latency_grids_are_whole_steps_from_the_design_loop():
     plan = plan_for(families=choose_families(["period", "latency"]))
     base = {"robot.profile": "epuck", "variation": "plausible"}
