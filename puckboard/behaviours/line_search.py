@@ -13,6 +13,18 @@ side: the outer wheel at ``speed``, the inner at ``ratio * speed``. Before it ha
 the line at all it curves towards ``default_side``, and so again after
 :meth:`~puckboard.behaviours.Controller.reset` (its :meth:`reset` forgets the side).
 
+A robot put down by hand may not see the line at its first tick (a centimetre off, turned
+away from it): curving towards ``default_side`` then goes round a whole circle beside a
+line that lies on the other side, and whatever turns it on the way (the other robot, met
+head-on) lets it find the line at an angle that sends it back the way it came
+(``turned_back``, ``--variation reality-gap``; docs/controllers.md, "Beyond the design
+model"). With ``sweep`` (s) above 0, until any ground sensor has seen the line the search
+turns on the spot instead, towards ``default_side`` for ``sweep`` seconds, then the other
+way for twice that, and so on, each swing ``sweep`` seconds longer than the last: the
+sensor bar ahead of the wheels sweeps wider and wider on both sides of where the robot
+stands, and meets a line beside it at an angle it follows onwards. Once the line has been
+seen the search is the curve above; 0 (the default) never sweeps.
+
 "Off the line" must mean what the line-following layer means by it: were their two
 thresholds different, a band of readings would be dark to one and light to the other,
 and there neither would drive (another layer would) or both would want to. Given the
@@ -40,7 +52,8 @@ class LineSearch(Layer):
 
     Parameters: ``speed`` (rad/s of the outer wheel), ``ratio`` (inner wheel's fraction
     of ``speed``; 1 drives straight), ``threshold`` (dark below it, as
-    :class:`~puckboard.behaviours.LineFollow`), ``default_side``; ``line``, the
+    :class:`~puckboard.behaviours.LineFollow`), ``default_side``; ``sweep`` (s, the
+    first swing of the turns on the spot before the line was first seen; 0: none); ``line``, the
     :class:`~puckboard.behaviours.LineFollow` whose ``threshold`` this search shares
     (then ``threshold`` is that layer's, and setting either sets both).
     """
@@ -54,6 +67,7 @@ class LineSearch(Layer):
         ratio: float = 0.8,
         threshold: float = 0.5,
         default_side: str = "right",
+        sweep: float = 0.0,
         line: LineFollow | None = None,
         name: str | None = None,
     ) -> None:
@@ -65,7 +79,10 @@ class LineSearch(Layer):
         self.line = line
         self._threshold = threshold
         self.default_side = default_side
+        self.sweep = sweep
         self._last_side: str | None = None
+        self._seen = False  # has any ground sensor seen the line since the start?
+        self._sweep_start: float | None = None
 
     @property
     def threshold(self) -> float:
@@ -95,6 +112,8 @@ class LineSearch(Layer):
     def reset(self) -> None:
         """A new start: the line has not been seen yet (curve towards ``default_side``)."""
         self._last_side = None
+        self._seen = False
+        self._sweep_start = None
 
     def observe(self, frame: Frame) -> None:
         ground = frame.ground
@@ -103,6 +122,8 @@ class LineSearch(Layer):
         left, _centre, right = ground.value.tolist()
         threshold = self.threshold
         left_dark, right_dark = left < threshold, right < threshold
+        if not self._seen and min(ground.value.tolist()) < threshold:
+            self._seen = True
         if left_dark != right_dark:  # one outer sensor alone: the line is on its side
             self._last_side = "left" if left_dark else "right"
 
@@ -111,7 +132,23 @@ class LineSearch(Layer):
         return ground is not None and min(ground.value.tolist()) >= self.threshold
 
     def command(self, frame: Frame) -> WheelCommand:
+        if self.sweep > 0.0 and not self._seen:
+            return self._sweep_command(frame.time)
         outer, inner = self.speed, self.ratio * self.speed
         return (
             WheelCommand(outer, inner) if self.last_side == "right" else WheelCommand(inner, outer)
         )
+
+    def _sweep_command(self, now: float) -> WheelCommand:
+        """Turn on the spot, swing k (1, 2, ...) lasting ``k * sweep`` seconds, the odd
+        swings towards ``default_side``."""
+        if self._sweep_start is None:
+            self._sweep_start = now
+        elapsed = (now - self._sweep_start) / self.sweep
+        k = 1
+        while k * (k + 1) / 2 <= elapsed:  # swings 1..k end at sweep * k(k+1)/2
+            k += 1
+        towards_default = k % 2 == 1
+        right = (self.default_side == "right") == towards_default
+        v = self.speed
+        return WheelCommand(v, -v) if right else WheelCommand(-v, v)
