@@ -19,11 +19,14 @@ line that lies on the other side, and whatever turns it on the way (the other ro
 head-on) lets it find the line at an angle that sends it back the way it came
 (``turned_back``, ``--variation reality-gap``; docs/controllers.md, "Beyond the design
 model"). With ``sweep`` (s) above 0, until any ground sensor has seen the line the search
-turns on the spot instead, towards ``default_side`` for ``sweep`` seconds, then the other
-way for twice that, and so on, each swing ``sweep`` seconds longer than the last: the
-sensor bar ahead of the wheels sweeps wider and wider on both sides of where the robot
-stands, and meets a line beside it at an angle it follows onwards. Once the line has been
-seen the search is the curve above; 0 (the default) never sweeps.
+first turns on the spot: towards ``default_side`` for ``sweep`` seconds, the other way for
+twice that, and back for ``sweep`` seconds to the heading it started from. The sensor bar,
+ahead of the wheels, sweeps both sides of where the robot stands (at the shipped speed
+and 0.5 s, about 45° each way: 2 cm either side, 3 cm ahead) and meets a line beside it at
+an angle it follows onwards. Then, or once the line has been seen, the search is the
+curve above, from the heading the robot was put down with: a scene without a line (the
+``arena``) loses the sweep's 4 × ``sweep`` seconds and nothing else. 0 (the default)
+never sweeps.
 
 "Off the line" must mean what the line-following layer means by it: were their two
 thresholds different, a band of readings would be dark to one and light to the other,
@@ -133,22 +136,23 @@ class LineSearch(Layer):
 
     def command(self, frame: Frame) -> WheelCommand:
         if self.sweep > 0.0 and not self._seen:
-            return self._sweep_command(frame.time)
+            sweep = self._sweep_command(frame.time)
+            if sweep is not None:
+                return sweep
         outer, inner = self.speed, self.ratio * self.speed
         return (
             WheelCommand(outer, inner) if self.last_side == "right" else WheelCommand(inner, outer)
         )
 
-    def _sweep_command(self, now: float) -> WheelCommand:
-        """Turn on the spot, swing k (1, 2, ...) lasting ``k * sweep`` seconds, the odd
-        swings towards ``default_side``."""
+    def _sweep_command(self, now: float) -> WheelCommand | None:
+        """Turn on the spot: towards ``default_side`` for ``sweep`` s, the other way for
+        twice that, back for ``sweep`` s; None after those ``4 * sweep`` seconds."""
         if self._sweep_start is None:
             self._sweep_start = now
         elapsed = (now - self._sweep_start) / self.sweep
-        k = 1
-        while k * (k + 1) / 2 <= elapsed:  # swings 1..k end at sweep * k(k+1)/2
-            k += 1
-        towards_default = k % 2 == 1
+        if elapsed >= 4.0:
+            return None
+        towards_default = elapsed < 1.0 or elapsed >= 3.0
         right = (self.default_side == "right") == towards_default
         v = self.speed
         return WheelCommand(v, -v) if right else WheelCommand(-v, v)
