@@ -114,9 +114,7 @@ def robust(
     line = LineFollow(speed, inner_factor=0.20, recovery=True, sharp_factor=sharp_factor)
     return Controller(
         [
-            FrontObstacleLeftTurn(
-                speed, braitenberg_fallback=False, reverse_factor=reverse_factor
-            ),
+            FrontObstacleLeftTurn(speed, braitenberg_fallback=False, reverse_factor=reverse_factor),
             line,
             ClearanceGuard("right", clearance=clearance, speed=speed, away_factor=away_factor),
             SideWallKeep(("right",), speed=speed),
