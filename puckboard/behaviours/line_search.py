@@ -13,6 +13,21 @@ side: the outer wheel at ``speed``, the inner at ``ratio * speed``. Before it ha
 the line at all it curves towards ``default_side``, and so again after
 :meth:`~puckboard.behaviours.Controller.reset` (its :meth:`reset` forgets the side).
 
+A robot put down by hand may not see the line at its first tick (a centimetre off, turned
+away from it): curving towards ``default_side`` then goes round a whole circle beside a
+line that lies on the other side, and whatever turns it on the way (the other robot, met
+head-on) lets it find the line at an angle that sends it back the way it came
+(``turned_back``, ``--variation reality-gap``; docs/controllers.md, "Beyond the design
+model"). With ``sweep`` (s) above 0, until any ground sensor has seen the line the search
+first turns on the spot: towards ``default_side`` for ``sweep`` seconds, the other way for
+twice that, and back for ``sweep`` seconds to the heading it started from. The sensor bar,
+ahead of the wheels, sweeps both sides of where the robot stands (at the shipped speed
+and 0.5 s, about 45° each way: 2 cm either side, 3 cm ahead) and meets a line beside it at
+an angle it follows onwards. Then, or once the line has been seen, the search is the
+curve above, from the heading the robot was put down with: a scene without a line (the
+``arena``) loses the sweep's 4 × ``sweep`` seconds and nothing else. 0 (the default)
+never sweeps.
+
 "Off the line" must mean what the line-following layer means by it: were their two
 thresholds different, a band of readings would be dark to one and light to the other,
 and there neither would drive (another layer would) or both would want to. Given the
@@ -40,7 +55,8 @@ class LineSearch(Layer):
 
     Parameters: ``speed`` (rad/s of the outer wheel), ``ratio`` (inner wheel's fraction
     of ``speed``; 1 drives straight), ``threshold`` (dark below it, as
-    :class:`~puckboard.behaviours.LineFollow`), ``default_side``; ``line``, the
+    :class:`~puckboard.behaviours.LineFollow`), ``default_side``; ``sweep`` (s, the
+    first swing of the turns on the spot before the line was first seen; 0: none); ``line``, the
     :class:`~puckboard.behaviours.LineFollow` whose ``threshold`` this search shares
     (then ``threshold`` is that layer's, and setting either sets both).
     """
@@ -54,6 +70,7 @@ class LineSearch(Layer):
         ratio: float = 0.8,
         threshold: float = 0.5,
         default_side: str = "right",
+        sweep: float = 0.0,
         line: LineFollow | None = None,
         name: str | None = None,
     ) -> None:
@@ -65,7 +82,10 @@ class LineSearch(Layer):
         self.line = line
         self._threshold = threshold
         self.default_side = default_side
+        self.sweep = sweep
         self._last_side: str | None = None
+        self._seen = False  # has any ground sensor seen the line since the start?
+        self._sweep_start: float | None = None
 
     @property
     def threshold(self) -> float:
@@ -95,6 +115,8 @@ class LineSearch(Layer):
     def reset(self) -> None:
         """A new start: the line has not been seen yet (curve towards ``default_side``)."""
         self._last_side = None
+        self._seen = False
+        self._sweep_start = None
 
     def observe(self, frame: Frame) -> None:
         ground = frame.ground
@@ -103,6 +125,8 @@ class LineSearch(Layer):
         left, _centre, right = ground.value.tolist()
         threshold = self.threshold
         left_dark, right_dark = left < threshold, right < threshold
+        if not self._seen and min(ground.value.tolist()) < threshold:
+            self._seen = True
         if left_dark != right_dark:  # one outer sensor alone: the line is on its side
             self._last_side = "left" if left_dark else "right"
 
@@ -111,7 +135,24 @@ class LineSearch(Layer):
         return ground is not None and min(ground.value.tolist()) >= self.threshold
 
     def command(self, frame: Frame) -> WheelCommand:
+        if self.sweep > 0.0 and not self._seen:
+            sweep = self._sweep_command(frame.time)
+            if sweep is not None:
+                return sweep
         outer, inner = self.speed, self.ratio * self.speed
         return (
             WheelCommand(outer, inner) if self.last_side == "right" else WheelCommand(inner, outer)
         )
+
+    def _sweep_command(self, now: float) -> WheelCommand | None:
+        """Turn on the spot: towards ``default_side`` for ``sweep`` s, the other way for
+        twice that, back for ``sweep`` s; None after those ``4 * sweep`` seconds."""
+        if self._sweep_start is None:
+            self._sweep_start = now
+        elapsed = (now - self._sweep_start) / self.sweep
+        if elapsed >= 4.0:
+            return None
+        towards_default = elapsed < 1.0 or elapsed >= 3.0
+        right = (self.default_side == "right") == towards_default
+        v = self.speed
+        return WheelCommand(v, -v) if right else WheelCommand(-v, v)

@@ -87,7 +87,8 @@ class FrontObstacleLeftTurn(FrontBraitenbergAvoid):
     """Always turn left first, so the obstacle stays on the right; see the module docstring.
 
     ``turn_speed`` is the right wheel's speed during the turn (the left wheel runs at
-    ``-turn_speed/2``); ``close_fraction`` is the fraction of the range below which both
+    ``-reverse_factor * turn_speed``: ``reverse_factor`` 0.5, the thesis's half speed,
+    carries the robot forward while it turns; 1 turns on the spot); ``close_fraction`` is the fraction of the range below which both
     front sensors must be to fall back to Braitenberg; ``braitenberg_fallback=False``
     never falls back: the turn is always left (the ``robust`` controller's choice).
     """
@@ -99,19 +100,22 @@ class FrontObstacleLeftTurn(FrontBraitenbergAvoid):
         turn_speed: float | None = None,
         close_fraction: float = 0.25,
         braitenberg_fallback: bool = True,
+        reverse_factor: float = 0.5,
         name: str | None = None,
     ) -> None:
         super().__init__(speed, name)
         self.turn_speed = speed if turn_speed is None else turn_speed
+        self.reverse_factor = reverse_factor
         self.close_fraction = close_fraction
         self.braitenberg_fallback = braitenberg_fallback
 
     def command(self, frame: Frame) -> WheelCommand:
         prox = frame.proximity
         assert prox is not None
+        turn = WheelCommand(-self.reverse_factor * self.turn_speed, self.turn_speed)
         if not self.braitenberg_fallback:
-            return WheelCommand(-self.turn_speed / 2.0, self.turn_speed)
+            return turn
         limit = self.close_fraction * prox.range
         if prox.front_left > limit or prox.front_right > limit:
-            return WheelCommand(-self.turn_speed / 2.0, self.turn_speed)
+            return turn
         return braitenberg_front(prox, self.speed)

@@ -87,6 +87,8 @@ def robust(
     away_factor: float = 0.5,
     search_ratio: float = 0.5,
     sharp_factor: float = 0.0,
+    reverse_factor: float = 1.0,
+    search_sweep: float = 0.5,
 ) -> Controller:
     """The improved controller made to pass on plausible robots (docs/controllers.md).
 
@@ -101,15 +103,23 @@ def robust(
     watches 4 cm of the 5 cm range (``clearance`` 0.8) and turns away firmly
     (``away_factor`` 0.5), where box corners, small cylinders and the arena's tilted box
     were grazed in the gap between the diagonal and side sensors.
+
+    Widened again for plausible conditions (``--variation reality-gap``): the left turn
+    is on the spot (``reverse_factor`` 1), since a black obstacle is seen from a few
+    millimetres and the thesis's turn, its inner wheel reversing at half speed, carried
+    the robot into it; and a robot put down off the line sweeps for it on the spot
+    (``search_sweep`` 0.5 s each way) before it curves, where curving the wrong way sent
+    it round a circle and back along the line (``turned_back``).
     """
     line = LineFollow(speed, inner_factor=0.20, recovery=True, sharp_factor=sharp_factor)
     return Controller(
         [
-            FrontObstacleLeftTurn(speed, braitenberg_fallback=False),
+            FrontObstacleLeftTurn(speed, braitenberg_fallback=False, reverse_factor=reverse_factor),
             line,
             ClearanceGuard("right", clearance=clearance, speed=speed, away_factor=away_factor),
             SideWallKeep(("right",), speed=speed),
-            LineSearch(speed, ratio=search_ratio, line=line),  # one line threshold for both
+            # one line threshold for both
+            LineSearch(speed, ratio=search_ratio, sweep=search_sweep, line=line),
             Cruise(speed),
         ],
         name="robust",

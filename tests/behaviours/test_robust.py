@@ -284,3 +284,85 @@ def test_line_search_forgets_the_side_when_the_controller_is_reset():
     ns.put("ground", ground())
     cmd = ctl.tick(ns)
     assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(0.5 * MAX))
+
+
+# -- widened for plausible conditions: the turn on the spot, the sweep at the start -----
+
+
+def test_the_left_turn_s_reverse_factor_sets_how_fast_the_inner_wheel_reverses():
+    f = frame(prox(front_left=0.02))
+    thesis = FrontObstacleLeftTurn(MAX).command(f)
+    assert (thesis.left, thesis.right) == (pytest.approx(-MAX / 2), pytest.approx(MAX))
+    on_the_spot = FrontObstacleLeftTurn(MAX, reverse_factor=1.0).command(f)
+    assert (on_the_spot.left, on_the_spot.right) == (pytest.approx(-MAX), pytest.approx(MAX))
+
+
+def test_robust_turns_left_on_the_spot():
+    """No forward drift: a black obstacle is seen from a few millimetres."""
+    layer = robust(MAX).find("FrontObstacleLeftTurn")
+    cmd = layer.command(frame(prox(front_right=0.03)))
+    assert cmd.left == -cmd.right < 0
+
+
+def sweep_commands(search: LineSearch, times: list[float], readings=None):
+    """The search's commands in a controller ticked at ``times`` (light floor unless
+    ``readings`` gives each tick's ground)."""
+    clock = Clock()
+    ctl = Controller([LineFollow(MAX), search, Cruise(MAX)])
+    ns = Blackboard(clock=clock).namespace("r")
+    out = []
+    for k, t in enumerate(times):
+        clock.t = t
+        ns.put("ground", readings[k] if readings else ground())
+        cmd = ctl.tick(ns)
+        out.append((ctl.active_layer, round(cmd.left / MAX, 6), round(cmd.right / MAX, 6)))
+    return out
+
+
+def test_the_sweep_swings_towards_the_default_side_then_both_ways_back_then_curves():
+    search = LineSearch(MAX, ratio=0.5, default_side="right", sweep=0.5)
+    cmds = sweep_commands(search, [0.0, 0.4, 0.6, 1.4, 1.6, 1.9, 2.0, 3.0])
+    assert [c[1:] for c in cmds] == [
+        (1, -1), (1, -1),  # 0.5 s towards the right, on the spot
+        (-1, 1), (-1, 1),  # 1 s to the left: past the start heading by as much again
+        (1, -1), (1, -1),  # 0.5 s back to the heading it was put down with
+        (1, 0.5), (1, 0.5),  # then the search's curve
+    ]  # fmt: skip
+
+
+def test_the_sweep_mirrors_with_the_default_side():
+    search = LineSearch(MAX, default_side="left", sweep=0.5)
+    assert [c[1:] for c in sweep_commands(search, [0.0, 0.6])] == [(-1, 1), (1, -1)]
+
+
+def test_no_sweep_once_the_line_has_been_seen_nor_by_default():
+    seen = LineSearch(MAX, ratio=0.5, sweep=0.5)
+    cmds = sweep_commands(seen, [0.0, 0.1], [ground(centre=0.1), ground()])
+    assert cmds == [("LineFollow", 1, 1), ("LineSearch", 1, 0.5)]
+    assert sweep_commands(LineSearch(MAX, ratio=0.5), [0.0])[0][1:] == (1, 0.5)
+
+
+def test_a_reset_sweeps_again():
+    search = LineSearch(MAX, ratio=0.5, sweep=0.5)
+    ctl = Controller([LineFollow(MAX), search, Cruise(MAX)])
+    clock = Clock()
+    ns = Blackboard(clock=clock).namespace("r")
+    ns.put("ground", ground(centre=0.1))  # seen: no sweep from now on
+    ctl.tick(ns)
+    clock.t = 0.1
+    ns.put("ground", ground())
+    assert (ctl.tick(ns).right) == pytest.approx(0.5 * MAX)
+    ctl.reset()  # a new start: the line not seen yet
+    clock.t = 5.0
+    ns.put("ground", ground())
+    cmd = ctl.tick(ns)
+    assert (cmd.left, cmd.right) == (pytest.approx(MAX), pytest.approx(-MAX))
+
+
+def test_robust_s_new_keywords_reach_its_layers():
+    ctl = load_controller("robust", reverse_factor=0.5, search_sweep=0.0)
+    assert ctl.find("FrontObstacleLeftTurn").parameters()["reverse_factor"] == 0.5
+    assert ctl.find("LineSearch").parameters()["sweep"] == 0.0
+    shipped = robust()
+    assert shipped.find("FrontObstacleLeftTurn").parameters()["reverse_factor"] == 1.0
+    assert shipped.find("LineSearch").parameters()["sweep"] == 0.5

@@ -125,3 +125,65 @@ def test_the_bench_s_measurement_is_half_its_cpu_seconds_and_within_target():
     minutes, seconds = divmod(round(cpu / 2), 60)
     assert f"CPU seconds: {minutes} min {seconds} s on two idle cores" in text
     assert cpu / 2 <= bench.TARGET_S
+
+
+# -- robust's radii, as docs/controllers.md shows them (measured, not re-run here) -------
+CONTROLLERS = (Path(__file__).resolve().parents[2] / "docs" / "controllers.md").read_text(
+    encoding="utf-8"
+)
+BAND = re.compile(r"(\d+)/(\d+) \[(\d+), (\d+)\] %")
+
+
+def robust_transfer() -> tuple[list[str], list[list[str]]]:
+    """The command and the table of `puckboard transfer` on `robust`."""
+    lines = CONTROLLERS.splitlines()
+    (command,) = [
+        line.removeprefix("$ ")
+        for line in lines
+        if line.startswith("$ puckboard transfer ") and "--controller robust" in line
+    ]
+    start = lines.index(
+        "| model | straight, `epuck` | straight, `epuck-vrep` | bend, `epuck` | bend, `epuck-vrep` |"
+    )
+    rows = []
+    for line in lines[start + 2 :]:
+        if not line.startswith("|"):
+            break
+        rows.append([c.strip() for c in line.strip().strip("|").split("|")])
+    return shlex.split(command), rows
+
+
+def test_robust_s_transfer_command_parses_and_its_episode_count_is_the_plan_s():
+    argv, _ = robust_transfer()
+    args = build_parser().parse_args(argv[1:])
+    scenes = [load_scene(name) for name in args.scenario]
+    plan = transfer_plan(
+        scenes, controllers=args.controller,
+        profiles={s.name: list(args.profile) for s in scenes},
+        seeds=parse_seeds(args.seeds), families=FAMILIES,
+        replacements={"generated-pass": load_scene("generated-pass")},
+    )  # fmt: skip
+    assert f"({len(plan):,} episodes;" in CONTROLLERS
+
+
+def test_robust_s_transfer_bands_and_radii_agree_with_themselves():
+    """Every figure is of the command's seeds, with its Wilson interval; a radius's point
+    keeps 95 % and the first point beyond it does not."""
+    from puckboard.sweep.stats import wilson_interval
+
+    argv, rows = robust_transfer()
+    n = len(parse_seeds(argv[argv.index("--seeds") + 1]))
+    assert {r[0] for r in rows} >= {"design band", "reality-gap", "radius: noise"}
+    for model, *cells in rows:
+        assert len(cells) == 4, model
+        for cell in cells:
+            k, runs, low, high = (int(x) for x in BAND.search(cell).groups())
+            assert runs == n, (model, cell)
+            assert [round(100 * x) for x in wilson_interval(k, runs)] == [low, high], cell
+            if not model.startswith("radius: "):
+                continue
+            assert k / runs >= 0.95, (model, cell)
+            beyond = re.search(r"; .+ (\d+)/(\d+)$", cell)
+            assert (beyond is None) == cell.startswith("≥ "), cell
+            if beyond:
+                assert int(beyond.group(1)) / int(beyond.group(2)) < 0.95, (model, cell)
