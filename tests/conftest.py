@@ -14,8 +14,10 @@ the first worker that asks and read by the others.
 import dataclasses
 import os
 import shutil
+import signal
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
 import pytest
@@ -48,7 +50,17 @@ def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
 
 def pytest_configure(config: pytest.Config) -> None:
     """The session's cache folder (tests/support/session_cache.py), made by the process
-    that starts the workers, who inherit its name, and removed when the session ends."""
+    that starts the workers, who inherit its name, and removed when the session ends.
+
+    Ctrl-C as a terminal sends it: a shell that starts a job in the background (a CI
+    runner, ``nohup``, ``cmd &``) starts it with SIGINT ignored, and every process it
+    starts inherits that, so the commands the Ctrl-C tests interrupt would never see the
+    signal. Python's own handler, installed here before any worker or command is started,
+    is reset to the default in every program they run, as in a terminal's foreground job.
+    """
+    main = threading.current_thread() is threading.main_thread()  # handlers live there
+    if main and signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if hasattr(config, "workerinput"):  # a worker: the folder is its parent's
         return
     folder = tempfile.mkdtemp(prefix="puckboard-tests-")
