@@ -65,6 +65,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from ..sweep.signals import spare_native_threads
+
+    try:
+        spare_native_threads()  # first: see puckboard/sweep/signals.py
+    except KeyboardInterrupt:
+        print("puckboard: interrupted", file=sys.stderr)
+        return 130
     parser = build_parser()
     try:
         args, extras = parser.parse_known_args(argv)

@@ -13,6 +13,11 @@ the parent stops them itself, keeping every finished row:
   and raises it once the processes exist, so that it can end them. On Windows, or from a
   thread other than the main one, both do nothing and the worker ignores SIGINT once its
   initializer runs.
+* :func:`spare_native_threads` imports numpy with Ctrl-C blocked. The worker threads its
+  BLAS library starts on import (one per core, outside Python's reach) then block SIGINT
+  for life. Otherwise a Ctrl-C that comes while a worker is being created, when SIGINT
+  is ignored process-wide for the child's sake, could be taken by such a thread and
+  discarded: the command would carry on as if no Ctrl-C had come.
 * :func:`stop_on_terminate` makes SIGTERM (``kill PID``, a service manager stopping the
   command) take the same orderly path as Ctrl-C, by raising :class:`Terminated` — a
   :class:`KeyboardInterrupt` — in the main thread. Without it SIGTERM ends the parent on
@@ -27,6 +32,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from types import FrameType
@@ -36,6 +42,7 @@ __all__ = [
     "creating_processes",
     "interrupts_deferred",
     "interrupts_ignored",
+    "spare_native_threads",
     "stop_on_terminate",
 ]
 
@@ -87,6 +94,20 @@ def creating_processes() -> Iterator[None]:
         resource_tracker.ensure_running()
     with interrupts_deferred():
         yield
+
+
+def spare_native_threads() -> None:
+    """Import numpy with Ctrl-C held back (POSIX, main thread), once, before anything else
+    does, so the native threads it starts block SIGINT (see the module's docstring).
+
+    Called first by the command line. A Ctrl-C during the import is raised when it ends.
+    Where numpy is already imported its threads are as they were started, and nothing
+    changes.
+    """
+    if "numpy" in sys.modules:
+        return
+    with interrupts_deferred():
+        import numpy  # noqa: F401  (the import is the point: its threads start now)
 
 
 @contextlib.contextmanager

@@ -3,6 +3,10 @@ which ended with 0 as if they had finished (issue 30, round 4, item 14)."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import pytest
 
 from puckboard.cli import main
@@ -32,3 +36,32 @@ def test_a_web_view_kept_up_ends_with_130_on_ctrl_c(monkeypatch, tmp_path, capsy
     monkeypatch.setattr(time, "sleep", ctrl_c)  # the wait for Ctrl-C gets it at once
     assert main(["replay", str(run), "--web", "--web-port", "0"]) == 130
     assert capsys.readouterr().err.strip().splitlines()[-1] == "puckboard replay: interrupted"
+
+
+THREADS_AFTER_A_COMMAND = """
+import sys
+from pathlib import Path
+from puckboard.cli import main
+main(["scenes"])
+assert "numpy" in sys.modules
+main_thread = Path(f"/proc/self/task/{__import__('threading').get_native_id()}")
+for task in Path("/proc/self/task").iterdir():
+    blocked = next(line for line in (task / "status").read_text().splitlines()
+                   if line.startswith("SigBlk:")).split()[1]
+    print(task == main_thread, bool(int(blocked, 16) & (1 << 1)))  # bit 1: SIGINT
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="reads /proc (Linux)")
+def test_no_thread_but_the_main_one_can_take_a_ctrl_c_from_the_command_line():
+    """numpy's BLAS starts native threads on import; the command line imports numpy first
+    with SIGINT blocked, so those threads never take (and, while a worker is being created,
+    discard) a Ctrl-C meant for the main thread (puckboard/sweep/signals.py)."""
+    out = subprocess.run(
+        [sys.executable, "-c", THREADS_AFTER_A_COMMAND],
+        capture_output=True, text=True, check=True,
+    ).stdout  # fmt: skip
+    threads = [line.split() for line in out.splitlines() if line.startswith(("True", "False"))]
+    assert ["True", "False"] in threads  # the main thread takes Ctrl-C
+    others = [blocked for is_main, blocked in threads if is_main == "False"]
+    assert others and all(blocked == "True" for blocked in others), out
