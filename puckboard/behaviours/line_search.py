@@ -122,10 +122,10 @@ class LineSearch(Layer):
         ground = frame.ground
         if ground is None:
             return
-        left, _centre, right = ground.value.tolist()
+        left, centre, right = ground.value.tolist()
         threshold = self.threshold
         left_dark, right_dark = left < threshold, right < threshold
-        if not self._seen and min(ground.value.tolist()) < threshold:
+        if not self._seen and min(left, centre, right) < threshold:
             self._seen = True
         if left_dark != right_dark:  # one outer sensor alone: the line is on its side
             self._last_side = "left" if left_dark else "right"

@@ -65,13 +65,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from ..sweep.signals import spare_native_threads
-
-    try:
-        spare_native_threads()  # first: see puckboard/sweep/signals.py
-    except KeyboardInterrupt:
-        print("puckboard: interrupted", file=sys.stderr)
-        return 130
     parser = build_parser()
     try:
         args, extras = parser.parse_known_args(argv)
@@ -90,7 +83,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
+    from ..sweep.signals import spare_native_threads
+
     try:
+        spare_native_threads()  # before the command imports numpy: see sweep/signals.py
         return int(args.func(args) or 0)
     except CliError as exc:
         if exc.details:

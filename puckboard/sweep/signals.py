@@ -100,9 +100,9 @@ def spare_native_threads() -> None:
     """Import numpy with Ctrl-C held back (POSIX, main thread), once, before anything else
     does, so the native threads it starts block SIGINT (see the module's docstring).
 
-    Called first by the command line. A Ctrl-C during the import is raised when it ends.
-    Where numpy is already imported its threads are as they were started, and nothing
-    changes.
+    Called by the command line before it runs a command. A Ctrl-C during the import is
+    raised when it ends. Where numpy is already imported its threads are as they were
+    started, and nothing changes.
     """
     if "numpy" in sys.modules:
         return
