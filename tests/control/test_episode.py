@@ -28,6 +28,22 @@ def test_same_seed_same_result_and_other_seed_differs():
     assert [r["distance_m"] for r in a["robots"]] != [r["distance_m"] for r in c["robots"]]
 
 
+def test_naming_the_scene_s_own_profile_is_the_same_episode():
+    """tests/support/episodes.py keys such an episode as the scene's own, run once."""
+    plain = run_episode("two-robot-pass", controller="robust", seed=2, duration=12.0)
+    named = run_episode(
+        "two-robot-pass", controller="robust", seed=2, duration=12.0,
+        overrides={"robot.profile": "epuck-vrep"},
+    )  # fmt: skip
+    other = run_episode(
+        "two-robot-pass", controller="robust", seed=2, duration=12.0,
+        overrides={"robot.profile": "epuck"},
+    )  # fmt: skip
+    assert {r.profile for r in plain.robots} == {"epuck-vrep"}
+    assert without_wall_clock(named.to_dict()) == without_wall_clock(plain.to_dict())
+    assert without_wall_clock(other.to_dict()) != without_wall_clock(plain.to_dict())
+
+
 def test_result_dict_has_exactly_the_contract_fields():
     d = run_episode("line-follow", controller="stock", seed=0, duration=5.0).to_dict()
     assert set(d) == FIELDS

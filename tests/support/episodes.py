@@ -10,12 +10,14 @@ instead of one waiting while the other runs what both need.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 from session_cache import each
 
 from puckboard.control.episode import run_episode
+from puckboard.scenario import load_scene
 from puckboard.scenario.result import EpisodeResult
 
 __all__ = ["episode", "episodes"]
@@ -44,7 +46,7 @@ def episodes(
 ) -> list[EpisodeResult]:
     """The results of one episode per seed, in the order of ``seeds``."""
     settings = dict(overrides or {})
-    if profile is not None:
+    if profile is not None and profile != _scene_profile(scene):
         settings["robot.profile"] = profile
     frozen = tuple(sorted(settings.items()))
     keys: list[_Key] = [(scene, controller, int(s), frozen) for s in seeds]
@@ -58,3 +60,12 @@ def episodes(
     )  # fmt: skip
     _known.update(zip(missing, found))
     return [_known[k] for k in keys]
+
+
+@functools.cache
+def _scene_profile(scene: str) -> str | None:
+    """The profile every robot of the shipped scene has, None if they differ: naming it
+    changes nothing, so the episode is the one asked for without it (one key, not two).
+    """
+    profiles = {robot.profile for robot in load_scene(scene).robots}
+    return profiles.pop() if len(profiles) == 1 else None
