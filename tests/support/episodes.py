@@ -46,8 +46,10 @@ def episodes(
 ) -> list[EpisodeResult]:
     """The results of one episode per seed, in the order of ``seeds``."""
     settings = dict(overrides or {})
-    if profile is not None and profile != _scene_profile(scene):
+    if profile is not None:
         settings["robot.profile"] = profile
+    if "robot.profile" in settings and settings["robot.profile"] == _scene_profile(scene):
+        del settings["robot.profile"]  # given as an argument or in a sweep's settings
     frozen = tuple(sorted(settings.items()))
     keys: list[_Key] = [(scene, controller, int(s), frozen) for s in seeds]
     missing = [k for k in dict.fromkeys(keys) if k not in _known]
