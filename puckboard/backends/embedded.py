@@ -71,6 +71,14 @@ class EmbeddedAdapter(RobotAdapter):
             command_timeout=command_timeout,
         )
 
+    def sense_all(self) -> dict[Sensor, Any]:
+        """Every enabled sensor, as the base class reads them; but on a cycle whose link
+        brought no new packet (the scene's ``control.repeated``) nothing is written: the
+        blackboard keeps the last records, their age growing, and ``{}`` is returned."""
+        if not self.world.fresh_reading(self.index):
+            return {}
+        return super().sense_all()
+
     def _read_sensors(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
         """Records of ``sensors`` from the world's latest step (held still while read)."""
         with self.world.lock:

@@ -12,9 +12,14 @@ wheels at zero: read every sensor (one round trip, timed by the link itself:
 * the **period** written is the 95th percentile of a whole cycle (both exchanges): the
   shortest control period the link keeps up with nineteen ticks in twenty.
 
-Both spreads (median, 5th and 95th percentile, the largest) go into the file too, for
-its reader. ``--profile FILE.toml`` then runs the simulator at that timing, rounded to
-whole simulation steps (:func:`puckboard.scenario.robot_profiles.link_control`).
+A link also varies from cycle to cycle (:mod:`puckboard.profile.link_cycles`), so the
+file gets the measured distribution too: the round trips' quantiles (smallest, 5th, 10th,
+25th percentile, median, 75th, 90th, 95th, 99th, largest) and the share of **repeated
+readings**, cycles whose every sensor value equals the cycle before's (no new packet had
+come). ``--profile FILE.toml`` then runs the simulator at that timing, rounded to whole
+simulation steps, each command's latency drawn from the measured round trips and
+readings repeated as often as the robot's packets came
+(:func:`puckboard.scenario.robot_profiles.link_control`).
 """
 
 from __future__ import annotations
@@ -30,6 +35,8 @@ from typing import Protocol
 
 import numpy as np
 
+from ..profile.link_cycles import QUANTILES
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on 3.10 only
@@ -43,39 +50,53 @@ _LINK_TABLE = re.compile(r"(?ms)^\[link\][^\n]*\n.*?(?=^\[|\Z)")
 
 @dataclass(frozen=True)
 class Spread:
-    """How a measured time (s) spread: count, median, 5th and 95th percentile, largest."""
+    """How a measured time (s) spread: count, and its quantiles by name (:data:`QUANTILES`:
+    ``min``, ``p5`` ... ``median`` ... ``p99``, ``max``)."""
 
     n: int
-    median: float
-    p5: float
-    p95: float
-    max: float
+    quantiles: dict[str, float]
 
     @classmethod
     def of(cls, seconds: Sequence[float]) -> Spread:
         if not seconds:
             raise ValueError("no times were measured")
         a = np.asarray(seconds, dtype=float)
-        p5, median, p95 = np.percentile(a, [5, 50, 95])
-        return cls(len(a), float(median), float(p5), float(p95), float(a.max()))
+        values = np.quantile(a, list(QUANTILES.values()))
+        return cls(len(a), {k: float(v) for k, v in zip(QUANTILES, values)})
+
+    @property
+    def median(self) -> float:
+        return self.quantiles["median"]
+
+    @property
+    def p5(self) -> float:
+        return self.quantiles["p5"]
+
+    @property
+    def p90(self) -> float:
+        return self.quantiles["p90"]
+
+    @property
+    def p95(self) -> float:
+        return self.quantiles["p95"]
+
+    @property
+    def max(self) -> float:
+        return self.quantiles["max"]
 
     def to_dict(self) -> dict[str, float]:
         """Seconds rounded to the microsecond, the clock's useful resolution."""
-        return {
-            "n": self.n,
-            "median": round(self.median, 6),
-            "p5": round(self.p5, 6),
-            "p95": round(self.p95, 6),
-            "max": round(self.max, 6),
-        }
+        return {"n": self.n, **{k: round(v, 6) for k, v in self.quantiles.items()}}
 
 
 @dataclass(frozen=True)
 class LinkMeasurement:
-    """What a measurement found: the sensing round trips and the whole cycles (s)."""
+    """What a measurement found: the sensing round trips and the whole cycles (s), and
+    the share of cycles whose reading repeated the one before (no new packet)."""
 
     round_trip: Spread
     cycle: Spread
+    repeated: float = 0.0
 
     @property
     def latency(self) -> float:
@@ -125,17 +146,44 @@ def measure_link(
     link = adapter.link
     link.round_trips.clear()
     cycles: list[float] = []
+    repeats = 0
+    last: object = None
     try:
         for k in range(rounds):
             start = clock()
-            adapter.sense_all()
+            reading = _reading(adapter.sense_all())
             adapter.stop_wheels()
             cycles.append(clock() - start)
+            repeats += k > 0 and reading == last
+            last = reading
             if progress is not None:
                 progress(k + 1, rounds)
     finally:
         adapter.stop_wheels()
-    return LinkMeasurement(Spread.of(list(link.round_trips)[-rounds:]), Spread.of(cycles))
+    # the first reading is a packet too: of ``rounds`` readings, ``rounds - repeats`` were
+    # new, so a measurement too short to see a second packet says (rounds - 1) / rounds
+    return LinkMeasurement(
+        Spread.of(list(link.round_trips)[-rounds:]), Spread.of(cycles), repeats / rounds
+    )
+
+
+def _reading(records: object) -> object:
+    """One cycle's sensor values, comparable with another's: every record's fields, arrays
+    as their bytes (the records' stamps are not in them: a repeated packet has the very
+    values of the last one, whenever it was read)."""
+    if not isinstance(records, dict):
+        return records
+    out: list[tuple[str, object]] = []
+    for sensor in sorted(records, key=str):
+        value = records[sensor]
+        fields = getattr(value, "__dataclass_fields__", None)
+        if fields is None:
+            out.append((str(sensor), repr(value)))
+            continue
+        for name in fields:
+            item = getattr(value, name)
+            out.append((name, item.tobytes() if isinstance(item, np.ndarray) else repr(item)))
+    return tuple(out)
 
 
 def link_table_text(measured: LinkMeasurement, source: str) -> str:
@@ -152,6 +200,8 @@ def link_table_text(measured: LinkMeasurement, source: str) -> str:
         "        # s: the 95th percentile of a whole cycle (sense, then command)\n"
         f"latency = {round(measured.latency, 6)!r}"
         "       # s: the median sensing round trip\n"
+        f"repeated = {round(measured.repeated, 4)!r}"
+        "      # share of cycles whose every reading repeated the last (no new packet)\n"
         f'source = "{escaped}"\n'
         f"round_trip = {inline(rt)}\n"
         f"cycle = {inline(cy)}\n"

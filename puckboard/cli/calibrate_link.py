@@ -75,13 +75,18 @@ def calibrate_link(
             "latency_s": round(measured.latency, 6),
             "round_trip_s": measured.round_trip.to_dict(),
             "cycle_s": measured.cycle.to_dict(),
+            "repeated": round(measured.repeated, 4),
         }
         print(json.dumps(data, indent=2))
         return 0
     rt, cy = measured.round_trip, measured.cycle
     print(
-        f"round trip (sense): median {rt.median * 1e3:.1f} ms, 5-95 % "
-        f"{rt.p5 * 1e3:.1f}-{rt.p95 * 1e3:.1f} ms, at most {rt.max * 1e3:.1f} ms"
+        f"round trip (sense): median {rt.median * 1e3:.1f} ms, 90 % {rt.p90 * 1e3:.1f} ms, "
+        f"5-95 % {rt.p5 * 1e3:.1f}-{rt.p95 * 1e3:.1f} ms, at most {rt.max * 1e3:.1f} ms"
+    )
+    print(
+        f"repeated readings: {measured.repeated:.0%} of cycles brought no new packet (every "
+        "sensor value as in the cycle before)"
     )
     print(
         f"whole cycle (sense, command): median {cy.median * 1e3:.1f} ms, 95 % "
@@ -89,7 +94,8 @@ def calibrate_link(
     )
     print(
         f"wrote [link] period = {measured.period * 1e3:.1f} ms, latency = "
-        f"{measured.latency * 1e3:.1f} ms to {out}"
+        f"{measured.latency * 1e3:.1f} ms, the round trips' distribution and the repeated "
+        f"share to {out}"
     )
     print(f"use it: puckboard run two-robot-pass --profile {out}")
     return 0

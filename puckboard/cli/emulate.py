@@ -95,9 +95,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--link",
         default=None,
         metavar="LINK",
-        help="hold every reply back by a latency drawn within this link's range "
-        "(bluetooth-sercom, epuck2-wifi, usb-sercom ...; puckboard profiles show links), so "
-        "a client runs at that link's pace (default: answer at once)",
+        help="hold every reply back by a latency drawn from this link's per-cycle "
+        "distribution, or within its range (bluetooth-sercom, epuck2-wifi, usb-sercom ...; "
+        "puckboard profiles show links), so a client runs at that link's pace (default: "
+        "answer at once)",
     )
     p.add_argument("--json", action="store_true", help="print only the verdict as JSON on stdout")
     p.set_defaults(func=main)
@@ -166,9 +167,11 @@ def main(args: argparse.Namespace) -> int:
         )
         print(f"connect with: {info.command_line(args.scenario)}", file=banner)
         if emulation.link is not None:
+            cycles = emulation.link.cycles
             low, high = (round(v * 1000, 1) for v in emulation.link.latency)
+            held = f"{low:g}-{high:g} ms" if cycles is None else cycles.latency.describe()
             print(
-                f"every reply is held back {low:g}-{high:g} ms, as on {emulation.link.name}",
+                f"every reply is held back ({held}), as on {emulation.link.name}",
                 file=banner,
             )
         print(

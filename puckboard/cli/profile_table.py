@@ -44,6 +44,7 @@ _ROWS: tuple[str, ...] = (
     "ground_spacing",
     "ground_forward",
     "ground_footprint",
+    "ground_dark",
 )
 
 

@@ -311,10 +311,18 @@ def _loop_timing(d: dict[str, Any]) -> str:
     """``; control every 100 ms, 50 ms latency`` when the loop is not one tick per step."""
     if "control_period_s" not in d:
         return ""
-    return (
-        f"; control every {d['control_period_s'] * 1000:g} ms, "
-        f"{d['control_latency_s'] * 1000:g} ms latency"
-    )
+    cycle = d.get("control_cycle")
+    if cycle is None:
+        latency = f"{d['control_latency_s'] * 1000:g} ms latency"
+    else:
+        latency = (
+            f"latency per cycle median {cycle['latency_median_s'] * 1000:.3g} ms, 90 % "
+            f"{cycle['latency_p90_s'] * 1000:.3g} ms, max {cycle['latency_max_s'] * 1000:.3g} ms"
+            if "latency_median_s" in cycle
+            else f"{d['control_latency_s'] * 1000:g} ms latency"
+        )
+        latency += f", {cycle['repeated']:.0%} of readings repeated"
+    return f"; control every {d['control_period_s'] * 1000:g} ms, {latency}"
 
 
 def _condition_lines(conditions: dict[str, Any] | None) -> list[str]:

@@ -19,8 +19,9 @@ other robots (the oncoming robot of the two-robot pass, say) are driven by their
 synchronously with the world, unless ``others="still"`` leaves them standing.
 
 With ``link`` (a link of :mod:`puckboard.profile.links`, e.g. ``"bluetooth-sercom"``)
-every reply is held back by a latency drawn within that link's range, so a client on
-this machine runs at that link's pace and ``puckboard calibrate link`` measures it.
+every reply is held back by a latency drawn from that link's per-cycle distribution
+(within its range where it has none), so a client on this machine runs at that link's
+pace and ``puckboard calibrate link`` measures it.
 """
 
 from __future__ import annotations
@@ -255,13 +256,18 @@ class Emulation:
 
 
 def _link_delay(link: LinkTiming, seed: int, realtime: float) -> Callable[[], float]:
-    """Each reply's delay (s): drawn uniformly within ``link``'s latency range, from a
+    """Each reply's delay (s): drawn from ``link``'s per-cycle latency distribution when
+    it has one (:attr:`~puckboard.profile.links.LinkTiming.cycles`: the Wi-Fi link's is
+    measured on a real e-puck2), else uniformly within its latency range; from a
     generator of its own (the world's draws stay the same with or without a link), and
     shortened as the emulator is sped up."""
     rng = np.random.Generator(np.random.PCG64([int(seed), 0x11CC]))
     low, high = link.latency
+    cycles = link.cycles
 
     def delay() -> float:
-        return (low + float(rng.random()) * (high - low)) / realtime
+        u = float(rng.random())
+        seconds = cycles.latency.at(u) if cycles is not None else low + u * (high - low)
+        return seconds / realtime
 
     return delay

@@ -140,7 +140,7 @@ class Episode:
         # conditions the run sets itself are its definition: reality-gap keeps them
         fixed = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
         if any(get_profile(r.profile).link is not None for r in self.scene.robots):
-            fixed += ["control.period", "control.latency"]  # the robot's own, measured link
+            fixed += ["control.period", "control.latency", "control.repeated"]  # its own link
         #: what ``reality-gap`` drew, as the result reports it (None for other variations)
         self.conditions = (
             draw_conditions(self.scene, int(seed), fixed).to_dict()
@@ -336,12 +336,27 @@ class Episode:
         if not self.scene.control.is_default(self.scene.dt):
             self.result.control_period_s = float(self.loop.period)
             self.result.control_latency_s = float(self.scene.control.latency)
+            if self.scene.control.varies:
+                self.result.control_cycle = _cycle_summary(self.scene)
         for obs in self.result_observers:
             try:
                 obs(self)
             except Exception:
                 log.exception("episode result observer %r failed", obs)
         return self.result
+
+
+def _cycle_summary(scene: Scene) -> dict[str, float]:
+    """How the scene's loop varies cycle by cycle, as the result reports it (s, share)."""
+    control = scene.control
+    out: dict[str, float] = {}
+    if control.cycle_latency is not None:
+        for name in ("median", "p90", "max"):
+            out[f"latency_{name}_s"] = round(
+                control.latency + control.cycle_latency.quantile(name), 6
+            )
+    out["repeated"] = round(control.repeated, 6)
+    return out
 
 
 def _loop_period(scene: Scene, world: World | None) -> float | None:

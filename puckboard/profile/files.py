@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ProfileError
+from .link_cycles import QUANTILES, CycleLatency, LinkCycles
 from .model import RobotProfile
 from .setting_names import apply_overrides, check_setting
 from .shipped import PROFILES, get_profile, profile_names
@@ -55,7 +56,7 @@ log = logging.getLogger(__name__)
 PROFILE_SUFFIX = ".toml"
 _TOP_KEYS = ("base", "name", "source", "set", "link")
 _ENTRY_KEYS = ("value", "source")
-_LINK_KEYS = ("period", "latency", "source", "round_trip", "cycle")
+_LINK_KEYS = ("period", "latency", "source", "round_trip", "cycle", "repeated")
 #: The longest period or latency (s) a [link] table may give: a loop slower than a second
 #: drives no e-puck anywhere sensible, so a bigger number is a unit mistake (ms for s).
 _LINK_MAX_S = 1.0
@@ -139,9 +140,36 @@ def profile_from_data(
     if "link" in data:
         link, link_source = _link(data["link"], source, default_source)
         profile = dataclasses.replace(
-            profile, link=link, sources={**profile.sources, "link": link_source}
+            profile,
+            link=link,
+            link_cycles=_link_cycles(data["link"], link_source),
+            sources={**profile.sources, "link": link_source},
         )
     return profile
+
+
+def _link_cycles(table: Mapping[str, Any], link_source: str) -> LinkCycles | None:
+    """How the measured link varied cycle by cycle: its round trips' quantiles (at least
+    two of them, else nothing to draw from) and its share of repeated readings, with how
+    often a new packet came (the cycles' median over the fresh share)."""
+    named = {k: float(v) for k, v in table.get("round_trip", {}).items() if k in QUANTILES}
+    repeated = float(table.get("repeated", 0.0))
+    if len(named) < 2 and not repeated:
+        return None
+    latency = (
+        CycleLatency.of_quantiles(named)
+        if len(named) >= 2
+        else CycleLatency.uniform(table["latency"], table["latency"])
+    )
+    cycle = table.get("cycle", {}).get("median")
+    fresh_every = float(cycle) / (1.0 - repeated) if cycle else None
+    return LinkCycles(
+        latency=latency,
+        repeated=(repeated, repeated),
+        sources=(link_source,),
+        assumed=False,
+        fresh_every=fresh_every,
+    )
 
 
 def _link(table: Any, source: str, default_source: str) -> tuple[tuple[float, float], str]:
@@ -173,6 +201,22 @@ def _link(table: Any, source: str, default_source: str) -> tuple[tuple[float, fl
             raise ProfileError(
                 f"{source}: [link] {key}: expected a table of numbers, got {spread!r}"
             )
+        times = [float(spread[k]) for k in QUANTILES if k in spread]
+        if any(not (math.isfinite(t) and 0 <= t <= 60) for t in times) or times != sorted(times):
+            raise ProfileError(
+                f"{source}: [link] {key}: its quantiles must be seconds from 0 to 60 that "
+                f"never fall from {', '.join(QUANTILES)}, got {dict(spread)!r}"
+            )
+    repeated: Any = table.get("repeated", 0.0)
+    if (
+        isinstance(repeated, bool)
+        or not isinstance(repeated, (int, float))
+        or not 0.0 <= repeated < 1.0
+    ):
+        raise ProfileError(
+            f"{source}: [link] repeated: expected the share of repeated readings, a number "
+            f"from 0 up to (not including) 1, got {repeated!r}"
+        )
     given = table.get("source", default_source)
     if not isinstance(given, str):
         raise ProfileError(f"{source}: [link] source: expected a text, got {given!r}")
@@ -243,6 +287,16 @@ def profile_to_data(profile: str | RobotProfile) -> str | dict[str, Any]:
             "latency": profile.link[1],
             "source": profile.sources.get("link", common),
         }
+        cycles = profile.link_cycles
+        if cycles is not None:
+            data["link"]["repeated"] = cycles.repeated[0]
+            data["link"]["round_trip"] = {
+                name: cycles.latency.quantile(name)
+                for name, p in QUANTILES.items()
+                if any(abs(q - p) < 1e-12 for q, _ in cycles.latency.points)
+            }
+            if cycles.fresh_every is not None:
+                data["link"]["cycle"] = {"median": cycles.fresh_every * (1 - cycles.repeated[0])}
     return data
 
 

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ProfileError
+from .link_cycles import CycleLatency, LinkCycles
 
 __all__ = ["LINKS", "LinkTiming", "draw_timing", "get_link", "link_names", "timing_overrides"]
 
@@ -52,6 +53,9 @@ class LinkTiming:
     ``period``: how often a host-side loop over this link ticks and commands; ``latency``:
     from the sensing a tick sees to the wheels turning on its command. ``sources`` says
     what bounds each end; ``assumed`` is true when some end has no source of its own.
+    ``cycles``, for a link to a real robot, is how it varies cycle by cycle (each cycle's
+    latency from a distribution, repeated readings), what ``--variation reality-gap``
+    runs; ``None`` for a simulator's loop, which does not vary.
     """
 
     name: str
@@ -60,6 +64,7 @@ class LinkTiming:
     latency: tuple[float, float]
     sources: tuple[str, ...]
     assumed: bool
+    cycles: LinkCycles | None = None
 
     def __post_init__(self) -> None:
         for what, (low, high) in (("period", self.period), ("latency", self.latency)):
@@ -71,6 +76,28 @@ class LinkTiming:
 
 _E1_LOW = _serial_seconds(_EPUCK1_CYCLE_BYTES)  # 5.1 ms
 _E2_LOW = _serial_seconds(_EPUCK2_CYCLE_BYTES)  # 10.9 ms at the same rate
+
+#: The e-puck2 Wi-Fi link cycle by cycle, from the University of Fribourg's benchmark of
+#: a real robot (UNIFR_API_EPUCK examples_benchmark/1_go_on_benchmark/data/
+#: results_go_on_wifi_no_image.json): each of its 620 steps timed sending the command,
+#: waiting for the reply's header and reading its 104-byte body; their sum over the 617
+#: steps after the connection's first three (1.2 s and 2.0 s of start-up, before a run
+#: begins), plus the age of the reading, uniform 0-10 ms (the firmware samples the
+#: proximity sensors at 100 Hz, e-puck2_main-processor src/sensors/proximity.c). These
+#: are that sum's quantiles (s); the waits alone: median 1.8 ms, 90th percentile 28 ms,
+#: 99th 45 ms, max 140 ms.
+_WIFI_CYCLE_LATENCY = CycleLatency.of_quantiles(
+    {
+        "min": 0.00003, "p5": 0.00114, "p10": 0.00214, "p25": 0.00498, "median": 0.00927,
+        "p75": 0.02101, "p90": 0.03335, "p95": 0.04115, "p99": 0.05085, "max": 0.14998,
+    }
+)  # fmt: skip
+#: The share of Wi-Fi readings that repeat the last: deinemutterschiff/robotique
+#: Gsensors.csv and Gsensors_diago.csv, a real e-puck2's ground sensors over Wi-Fi, 1500
+#: rows each, read in a loop with no pause: runs of equal rows, a run of length L counted
+#: as ceil(L/2) packets (nearly every run is 2 long), give 769 packets of 1500 rows in
+#: each file, 0.49 of the rows repeated.
+_WIFI_REPEATED = (0.0, 0.49)
 
 LINKS: dict[str, LinkTiming] = {
     link.name: link
@@ -127,6 +154,23 @@ LINKS: dict[str, LinkTiming] = {
                 "median 133 ms (results_go_on_wifi_with_image.json)",
             ),
             assumed=True,
+            cycles=LinkCycles(
+                latency=_WIFI_CYCLE_LATENCY,
+                repeated=_WIFI_REPEATED,
+                sources=(
+                    "each cycle's latency: the UNIFR_API_EPUCK benchmark's 617 steps over "
+                    "Wi-Fi (results_go_on_wifi_no_image.json; the connection's first three "
+                    "steps, 1.2 s and 2.0 s of start-up, left out), the wait for each step's "
+                    "packet plus its age, uniform 0-10 ms (proximity sampled at 100 Hz): "
+                    f"{_WIFI_CYCLE_LATENCY.describe()}",
+                    "repeated readings, 0.49: a real e-puck2's ground sensors over Wi-Fi "
+                    "(deinemutterschiff/robotique Gsensors.csv, Gsensors_diago.csv, 1500 rows "
+                    "each) repeat nearly every value in pairs, 769 packets of 1500 rows, in a "
+                    "loop that ran as fast as the link; 0: assumed, a loop slower than the "
+                    "robot refreshes its packet (the recording does not say how fast it ran)",
+                ),
+                assumed=True,
+            ),
         ),
         LinkTiming(
             name="bluetooth-sercom",
@@ -145,6 +189,18 @@ LINKS: dict[str, LinkTiming] = {
                 "period: assumed 50-100 ms, a loop at least one round trip long",
             ),
             assumed=True,
+            cycles=LinkCycles(
+                latency=CycleLatency.uniform(round(_E1_LOW, 4), 0.065),
+                repeated=(0.0, 0.0),
+                sources=(
+                    "each cycle's latency: assumed uniform within the link's range; no "
+                    "per-cycle log of an e-puck's Bluetooth link was found",
+                    "repeated readings: none; sercom answers each request with the values "
+                    "of that moment (proximity sampled at 100 Hz, faster than the loop), "
+                    "and no recording over Bluetooth was found",
+                ),
+                assumed=True,
+            ),
         ),
         LinkTiming(
             name="usb-sercom",
@@ -161,6 +217,17 @@ LINKS: dict[str, LinkTiming] = {
                 "same values again; period high: assumed 50 ms",
             ),
             assumed=True,
+            cycles=LinkCycles(
+                latency=CycleLatency.uniform(0.002, 0.01),
+                repeated=(0.0, 0.0),
+                sources=(
+                    "each cycle's latency: assumed uniform within the link's range; no "
+                    "per-cycle log of the e-puck2's USB link was found",
+                    "repeated readings: none at a period of 10 ms or more, the proximity "
+                    "sensors' sample period (src/sensors/proximity.c)",
+                ),
+                assumed=True,
+            ),
         ),
         LinkTiming(
             name="argos-epuck",

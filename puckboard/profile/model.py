@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from .link_cycles import LinkCycles
+
 __all__ = ["NO_DETECTION_DISTANCE", "RobotProfile", "SensorPose"]
 
 
@@ -86,12 +88,17 @@ class RobotProfile:
     over (ps0..ps7); ``wheel_radius_left``/``_right`` are the wheels' true radii (``None``:
     the nominal ``wheel_radius``, which every unit conversion uses because that is what
     the robot's software believes); ``ground_footprint`` is the half-width of a ground
-    sensor's light spot.
+    sensor's light spot; ``ground_dark`` (left, centre, right) is what each ground sensor
+    reads over a surface that reflects nothing, 0..1 of full scale: a reading is
+    ``dark + (1 − dark)·brightness``, so a sensor with some dark level sees black tape
+    as grey (a real e-puck2 reads black tape at 0.30-0.42 of white).
 
     ``link``, when a profile file measured it (its ``[link]`` table, ``puckboard calibrate
     link``), is the (period, latency) in seconds of the link this robot is driven over;
     a run with this profile then ticks at that timing (rounded to whole simulation
-    steps) unless the scene or ``--set control.*`` says otherwise.
+    steps) unless the scene or ``--set control.*`` says otherwise; ``link_cycles``, how
+    it varied from cycle to cycle (the measured round trips' distribution, the share of
+    repeated readings), which such a run draws from too.
 
     ``sources`` says where each number comes from (``puckboard profiles``). A profile
     changed by :func:`puckboard.profile.apply_overrides` keeps the ``name`` it was given,
@@ -123,9 +130,15 @@ class RobotProfile:
     wheel_radius_left: float | None = None  # m, true radius; None = wheel_radius
     wheel_radius_right: float | None = None  # m, true radius; None = wheel_radius
     ground_footprint: float = _GROUND_FOOTPRINT  # m, half-width of a ground sensor's spot
+    # 0..1, per ground sensor (left, centre, right): what it reads over a surface that
+    # reflects nothing; it reads dark + (1 - dark) x the surface's brightness
+    ground_dark: tuple[float, float, float] = (0.0, 0.0, 0.0)
     base: str = ""  # the shipped profile this one derives from ("": none)
     overrides: tuple[tuple[str, float], ...] = ()  # (path, value) changes from ``base``
     link: tuple[float, float] | None = None  # s, (period, latency) measured on its link
+    # how that link varied cycle by cycle, when measured: each cycle's latency, the share
+    # of repeated readings and how often a new packet came
+    link_cycles: LinkCycles | None = None
     sources: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
     extra: dict[str, float] = field(default_factory=dict, compare=False, hash=False)
 
@@ -145,6 +158,13 @@ class RobotProfile:
                     f"got {len(values)}"
                 )
             object.__setattr__(self, name, tuple(float(v) for v in values))
+        dark = tuple(float(v) for v in self.ground_dark)
+        if len(dark) != len(self.ground_poses) or not all(0.0 <= v < 1.0 for v in dark):
+            raise ValueError(
+                f"ground_dark needs one value in [0, 1) per ground sensor "
+                f"({len(self.ground_poses)}), got {self.ground_dark!r}"
+            )
+        object.__setattr__(self, "ground_dark", dark)
 
     # -- the wheels as built -----------------------------------------------------------
     @property

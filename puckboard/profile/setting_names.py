@@ -38,7 +38,7 @@ from types import SimpleNamespace
 from typing import Any
 
 from ..errors import ProfileError
-from ..records import PROX_NAMES
+from ..records import GROUND_NAMES, PROX_NAMES
 from .model import RobotProfile
 
 __all__ = [
@@ -76,7 +76,9 @@ class _Field:
     low_open: bool
     high_open: bool
     meaning: str
-    sensors: str = ""  # "": a plain number; "ir": .<sensor or group>; "wheel": .left/.right
+    # "": a plain number; "ir": .<sensor or group>; "wheel": .left/.right; "ground":
+    # .left/.centre/.right (bare: all three)
+    sensors: str = ""
     bare: bool = True  # may be given without a suffix (a sensor field: meaning all)
     pairs_mirror: bool = False  # a pair's value is the left sensor's; the right is mirrored
 
@@ -131,6 +133,12 @@ SETTING_FIELDS: dict[str, _Field] = {
     "ground_footprint": _Field(
         "m", 0.0, 0.02, False, False, "half-width of a ground sensor's light spot"
     ),
+    "ground_dark": _Field(
+        "1", 0.0, 1.0, False, True,
+        "what a ground sensor reads over a surface that reflects nothing (0..1 of full "
+        "scale); it reads dark + (1 - dark) x the surface's brightness",
+        sensors="ground",
+    ),
 }  # fmt: skip
 
 # a unit's conversion of the written number: decimal, so "20.3mm" is exactly 0.0203
@@ -181,6 +189,8 @@ class _Target:
             return frozenset(str(i) for i in self.sensors)
         if self.head == "wheel_radius":
             return frozenset({self.suffix} if self.suffix else {"nominal", "left", "right"})
+        if self.field.sensors == "ground":
+            return frozenset({self.suffix} if self.suffix else GROUND_NAMES)
         return frozenset({""})
 
     def order(self) -> tuple[int, int, int]:
@@ -200,6 +210,12 @@ def _resolve(setting: str) -> _Target:
         if suffix in ("left", "right"):
             return _Target(head, suffix, (), 2)
         raise ProfileError(_unknown_setting(setting, f"{head}.left or {head}.right"))
+    if spec.sensors == "ground":
+        if suffix in GROUND_NAMES:
+            return _Target(head, suffix, (), 2)
+        raise ProfileError(
+            _unknown_setting(setting, f"{head}, or {head}.{', '.join(GROUND_NAMES)} (one sensor)")
+        )
     if suffix in PROX_NAMES:
         return _Target(head, suffix, (PROX_NAMES.index(suffix),), 2)
     if suffix in PROX_GROUPS:
@@ -223,6 +239,8 @@ def concrete_settings() -> list[str]:
             out.append(head)
         if spec.sensors == "wheel":
             out += [f"{head}.left", f"{head}.right"]
+        elif spec.sensors == "ground":
+            out += [f"{head}.{name}" for name in GROUND_NAMES]
         elif spec.sensors == "ir":
             groups = [*PROX_GROUPS] + ([] if spec.pairs_mirror else [_ALL])
             out += [f"{head}.{s}" for s in (*groups, *PROX_NAMES)]
@@ -235,6 +253,8 @@ def describe_settings() -> str:
     for head, spec in SETTING_FIELDS.items():
         if spec.sensors == "wheel":
             parts.append(f"{head}[.left|.right]")
+        elif spec.sensors == "ground":
+            parts.append(f"{head}[.{'|.'.join(GROUND_NAMES)}]")
         elif spec.sensors == "ir":
             parts.append(f"{head}[.<sensor|group>]" if spec.bare else f"{head}.<sensor|group>")
         else:
@@ -329,6 +349,8 @@ def expand_setting(setting: str) -> tuple[str, ...]:
     target = _resolve(setting)
     if target.sensors:
         return tuple(f"{target.head}.{PROX_NAMES[i]}" for i in sorted(target.sensors))
+    if target.field.sensors == "ground" and not target.suffix:
+        return tuple(f"{target.head}.{name}" for name in GROUND_NAMES)
     return (target.head if not target.suffix else f"{target.head}.{target.suffix}",)
 
 
@@ -347,6 +369,8 @@ def setting_value(profile: RobotProfile, setting: str) -> float:
         return float(getattr(profile, head)[index])
     if head == "wheel_radius" and target.suffix:
         return profile.wheel_radii[0 if target.suffix == "left" else 1]
+    if target.field.sensors == "ground":
+        return float(getattr(profile, head)[GROUND_NAMES.index(target.suffix or GROUND_NAMES[0])])
     if head == "ground_spacing":
         poses = profile.ground_poses
         return (poses[0].y - poses[-1].y) / (len(poses) - 1)
@@ -371,7 +395,7 @@ def _numbers(record: list[tuple[str, float]]) -> dict[str, float | None]:
             for i in target.sensors:
                 out[f"{target.head}.{PROX_NAMES[i]}"] = -value if mirror and i != left else value
         else:
-            out[expand_setting(setting)[0]] = value
+            out.update({single: value for single in expand_setting(setting)})
     return out
 
 
@@ -398,6 +422,10 @@ def _set(
         (i,) = target.sensors
         values = list(getattr(profile, head))
         values[i] = value
+        return {head: tuple(values)}
+    if target.field.sensors == "ground":
+        values = list(getattr(profile, head))
+        values[GROUND_NAMES.index(target.suffix)] = value
         return {head: tuple(values)}
     if head == "ground_spacing":
         poses = profile.ground_poses

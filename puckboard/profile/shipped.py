@@ -60,6 +60,8 @@ _PHYSICAL_SOURCES = {
     "ground_poses": "Webots E-puckGroundSensors: x = 30 mm, 10 mm apart",
     "ground_footprint": "2 mm: the simulator's floor model; ARGoS samples one point, Enki "
     "blurs its floor with σ = 4 mm",
+    "ground_dark": "0: black reads 0, as Webots' and ARGoS' ground sensors read it; a real "
+    "e-puck2 reads black tape at 0.30-0.42 of white (the plausible range)",
     "ir_gain": "1: the response table is one robot's calibration; robots and sensors differ "
     "(e-puck.org IR proximity page); measure yours with puckboard calibrate ir",
     "camera": "Webots: 30 mm ahead, 28 mm high, field of view 0.84 rad",

@@ -187,6 +187,17 @@ _PHYSICAL: dict[str, Range] = {
         "0: ARGoS samples one point; 4 mm: Enki blurs its floor with σ = 4 mm",
         _DISAGREE,
     ),
+    # last, so that every number above draws what it drew before this range existed
+    "ground_dark": Range(
+        0.0, 0.35,
+        "0: black reads 0 (Webots' and ARGoS' e-puck ground sensors; a course's notes: "
+        "'1000 (pure white) and 0 (black)', oliolioli/Robotics Sensors.md); 0.35: a real "
+        "e-puck2 over black tape (deinemutterschiff/robotique Gsensors.csv, "
+        "Gsensors_diago.csv): white 955-965, black tape 300-314 (gs1), 348-381 (gs0), "
+        "376-405 (gs2), the channels about 100 counts apart; black/white 0.30-0.42 is a "
+        "dark level of 0.22-0.35 under the scenes' floor (0.92) and tape (0.08)",
+        _PER_ROBOT,
+    ),
 }  # fmt: skip
 
 # V-REP's model is one exact decoded file, so its ranges are only where decoded variants
@@ -225,6 +236,7 @@ _VREP_CERTAIN = {
     "ir_offset": "a cone sensor reports exact distances: no calibration to leave over",
     "ground_footprint": "decoded: each ground value is one pixel of a 16×2 image that V-REP "
     "renders without multisampling, the colour at the pixel's centre",
+    "ground_dark": "decoded: each ground value is a pixel's grey level, black reading 0",
 }
 _CERTAIN = {"epuck": _PHYSICAL_CERTAIN, "e-puck1": _PHYSICAL_CERTAIN, "epuck-vrep": _VREP_CERTAIN}
 

@@ -17,6 +17,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..errors import SceneError
+from ..profile.link_cycles import QUANTILES, CycleLatency
+from ..profile.links import LINKS
 from .generated import GENERATE_KEYS, generated_data
 from .placement import (
     DUMMY_KEYS,
@@ -55,7 +57,7 @@ TOP_KEYS = frozenset(
 ARENA_KEYS = frozenset(("size", "centre", "xmin", "ymin", "xmax", "ymax", "colour"))
 NOISE_KEYS = frozenset(("wheel_speed", "proximity", "ground", "start_jitter", "gyro", "gyro_bias"))
 GOAL_KEYS = frozenset(("kind", "laps"))
-CONTROL_KEYS = frozenset(("period", "latency"))
+CONTROL_KEYS = frozenset(("period", "latency", "cycle_latency", "repeated", "link"))
 
 
 # -- dict → Scene ------------------------------------------------------------------------------
@@ -238,13 +240,56 @@ def _control(top: TableReader, dt: float) -> Control:
         else None
     )
     latency = reader.number("latency", 0.0, unit="s", low=0.0, high=1e3)
+    cycle_latency = _cycle_latency(reader)
+    repeated = reader.number("repeated", 0.0, unit="(a share)", low=0.0, high=0.99)
+    link = reader.string("link", "")
     reader.finish()
-    control = Control(period=period, latency=latency)
+    control = Control(
+        period=period, latency=latency, cycle_latency=cycle_latency, repeated=repeated, link=link
+    )
     try:
         control.steps(dt)
     except ValueError as exc:  # the message names control.period or control.latency
         raise SceneError(f"{top.source}: {exc}") from None
     return control
+
+
+def _cycle_latency(reader: TableReader) -> CycleLatency | None:
+    """``cycle_latency``: each cycle's latency as named quantiles in seconds (``{ median =
+    0.009, p90 = 0.033, max = 0.15 }``, as ``puckboard calibrate link`` writes them), or
+    the name of a link whose distribution to take (``"epuck2-wifi"``)."""
+    if not reader.has("cycle_latency"):
+        return None
+    value = reader.raw("cycle_latency")
+    if isinstance(value, str):
+        cycles = LINKS[value].cycles if value in LINKS else None
+        if cycles is None:
+            known = [n for n, link in LINKS.items() if link.cycles is not None]
+            reader.fail(
+                "cycle_latency", f"one of {', '.join(known)} or a table of quantiles", value
+            )
+        assert cycles is not None
+        return cycles.latency
+    expected = f"a table of seconds by quantile ({', '.join(QUANTILES)})"
+    if not isinstance(value, Mapping) or not value:
+        reader.fail("cycle_latency", expected, value)
+    numbers = {}
+    for key, number in value.items():
+        ok = isinstance(number, (int, float)) and not isinstance(number, bool)
+        if key not in QUANTILES or not ok or not (0.0 <= float(number) <= 10.0):
+            reader.fail("cycle_latency", expected, {key: number})
+        numbers[key] = float(number)
+    try:
+        return CycleLatency.of_quantiles(numbers)
+    except ValueError as exc:
+        reader.fail("cycle_latency", "", message=str(exc))
+        raise  # pragma: no cover - fail raises
+
+
+def _cycle_latency_data(latency: CycleLatency) -> dict[str, float]:
+    """A distribution as named quantiles (s), the form :func:`_cycle_latency` reads."""
+    return {name: latency.quantile(name) for name, p in QUANTILES.items()
+            if any(abs(q - p) < 1e-12 for q, _ in latency.points)}  # fmt: skip
 
 
 # -- Scene → dict ------------------------------------------------------------------------------
@@ -273,6 +318,12 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
         out["control"] = {"latency": scene.control.latency}
         if scene.control.period is not None:
             out["control"]["period"] = scene.control.period
+        if scene.control.cycle_latency is not None:
+            out["control"]["cycle_latency"] = _cycle_latency_data(scene.control.cycle_latency)
+        if scene.control.repeated:
+            out["control"]["repeated"] = scene.control.repeated
+        if scene.control.link:
+            out["control"]["link"] = scene.control.link
     if scene.track is not None:
         out["track"] = {
             "shape": "points",

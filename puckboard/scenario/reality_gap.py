@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..profile.link_cycles import CycleLatency
 from ..profile.links import draw_timing, get_link
 from .conditions import apply_conditions, hand_placed, with_reflectance
 from .scene import CircleObstacle, PolygonObstacle, Scene
@@ -105,9 +106,12 @@ CONDITION_RANGES: dict[str, ConditionRange] = {
 }  # fmt: skip
 
 #: The links a real robot is driven over (:data:`puckboard.profile.links.LINKS`, each
-#: range with its sources): one is drawn with equal odds, then its period and latency
-#: within its ranges (:func:`~puckboard.profile.links.draw_timing`, whole steps of dt).
-#: The simulators' own loops (CoppeliaSim, ARGoS) are models, not a robot's reality.
+#: range with its sources): one is drawn with equal odds, then its period within its
+#: range (:func:`~puckboard.profile.links.draw_timing`, whole steps of dt) and how it
+#: varies cycle by cycle (:class:`~puckboard.profile.link_cycles.LinkCycles`): each
+#: command's latency drawn from the link's distribution, and a share of repeated
+#: readings drawn within the link's range. The simulators' own loops (CoppeliaSim,
+#: ARGoS) are models, not a robot's reality.
 REAL_LINKS = ("epuck2-wifi", "bluetooth-sercom", "usb-sercom")
 
 # The families, in the order their generators are numbered (the second word of the seed).
@@ -122,14 +126,20 @@ class DrawnConditions:
     reflectance: dict[str, float]
     offset: dict[str, float]
     heading: dict[str, float]
-    #: the link drawn ("" when the run set its own timing) and its control timing (s)
+    #: the link drawn ("" when the run set its own timing) and its control timing (s;
+    #: ``control.repeated``, the share of repeated readings drawn)
     link: str = ""
     timing: dict[str, float] = dataclasses.field(default_factory=dict)
+    #: each command's latency distribution, the link's (None: the run set the latency)
+    cycle_latency: CycleLatency | None = None
 
     def apply(self, scene: Scene) -> Scene:
         """``scene`` in these conditions."""
-        if self.timing:
-            control = {k.split(".", 1)[1]: v for k, v in self.timing.items()}
+        if self.timing or self.cycle_latency is not None:
+            control: dict[str, Any] = {k.split(".", 1)[1]: v for k, v in self.timing.items()}
+            if self.cycle_latency is not None:
+                control["cycle_latency"] = self.cycle_latency
+            control["link"] = self.link
             scene = dataclasses.replace(
                 scene, control=dataclasses.replace(scene.control, **control)
             )
@@ -161,6 +171,11 @@ class DrawnConditions:
         if self.link:
             out["control.link"] = self.link
         out.update(self.timing)
+        if self.cycle_latency is not None:
+            out["control.cycle_latency"] = {
+                name: round(self.cycle_latency.quantile(name), 6)
+                for name in ("median", "p90", "max")
+            }
         return out
 
 
@@ -219,9 +234,15 @@ def draw_conditions(scene: Scene, seed: int, fixed: Collection[str] = ()) -> Dra
         heading = {}
     rng = _rng(seed, "link")
     link = REAL_LINKS[int(rng.integers(len(REAL_LINKS)))]
-    period, latency = draw_timing(get_link(link), rng, scene.dt)
-    timing = {"control.period": period, "control.latency": latency}
+    timing_of = get_link(link)
+    period, _ = draw_timing(timing_of, rng, scene.dt)  # the latency: each cycle's, below
+    cycles = timing_of.cycles
+    assert cycles is not None, f"link {link!r} has no per-cycle model"
+    low, high = cycles.repeated
+    repeated = float(low + rng.random() * (high - low))
+    timing = {"control.period": period, "control.latency": 0.0, "control.repeated": repeated}
     timing = {k: v for k, v in timing.items() if k not in fixed}
-    if not timing:
-        link = ""
-    return DrawnConditions(values, reflectance, offset, heading, link, timing)
+    cycle_latency = None if "control.latency" in fixed else cycles.latency
+    if "control.period" in fixed and cycle_latency is None:
+        link, timing = "", {}
+    return DrawnConditions(values, reflectance, offset, heading, link, timing, cycle_latency)

@@ -39,6 +39,10 @@ class EpisodeResult:
     #: step and no delay (``None``: today's synchronous loop, and no fields in the JSON)
     control_period_s: float | None = None
     control_latency_s: float | None = None
+    #: how the loop varied cycle by cycle, when it did (``control.cycle_latency``,
+    #: ``control.repeated``): the latency's median, 90th percentile and maximum (s) and
+    #: the share of repeated readings; ``None``, and no field in the JSON, otherwise
+    control_cycle: dict[str, float] | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -51,7 +55,7 @@ class EpisodeResult:
         rtf = self.realtime_factor
         # the loop's timing only when it is not the default, so a default run's object
         # (and every figure published from one) stays what it was
-        timing = (
+        timing: dict[str, Any] = (
             {}
             if self.control_period_s is None
             else {
@@ -59,6 +63,8 @@ class EpisodeResult:
                 "control_latency_s": self.control_latency_s or 0.0,
             }
         )
+        if self.control_cycle is not None:
+            timing["control_cycle"] = dict(self.control_cycle)
         out: dict[str, Any] = {
             "scenario": self.scenario,
             "controller": self.controller,

@@ -131,6 +131,26 @@ def link_control(scene: Scene) -> Scene:
     ((period, latency),) = links
     dt = scene.dt
     control = Control(period=max(1, round(period / dt)) * dt, latency=round(latency / dt) * dt)
+    cycles = next(
+        (c for c in (get_profile(r.profile).link_cycles for r in scene.robots) if c is not None),
+        None,
+    )
+    if cycles is not None:
+        # each command's latency drawn from the measured round trips (rounded per command),
+        # and readings repeated as often as the robot's packets came at this period
+        control = dataclasses.replace(
+            control,
+            latency=0.0,
+            cycle_latency=cycles.latency,
+            repeated=cycles.repeated_at(control.period_for(dt)),
+        )
+        log.info(
+            "running at the profile's link: period %.3g s (measured %.3g s), each "
+            "command's latency drawn from the measured round trips (%s), %.0f %% of "
+            "readings repeated",
+            control.period, period, cycles.latency.describe(), 100 * control.repeated,
+        )  # fmt: skip
+        return dataclasses.replace(scene, control=control)
     log.info(
         "running at the profile's link timing: period %.3g s, latency %.3g s (measured "
         "%.3g s and %.3g s, rounded to whole steps of %.3g s)",

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from ..profile.link_cycles import CycleLatency
 from ..profile.model import RobotProfile
 
 __all__ = [
@@ -235,14 +236,38 @@ class Control:
     taken, its command acts ``latency`` later), which for a controller that reacts to
     what it senses is the same loop. It too must be a whole number of steps (0: none).
     The links' ranges and their sources: :mod:`puckboard.profile.links`.
+
+    A real link also varies from cycle to cycle (:mod:`puckboard.profile.link_cycles`):
+    ``cycle_latency``, when given, adds to ``latency`` each command's own latency drawn
+    from that distribution (the sum rounded to whole steps; a command never overtakes
+    the one before it, as on one connection), and ``repeated`` is the share of cycles
+    whose reading repeats the previous one, no new packet having come (its age grows).
+    ``link`` names the link they were drawn from, for reports.
     """
 
     period: float | None = None
     latency: float = 0.0
+    cycle_latency: CycleLatency | None = None
+    repeated: float = 0.0
+    link: str = ""
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.repeated) and 0.0 <= self.repeated < 1.0):
+            raise ValueError(f"control.repeated must be a share in [0, 1), got {self.repeated!r}")
+
+    @property
+    def varies(self) -> bool:
+        """Whether the loop varies from cycle to cycle (a latency drawn per command, or
+        repeated readings)."""
+        return self.cycle_latency is not None or self.repeated > 0.0
 
     def is_default(self, dt: float) -> bool:
         """True for today's loop: one tick per physics step and no delay."""
-        return self.latency == 0.0 and (self.period is None or _same(self.period, dt))
+        return (
+            self.latency == 0.0
+            and not self.varies
+            and (self.period is None or _same(self.period, dt))
+        )
 
     def period_for(self, dt: float) -> float:
         """The control period (s) with physics step ``dt``."""

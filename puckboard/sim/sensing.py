@@ -102,6 +102,10 @@ class Sensing:
             for _ in range(3)
         )
         self._widest = max(self._footprints)
+        # each ground sensor's dark level (robot-major like the readings); None when every
+        # sensor reads black as 0, so such a world reads exactly what it read before
+        dark = [float(d) for p in profiles for d in p.ground_dark]
+        self._ground_dark = dark if any(dark) else None
         self._no_track = floor.seg_start.shape[0] == 0
         self._floor_values = floor.brightness_values(np.zeros((3 * n, 2)), None, self._footprints)
         #: N×8 IR distances (m) and raw values, N×3 ground brightness (0..1) and raw values
@@ -153,6 +157,9 @@ class Sensing:
                 centres.append((x + c * mx - s * my, y + s * mx + c * my))
             near = self.floor.segments_near(centres, self._ground_reach, self._widest)
             values = self.floor.brightness_values(np.array(points), near, self._footprints)
+        if self._ground_dark is not None:
+            # light a sensor returns over nothing (its dark level) plus the floor's share
+            values = [d + (1.0 - d) * v for d, v in zip(self._ground_dark, values)]
         # The 3N readings stay flat (robot-major, as the N×3 arrays store them). Noise,
         # clamping and the raw scale are a few float operations per reading: plain
         # floats, in the order the arrays would apply them, cost less than numpy calls.

@@ -61,6 +61,7 @@ from .camera import RobotCameras
 from .contacts import Statics
 from .floor import Floor
 from .kinematics import arc
+from .link_cycles import LinkCycleState
 from .sensing import Sensing
 from .surfaces import stack_surfaces
 
@@ -158,6 +159,15 @@ class World:
         # the loop's latency (scene.control), in steps: a command given now turns the
         # wheels this many steps later (0: at once, the thesis's synchronous loop)
         self._delay = scene.control.steps(self._dt)[1]
+        # a link that varies cycle by cycle (a latency drawn per command, repeated
+        # readings) runs its own queue instead of the fixed ring (sim/link_cycles.py)
+        self._cycles = (
+            LinkCycleState(scene.control, len(scene.robots), seed=seed, dt=self._dt)
+            if scene.control.varies
+            else None
+        )
+        if self._cycles is not None:
+            self._delay = 0
 
         self._init_state()
 
@@ -307,6 +317,8 @@ class World:
             self._command = [(0.0, 0.0)] * self.n
             for row in self._due:  # nothing still on its way arrives after a stop
                 row[:] = [None] * self.n
+            if self._cycles is not None:
+                self._cycles.clear()
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` steps of ``dt``; sensors then describe the new state."""
@@ -411,10 +423,17 @@ class World:
         With a control latency (``scene.control.latency``) the command reaches the
         wheels that many steps later; until then they keep the one before."""
         with self._lock:
-            if self._delay:
+            if self._cycles is not None:
+                self._cycles.send(i, self.step_count, (left, right))
+            elif self._delay:
                 self._due[(self.step_count + self._delay) % (self._delay + 1)][i] = (left, right)
             else:
                 self._command[i] = (left, right)
+
+    def fresh_reading(self, i: int) -> bool:
+        """Whether robot ``i``'s reading this cycle is a new packet: always, unless the
+        scene's link repeats readings (``control.repeated``)."""
+        return True if self._cycles is None else self._cycles.fresh(i)
 
     def set_pose(self, i: int, x: float, y: float, theta: float) -> None:
         """Place robot ``i`` (for tests and scripted set-ups); sensors are recomputed."""
@@ -439,6 +458,11 @@ class World:
         z = self.rng.standard_normal(n * NORMALS_PER_ROBOT) if self._noisy else None
         if self._delay:
             self._deliver()
+        elif self._cycles is not None:
+            for i in range(n):
+                arrived = self._cycles.due(i, self.step_count)
+                if arrived is not None:
+                    self._command[i] = arrived
         # The e-puck's steppers turn the wheels exactly as commanded; the noise is the
         # ground's: slip makes the body move by (1 + σ·N) of what the wheel turned, and
         # each wheel rolls its own true radius. So the step counters (encoders) and

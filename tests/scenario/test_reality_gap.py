@@ -82,8 +82,13 @@ def test_conditions_lie_in_their_ranges_and_follow_the_seed():
     drawn = [draw_conditions(PASS, seed).to_dict() for seed in range(40)]
     for conditions in drawn:
         link = get_link(conditions.pop("control.link"))
+        assert link.cycles is not None
         assert conditions.pop("control.period") >= link.period[0] - 0.05  # whole steps
-        assert conditions.pop("control.latency") <= link.latency[1] + 0.025
+        # the latency is each command's own, drawn from the link's distribution
+        assert conditions.pop("control.latency") == 0.0
+        assert conditions.pop("control.cycle_latency")["max"] == link.cycles.latency.quantile("max")
+        low, high = link.cycles.repeated
+        assert low <= conditions.pop("control.repeated") <= high
         for name, value in conditions.items():
             r = CONDITION_RANGES[name]
             for v in value.values() if isinstance(value, dict) else [value]:
@@ -122,11 +127,22 @@ def test_the_link_timing_comes_from_a_real_robot_s_link():
     scene = vary_scene(PASS, 4, "reality-gap")
     assert scene.control.period == drawn[4]["control.period"]
     assert scene.control.latency == drawn[4]["control.latency"]
+    assert scene.control.repeated == drawn[4]["control.repeated"]
+    assert scene.control.link == drawn[4]["control.link"]
+    cycles = get_link(drawn[4]["control.link"]).cycles
+    assert cycles is not None and scene.control.cycle_latency == cycles.latency
     scene.control.steps(scene.dt)  # whole steps of the scene's dt
     kept = vary_scene(
         apply_scene_overrides(PASS, {"control.period": 0.1}), 4, "reality-gap", ["control.period"]
     )
     assert kept.control.period == 0.1 and kept.control.latency == drawn[4]["control.latency"]
+    assert kept.control.cycle_latency == cycles.latency  # the link still varies per cycle
+    # a run that sets its latency keeps it: no per-cycle draw
+    fixed = vary_scene(
+        apply_scene_overrides(PASS, {"control.latency": 0.05}), 4, "reality-gap",
+        ["control.latency"],
+    )  # fmt: skip
+    assert fixed.control.latency == 0.05 and fixed.control.cycle_latency is None
 
 
 def test_the_text_report_lists_the_drawn_conditions_only_for_reality_gap(capsys):

@@ -108,3 +108,34 @@ def test_brightness_as_floats_is_exactly_the_array_brightness(width):
         points = xy[:, 0] + 1j * xy[:, 1]
         near = floor.segments_near([centre], 0.0142)
         assert floor.brightness_values(points, near) == floor.brightness(points, near).tolist()
+
+
+def test_a_dark_level_reads_black_tape_as_a_real_e_puck2_does():
+    # deinemutterschiff/robotique Gsensors.csv: white 955-965, black tape 300-406 (0.30-0.42
+    # of white); a sensor of dark level d reads d + (1 - d) x brightness
+    from puckboard.profile import apply_overrides, get_profile
+
+    dark = apply_overrides(
+        get_profile("epuck"),
+        {"ground_dark.left": 0.22, "ground_dark.centre": 0.35, "ground_dark.right": 0.0},
+        source="test",
+    )
+    assert dark.ground_dark == (0.22, 0.35, 0.0)
+    w = World(empty_scene(robot("a", profile=dark), track=STRAIGHT))
+    floor, line = luminance(w.scene.floor_colour), luminance(STRAIGHT.colour)
+    assert w.ground[0].tolist() == pytest.approx([0.22 + 0.78 * floor, 0.35 + 0.65 * line, floor])
+    on, off = 0.35 + 0.65 * line, 0.35 + 0.65 * floor
+    assert 0.30 <= on / off <= 0.43  # the recording: black over white 0.30-0.42
+    # the shipped profile reads black as 0, as Webots and ARGoS do
+    assert get_profile("epuck").ground_dark == (0.0, 0.0, 0.0)
+
+
+def test_plausible_robots_draw_each_ground_sensor_s_dark_level():
+    from puckboard.profile import draw, get_profile, uncertainty, variation_rng
+
+    r = uncertainty(get_profile("epuck"))["ground_dark"]
+    assert (r.low, r.high) == (0.0, 0.35) and "Gsensors.csv" in r.source
+    robots = [draw(get_profile("epuck"), variation_rng(s, 0)).ground_dark for s in range(20)]
+    assert all(0.0 <= d <= 0.35 for g in robots for d in g)
+    assert len({g[0] for g in robots}) == 20 and robots[0][0] != robots[0][1]
+    assert draw(get_profile("epuck-vrep"), variation_rng(0, 0)).ground_dark == (0.0, 0.0, 0.0)

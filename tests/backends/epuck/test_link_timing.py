@@ -13,6 +13,7 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import ClassVar
 
 import pytest
 
@@ -90,10 +91,12 @@ def test_the_emulators_link_delays_lie_in_the_links_range():
     assert len(set(delays)) > 1  # drawn, not fixed
 
 
-def measurement(period: float, latency: float) -> LinkMeasurement:
+def measurement(period: float, latency: float, repeated: float = 0.0) -> LinkMeasurement:
+    def spread(median: float, p95: float) -> Spread:
+        return Spread(10, {"min": median / 3, "median": median, "p95": p95, "max": p95 * 2})
+
     return LinkMeasurement(
-        round_trip=Spread(10, latency, latency / 2, latency * 2, latency * 3),
-        cycle=Spread(10, period / 2, period / 3, period, period * 2),
+        round_trip=spread(latency, latency * 2), cycle=spread(period / 2, period), repeated=repeated
     )
 
 
@@ -115,9 +118,11 @@ def test_a_profiles_link_runs_the_simulator_at_that_timing(tmp_path, capsys):
     write_link_table(path, measurement(0.11, 0.04), "measured", base="epuck", name="slow")
     assert main(["run", "line-follow", "--profile", str(path), "--duration", "2", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
-    # rounded to whole steps of 0.05 s: 0.11 -> 0.1, 0.04 -> 0.05
+    # the period rounded to whole steps of 0.05 s: 0.11 -> 0.1; each command's latency
+    # drawn from the measured round trips (median 0.04 s), rounded per command
     assert d["control_period_s"] == pytest.approx(0.1)
-    assert d["control_latency_s"] == pytest.approx(0.05)
+    assert d["control_latency_s"] == 0.0
+    assert d["control_cycle"]["latency_median_s"] == pytest.approx(0.04)
     args = ["run", "line-follow", "--profile", str(path), "--duration", "2", "--json"]
     assert main([*args, "--set", "control.period=0.15"]) == 0  # the command line wins
     d = json.loads(capsys.readouterr().out)
@@ -138,6 +143,12 @@ def test_calibrate_link_against_the_emulator_writes_a_loadable_profile(tmp_path,
     assert profile.name == "bt" and profile.base == "epuck"
     assert profile.link == (pytest.approx(data["period_s"]), pytest.approx(data["latency_s"]))
     assert "calibrate link: 4 cycles over epuck2-wifi" in profile.sources["link"]
+    # the measured distribution is written and read back: every quantile, and the share
+    # of cycles whose reading repeated the one before
+    assert set(data["round_trip_s"]) >= {"median", "p90", "max"}
+    assert 0.0 <= data["repeated"] < 1.0
+    assert profile.link_cycles is not None
+    assert profile.link_cycles.latency.quantile("p90") == pytest.approx(data["round_trip_s"]["p90"])
 
 
 @pytest.mark.parametrize(
@@ -152,6 +163,61 @@ def test_bad_calibrate_link_input_is_one_line(tmp_path, capsys, args, words):
     assert main([*base, "--device", "/dev/null-none", *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0], err
+
+
+def test_the_emulator_holds_wifi_replies_back_by_the_measured_distribution():
+    # the Wi-Fi link's per-cycle latency, measured on a real e-puck2, is what the emulator
+    # draws from: half its replies within 9.3 ms, a tenth beyond 33 ms, none beyond 150 ms
+    from puckboard.profile.links import LINKS
+
+    with emulated("wifi", LINKS["epuck2-wifi"], FakeClock()) as em:
+        assert em.server.reply_delay is not None
+        delays = sorted(em.server.reply_delay() for _ in range(2000))
+    assert 0.0075 < delays[1000] < 0.011
+    assert 0.028 < delays[1800] < 0.039
+    assert max(delays) <= 0.15
+
+
+def test_calibrate_link_measures_repeated_readings_against_a_clock(tmp_path):
+    # a robot refreshing its packet every other cycle: measure_link counts the repeats
+    class Records:
+        def __init__(self) -> None:
+            self.k = 0
+
+        def __call__(self) -> dict[str, int]:
+            self.k += 1
+            return {"ground": self.k // 2}
+
+    class Link:
+        round_trips: ClassVar[list[float]] = []
+
+    class Adapter:
+        link = Link()
+        sense_all = Records()
+
+        def stop_wheels(self) -> None:
+            self.link.round_trips.append(0.001)
+
+    measured = measure_link(Adapter(), 9)
+    assert measured.repeated == pytest.approx(4 / 9)  # readings 0 1 1 2 2 3 3 4 4: 5 new
+
+
+def test_a_profiles_measured_distribution_runs_per_cycle(tmp_path, capsys):
+    path = tmp_path / "wifi.toml"
+    # cycles of 25 ms three quarters of whose readings repeated: a packet every 100 ms, so
+    # a loop of 50 ms (what the measured period rounds to) repeats half, one of 100 ms none
+    write_link_table(path, measurement(0.05, 0.01, repeated=0.75), "m", base="epuck", name="w")
+    profile = load_profile_file(path)
+    assert profile.link_cycles is not None
+    assert profile.link_cycles.fresh_every == pytest.approx(0.1)
+    assert profile.link_cycles.repeated_at(0.05) == pytest.approx(0.5)
+    assert profile.link_cycles.repeated_at(0.1) == 0.0
+    args = ["run", "line-follow", "--profile", str(path), "--duration", "2", "--json"]
+    assert main(args) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["control_cycle"]["latency_median_s"] == pytest.approx(0.01)
+    assert d["control_cycle"]["latency_max_s"] == pytest.approx(0.04)
+    assert d["control_cycle"]["repeated"] == pytest.approx(0.5)
 
 
 def test_emulate_refuses_an_unknown_link(capsys):
