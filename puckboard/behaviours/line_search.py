@@ -118,21 +118,27 @@ class LineSearch(Layer):
         self._seen = False
         self._sweep_start = None
 
+    def _dark(self, values: list[float]) -> tuple[bool, bool, bool]:
+        """Which of (left, centre, right) read the line: as the shared line-following
+        layer decides (its thresholds, learned or not), else below ``threshold``."""
+        if self.line is not None:
+            return self.line.dark(values)
+        t = self._threshold
+        return values[0] < t, values[1] < t, values[2] < t
+
     def observe(self, frame: Frame) -> None:
         ground = frame.ground
         if ground is None:
             return
-        left, centre, right = ground.value.tolist()
-        threshold = self.threshold
-        left_dark, right_dark = left < threshold, right < threshold
-        if not self._seen and min(left, centre, right) < threshold:
+        left_dark, centre_dark, right_dark = self._dark(ground.value.tolist())
+        if not self._seen and (left_dark or centre_dark or right_dark):
             self._seen = True
         if left_dark != right_dark:  # one outer sensor alone: the line is on its side
             self._last_side = "left" if left_dark else "right"
 
     def applies(self, frame: Frame) -> bool:
         ground = frame.ground
-        return ground is not None and min(ground.value.tolist()) >= self.threshold
+        return ground is not None and not any(self._dark(ground.value.tolist()))
 
     def command(self, frame: Frame) -> WheelCommand:
         if self.sweep > 0.0 and not self._seen:

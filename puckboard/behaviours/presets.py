@@ -89,6 +89,7 @@ def robust(
     sharp_factor: float = 0.0,
     reverse_factor: float = 1.0,
     search_sweep: float = 0.5,
+    learn_line: bool = True,
 ) -> Controller:
     """The improved controller made to pass on plausible robots (docs/controllers.md).
 
@@ -110,8 +111,16 @@ def robust(
     the robot into it; and a robot put down off the line sweeps for it on the spot
     (``search_sweep`` 0.5 s each way) before it curves, where curving the wrong way sent
     it round a circle and back along the line (``turned_back``).
+
+    Widened a third time for a real table (``--variation reality-gap`` with real robots'
+    ground readings and links): the line's threshold is learned from the tape the robot
+    is on (``learn_line``; :class:`~.line_levels.LineLevels`), where a real e-puck2
+    reads black tape at 0.30-0.42 of white and worn tape lighter still, so that a fixed
+    0.5 lost the line or never saw it.
     """
-    line = LineFollow(speed, inner_factor=0.20, recovery=True, sharp_factor=sharp_factor)
+    line = LineFollow(
+        speed, inner_factor=0.20, recovery=True, sharp_factor=sharp_factor, learn=learn_line
+    )
     return Controller(
         [
             FrontObstacleLeftTurn(speed, braitenberg_fallback=False, reverse_factor=reverse_factor),

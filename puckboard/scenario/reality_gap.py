@@ -89,9 +89,14 @@ CONDITION_RANGES: dict[str, ConditionRange] = {
         "width and the UK Micromouse and Robotics Society line follower's line",
     ),
     "obstacle.ir_reflectance": ConditionRange(
-        0.1, 1.0,
-        "assumed: 1, a light object as the IR response table's; 0.1, a black one the "
-        "e-puck's IR 'hardly detects' (epucklib, a00048.html); each obstacle on its own",
+        0.038, 1.0,
+        "1: a light object, as the IR response table's (Webots E-puckDistanceSensor, "
+        "calibrated on a real e-puck); 0.038: a black one, which the e-puck's IR 'hardly "
+        "detects' (epucklib, a00048.html), first seen 1 cm from the sensor as Webots' "
+        "infra-red model sees a black object (distance divided by 0.2 + 0.8 x red level: "
+        "the table's 5 cm cut-off at 1 cm), where this model's light above ambient x 0.038 "
+        "first reads at 1 cm too (0.1, the end assumed before, at 1.5 cm); each obstacle on "
+        "its own",
     ),
     "start.offset": ConditionRange(
         -0.01, 0.01,
