@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..backends.registry import default_backend, open_backend, resolve_backend
+from ..backends.registry import abilities_of, default_backend, open_backend, resolve_backend
 from ..behaviours.controller import Controller
 from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 from ..behaviours.presets import ControllerFactory, load_controller
@@ -149,7 +149,7 @@ class Episode:
         )
         self.scene = vary_scene(self.scene, int(seed), variation, fixed)
         self.seed = int(seed)
-        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
+        if abilities_of(self.backend).link_timing:  # elsewhere the link is its own
             self.scene = link_control(self.scene)  # a profile file's measured link timing
         specs = {
             r.name: (controller if controller is not None else r.controller)
