@@ -9,7 +9,7 @@ run, and a radius that reached one is marked incomplete.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -161,7 +161,7 @@ def _cell(
     profile: str,
     controller: str,
     points: list[Point],
-    stats: Any,
+    stats: Callable[[str, Point], GroupSummary | None],
     threshold: float,
 ) -> Cell:
     design_point = next(p for p in points if p.family == DESIGN)
