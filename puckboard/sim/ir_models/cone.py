@@ -11,16 +11,11 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from ..cone import ConeSensors
-from .registry import IrModel
+from .registry import FloatArray, IrModel
 
 if TYPE_CHECKING:
-    import numpy as np
-    import numpy.typing as npt
-
     from ...profile import RobotProfile
     from ..surfaces import Surfaces
-
-    FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["MODEL", "ConeModel"]
 

@@ -15,15 +15,11 @@ import numpy as np
 
 from ..ir_calibration import IrCalibration
 from ..proximity import ProximitySensors
-from .registry import IrModel
+from .registry import FloatArray, IrModel
 
 if TYPE_CHECKING:
-    import numpy.typing as npt
-
     from ...profile import RobotProfile
     from ..surfaces import Surfaces
-
-    FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["MODEL", "RaySensors"]
 

@@ -13,16 +13,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
-if TYPE_CHECKING:
-    import numpy as np
-    import numpy.typing as npt
+import numpy as np
+import numpy.typing as npt
 
+if TYPE_CHECKING:
     from ...profile import RobotProfile
     from ..surfaces import Surfaces
 
-    FloatArray = npt.NDArray[np.float64]
+__all__ = ["FloatArray", "IrModel", "IrSensors", "ir_model", "ir_model_names"]
 
-__all__ = ["IrModel", "IrSensors", "ir_model", "ir_model_names"]
+#: The world's N×8 IR arrays, and a step's normals.
+FloatArray = npt.NDArray[np.float64]
 
 
 class IrSensors(Protocol):
