@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from puckboard.cli import main
-from puckboard.cli.link_table import link_table_markdown
+from puckboard.cli.link_table import link_cycles_markdown, link_table_markdown
 from puckboard.errors import ProfileError, SceneError
 from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link, timing_overrides
 from puckboard.scenario import load_scene
@@ -92,6 +92,7 @@ def test_profiles_show_lists_the_links_and_one_with_its_sources(capsys):
 def test_the_docs_hold_the_links_table_of_the_code():
     doc = (ROOT / "docs" / "profiles.md").read_text(encoding="utf-8")
     assert link_table_markdown() in doc
+    assert link_cycles_markdown() in doc
 
 
 def link_file(tmp_path, table: str, name: str = "mine") -> Path:
