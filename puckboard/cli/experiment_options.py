@@ -147,7 +147,11 @@ def add_where_to_run(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="wall-clock seconds after which an episode is stopped and counted as 'error' "
-        "(guards against controllers that never return; default: no limit)",
+        "of kind 'timeout'; on local workers the process running it is killed and replaced, "
+        "which stops any layer (a busy loop, time.sleep, a call blocked in C); on a Dask "
+        "cluster (--scheduler) the episode is interrupted from within, which stops a layer "
+        "running Python code but not one blocked in a C call such as time.sleep "
+        "(default: no limit)",
     )
     parser.add_argument(
         "--batch-size",
@@ -303,10 +307,11 @@ def exit_status(
     Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""
     errors = result.errors
     if errors:
+        kinds = ", ".join(f"{n} {kind}" for kind, n in result.error_kinds().items())
         print(
-            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes raised an "
-            f"exception (counted as failure 'error'; see the error column of --out). "
-            f"First: {errors[0]}",
+            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes ended in "
+            f"error ({kinds}; counted as failure 'error'; see the error and error_kind columns "
+            f"of --out). First: {errors[0]}",
             file=sys.stderr,
         )
     if result.interrupted:

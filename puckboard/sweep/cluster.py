@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from .executors import SweepExecutor, WorkerLostError, available_cpus, worker_context
+from .host import Isolation
 
 __all__ = ["DaskExecutor", "DaskStopFlag"]
 
@@ -135,7 +136,14 @@ class DaskExecutor(SweepExecutor):
             self._uploaded[spec] = f"{module}:{attr}"
         return self._uploaded[spec]
 
-    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+    def run(
+        self,
+        fn: Callable[..., Any],
+        tasks: Sequence[tuple[Any, ...]],
+        *,
+        isolation: Sequence[Isolation | None] | None = None,
+        unit_limit: float | None = None,
+    ) -> Iterator[Any]:
         futures: dict[str, Any] = {}
         self._futures = futures
         with self.cancelled_on_error():

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections import Counter
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -60,6 +61,13 @@ class SweepResult:
     def errors(self) -> list[str]:
         """``error`` messages of this run's episodes that raised (one per episode)."""
         return [str(r["error"]) for r in self.rows if r.get("error")]
+
+    def error_kinds(self) -> dict[str, int]:
+        """How this run's error episodes ended (``error_kind`` → count), most first."""
+        kinds = Counter(
+            str(r.get("error_kind") or "exception") for r in self.rows if r.get("error")
+        )
+        return dict(kinds.most_common())
 
     def groups(self) -> list[GroupSummary]:
         order = {c: i for i, c in enumerate(self.plan.controllers)}
@@ -133,8 +141,12 @@ def run_sweep(
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
     need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
     (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
-    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode whose
-    controller never returns; it is recorded as an ``error`` episode.
+    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode that
+    runs longer; it is recorded as an ``error`` episode of kind ``timeout``. An executor
+    that :attr:`~puckboard.sweep.executors.SweepExecutor.stops_processes` (local workers)
+    kills the process running it, which stops any layer; elsewhere (in this process, on
+    Dask) the episode is interrupted from within, which stops a layer running Python code
+    but not one blocked in a C call (:mod:`puckboard.sweep.watchdog`).
     """
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
@@ -179,11 +191,14 @@ def run_sweep(
             # per-episode warnings only when asked for more output (puckboard -v)
             level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
             stop = executor.stop_flag()
+            # the limit on the process where the executor can kill it, else in the episode
+            on_process = executor.stops_processes and episode_timeout is not None
+            inside = None if on_process else episode_timeout
             tasks = [
-                (scene, plan.scenario, batch, aliases, level, episode_timeout, stop)
-                for batch in batches
+                (scene, plan.scenario, batch, aliases, level, inside, stop) for batch in batches
             ]
-            stream = executor.run(run_batch, tasks)
+            extra: dict[str, Any] = {"unit_limit": episode_timeout} if on_process else {}
+            stream = executor.run(run_batch, tasks, **extra)
             for rows in stream:
                 collect(rows)
     except KeyboardInterrupt as exc:

@@ -9,6 +9,7 @@ run, and a radius that reached one is marked incomplete.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -235,6 +236,14 @@ class TransferResult:
     @property
     def errors(self) -> list[str]:
         return [e for s in self.sweeps for e in s.errors]
+
+    def error_kinds(self) -> dict[str, int]:
+        """:meth:`SweepResult.error_kinds <puckboard.sweep.run.SweepResult.error_kinds>`
+        of the whole report."""
+        total: Counter[str] = Counter()
+        for sweep in self.sweeps:
+            total.update(sweep.error_kinds())
+        return dict(total.most_common())
 
     @property
     def outcomes(self) -> list[Outcome]:
