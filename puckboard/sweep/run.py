@@ -17,14 +17,15 @@ from __future__ import annotations
 import logging
 import time
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
-from .plan import PlanError, SweepPlan, seeds_text
+from .host import Isolation
+from .plan import EpisodeSpec, PlanError, SweepPlan, seeds_text
 from .progress import NullProgress, Progress
 from .rows import Outcome
 from .signals import Terminated
@@ -35,7 +36,7 @@ from .worker import run_batch
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
 
-__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep"]
+__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep", "run_sweeps"]
 
 log = logging.getLogger(__name__)
 
@@ -148,64 +149,93 @@ def run_sweep(
     Dask) the episode is interrupted from within, which stops a layer running Python code
     but not one blocked in a C call (:mod:`puckboard.sweep.watchdog`).
     """
+    (result,) = run_sweeps(
+        [(plan, scene)],
+        executor=executor,
+        store=store,
+        batch_size=batch_size,
+        progress=progress,
+        episode_timeout=episode_timeout,
+    )
+    return result
+
+
+def run_sweeps(
+    parts: Sequence[tuple[SweepPlan, Scene | str | Path]],
+    *,
+    executor: SweepExecutor | None = None,
+    store: ResultStore | None = None,
+    batch_size: int | None = None,
+    progress: Progress | None = None,
+    episode_timeout: float | None = None,
+    isolation: Callable[[str], Isolation | None] | None = None,
+    aliases: Mapping[str, str] | None = None,
+) -> list[SweepResult]:
+    """:func:`run_sweep` for several plans, each on its scene, as one stream of tasks on
+    one executor and one ``store``; a result per plan, in order.
+
+    ``isolation`` maps a controller of the plans to the
+    :class:`~puckboard.sweep.host.Isolation` its episodes run in (``None``: shared
+    workers), on executors that keep it (local workers): each controller's tasks then
+    come together, every plan's in turn, so that a worker serves one controller for as
+    long as it can. ``aliases`` maps a controller spec, as the rows name it, to the spec
+    the workers load (a submission's version, say, to its file).
+    """
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
-    if isinstance(scene, (str, Path)):  # a Scene (or anything with its fields) is used as is
-        from ..scenario.scenefile import load_scene
-
-        scene = load_scene(scene)
-    if scene.name != plan.scenario:
-        raise PlanError(f"the plan is for scenario {plan.scenario!r}, the scene is {scene.name!r}")
+    scenes = [_loaded(plan, scene) for plan, scene in parts]
     progress = progress or NullProgress()
-    planned = list(plan.episodes())
-    wanted = {spec.key(plan.scenario): spec for spec in planned}
+    results = [SweepResult(plan=plan, outcomes=[]) for plan, _ in parts]
+    owner: dict[str, int] = {}  # episode key -> the part it belongs to
+    for index, (plan, _) in enumerate(parts):
+        for spec in plan.episodes():
+            key = spec.key(plan.scenario)
+            if key in owner:
+                raise PlanError(f"two plans of one run share the episode {key}")
+            owner[key] = index
     done: dict[str, Outcome] = {}
     if store is not None:
         for row in store.rows():
             key = str(row.get("key", ""))
-            if key in wanted:
+            if key in owner:
                 done[key] = Outcome.from_row(row)
-    todo = [spec for spec in planned if spec.key(plan.scenario) not in done]
-    result = SweepResult(plan=plan, outcomes=list(done.values()), skipped=len(done))
-    log.info("sweep: %d episodes planned, %d already done", len(planned), len(done))
+    for key, outcome in done.items():
+        results[owner[key]].outcomes.append(outcome)
+        results[owner[key]].skipped += 1
+    log.info("sweep: %d episodes planned, %d already done", len(owner), len(done))
 
     own_executor = executor is None
     executor = executor or LocalExecutor()
     t0 = time.perf_counter()
-    progress.start(len(planned), len(done))
+    progress.start(len(owner), len(done))
 
     def collect(rows: list[dict[str, Any]]) -> None:
         if store is not None:
             store.append(rows)
-        result.rows.extend(rows)
-        result.outcomes.extend(Outcome.from_row(r) for r in rows)
-        result.ran += len(rows)
+        for row in rows:
+            result = results[owner[str(row["key"])]]
+            result.rows.append(row)
+            result.outcomes.append(Outcome.from_row(row))
+            result.ran += 1
         progress.advance(len(rows))
 
     stream: Iterator[list[dict[str, Any]]] | None = None
     try:
-        if todo:
-            aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
-            aliases = {c: a for c, a in aliases.items() if a != c}
-            batches = make_batches(balance_order(todo, scene), executor.workers, batch_size)
-            # per-episode warnings only when asked for more output (puckboard -v)
-            level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
-            stop = executor.stop_flag()
-            # the limit on the process where the executor can kill it, else in the episode
-            on_process = executor.stops_processes and episode_timeout is not None
-            inside = None if on_process else episode_timeout
-            tasks = [
-                (scene, plan.scenario, batch, aliases, level, inside, stop) for batch in batches
-            ]
-            extra: dict[str, Any] = {"unit_limit": episode_timeout} if on_process else {}
-            stream = executor.run(run_batch, tasks, **extra)
+        todo = [
+            [s for s in plan.episodes() if s.key(plan.scenario) not in done] for plan, _ in parts
+        ]
+        if any(todo):
+            stream = _start(
+                executor, parts, scenes, todo, batch_size, episode_timeout, isolation, aliases
+            )
             for rows in stream:
                 collect(rows)
     except KeyboardInterrupt as exc:
-        result.interrupted = True
-        result.terminated = isinstance(exc, Terminated)
+        for result in results:
+            result.interrupted = True
+            result.terminated = isinstance(exc, Terminated)
         _keep_what_finishes(executor, collect)
-        log.info("sweep interrupted: %d episodes finished in this run", result.ran)
+        log.info("sweep interrupted: %d episodes finished in this run", sum(r.ran for r in results))
     finally:
         _close(stream)
         progress.close()
@@ -213,8 +243,68 @@ def run_sweep(
             store.flush()
         if own_executor:
             executor.close()
-        result.wall_s = time.perf_counter() - t0
-    return result
+        for result in results:
+            result.wall_s = time.perf_counter() - t0
+    return results
+
+
+def _loaded(plan: SweepPlan, scene: Scene | str | Path) -> Scene:
+    if isinstance(scene, (str, Path)):  # a Scene (or anything with its fields) is used as is
+        from ..scenario.scenefile import load_scene
+
+        scene = load_scene(scene)
+    if scene.name != plan.scenario:
+        raise PlanError(f"the plan is for scenario {plan.scenario!r}, the scene is {scene.name!r}")
+    return scene
+
+
+def _start(
+    executor: SweepExecutor,
+    parts: Sequence[tuple[SweepPlan, Any]],
+    scenes: Sequence[Scene],
+    todo: Sequence[Sequence[EpisodeSpec]],
+    batch_size: int | None,
+    episode_timeout: float | None,
+    isolation: Callable[[str], Isolation | None] | None,
+    aliases: Mapping[str, str] | None,
+) -> Iterator[list[dict[str, Any]]]:
+    """Cut the episodes to run into batches, in the order :func:`run_sweeps` promises,
+    and hand them to ``executor``; returns the stream of their rows."""
+    controllers = list(dict.fromkeys(c for plan, _ in parts for c in plan.controllers))
+    given = dict(aliases or {})
+    loadable = {c: executor.runnable_controller(given.get(c, c)) for c in controllers}
+    loadable = {c: a for c, a in loadable.items() if a != c}
+    ordered: list[tuple[int, EpisodeSpec]] = []
+    if isolation is None:  # part after part, each longest first
+        for index, specs in enumerate(todo):
+            ordered += [(index, s) for s in balance_order(specs, scenes[index])]
+    else:  # controller after controller, each on every part
+        for controller in controllers:
+            for index, specs in enumerate(todo):
+                mine = [s for s in specs if s.controller == controller]
+                ordered += [(index, s) for s in balance_order(mine, scenes[index])]
+    bounds = [(i, s.controller if isolation else "") for i, s in ordered]
+    cuts = make_batches([s for _, s in ordered], executor.workers, batch_size, bounds)
+    # per-episode warnings only when asked for more output (puckboard -v)
+    level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
+    stop = executor.stop_flag()
+    # the limit on the process where the executor can kill it, else in the episode
+    on_process = executor.stops_processes and episode_timeout is not None
+    inside = None if on_process else episode_timeout
+    tasks = []
+    isolations: list[Isolation | None] = []
+    first = 0
+    for batch in cuts:
+        index = ordered[first][0]
+        first += len(batch)
+        tasks.append(
+            (scenes[index], parts[index][0].scenario, batch, loadable, level, inside, stop)
+        )
+        isolations.append(isolation(batch[0].controller) if isolation else None)
+    extra: dict[str, Any] = {"unit_limit": episode_timeout} if on_process else {}
+    if isolation is not None:
+        extra["isolation"] = isolations
+    return executor.run(run_batch, tasks, **extra)
 
 
 def _keep_what_finishes(
