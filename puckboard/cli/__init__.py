@@ -31,6 +31,7 @@ COMMANDS: tuple[str, ...] = (
     "sensitivity",
     "tune",
     "transfer",
+    "challenge",
     "plot",
     "replay",
     "monitor",

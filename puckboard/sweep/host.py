@@ -56,6 +56,7 @@ class Isolation:
     ``name`` says whose tasks they are (a submission's version). ``workdir``: the folder
     the process works in, so the files it writes by relative path land there.
     ``output``: a file that takes everything the process prints (its stdout and stderr).
+    Give both as absolute paths: the process's working folder is not the parent's.
     ``memory_bytes``: how much memory the process may take beyond what it holds once
     started (enforced where the platform allows: Linux); more raises ``MemoryError``.
     ``file_bytes``: the largest file it may write, its output file included (POSIX).
@@ -152,17 +153,22 @@ def _send_failure(conn: Connection, task: int, exc: BaseException) -> None:
 
 
 def _isolate(isolation: Isolation) -> None:
-    """Give this process ``isolation``'s folder, output file and limits."""
-    if isolation.workdir is not None:
-        os.makedirs(isolation.workdir, exist_ok=True)
-        os.chdir(isolation.workdir)
+    """Give this process ``isolation``'s output file, folder and limits."""
     if isolation.output is not None:
         sys.stdout.flush()
         sys.stderr.flush()
+        os.makedirs(os.path.dirname(os.path.abspath(isolation.output)), exist_ok=True)
         fd = os.open(isolation.output, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
         os.dup2(fd, 1)
         os.dup2(fd, 2)
         os.close(fd)
+    if isolation.workdir is not None:
+        os.makedirs(isolation.workdir, exist_ok=True)
+        os.chdir(isolation.workdir)
+    # what it prints is its own: puckboard's warnings about it are not
+    ours = logging.getLogger("puckboard")
+    ours.handlers = [logging.NullHandler()]
+    ours.propagate = False
     _limit_memory(isolation.memory_bytes)
     _limit_files(isolation.file_bytes)
 

@@ -334,7 +334,8 @@ class SweepPlan:
 
     scenario: str
     controllers: tuple[str, ...] = (SCENE_CONTROLLERS,)
-    seeds: range = range(10)
+    #: a range (``--seeds A:B``), or any seeds (a challenge's, drawn from its secret)
+    seeds: Sequence[int] = range(10)
     grid: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
     fixed: Mapping[str, Any] = field(default_factory=dict)
     points: tuple[Mapping[str, Any], ...] = ()

@@ -158,6 +158,8 @@ class Outcome:
     failure: str
     progress_laps: float
     collisions: float
+    #: how an ``error`` episode ended (:data:`ERROR_KINDS`); empty for the others
+    error_kind: str = ""
 
     @classmethod
     def from_row(cls, row: Mapping[str, Any]) -> Outcome:
@@ -174,4 +176,5 @@ class Outcome:
             failure="" if success or failure is None else str(failure),
             progress_laps=_as_float(row.get("progress_laps")),
             collisions=_as_float(row.get("collisions")),
+            error_kind=str(row.get("error_kind") or ("exception" if row.get("error") else "")),
         )

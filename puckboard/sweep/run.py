@@ -36,7 +36,15 @@ from .worker import run_batch
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
 
-__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep", "run_sweeps"]
+__all__ = [
+    "MAX_BATCH",
+    "STOP_GRACE",
+    "SweepResult",
+    "drain",
+    "make_batches",
+    "run_sweep",
+    "run_sweeps",
+]
 
 log = logging.getLogger(__name__)
 
@@ -219,25 +227,25 @@ def run_sweeps(
             result.ran += 1
         progress.advance(len(rows))
 
-    stream: Iterator[list[dict[str, Any]]] | None = None
+    todo = [[s for s in plan.episodes() if s.key(plan.scenario) not in done] for plan, _ in parts]
     try:
-        todo = [
-            [s for s in plan.episodes() if s.key(plan.scenario) not in done] for plan, _ in parts
-        ]
+        stopped = None
         if any(todo):
-            stream = _start(
-                executor, parts, scenes, todo, batch_size, episode_timeout, isolation, aliases
+            stopped = drain(
+                executor,
+                lambda: _start(
+                    executor, parts, scenes, todo, batch_size, episode_timeout, isolation, aliases
+                ),
+                collect,
             )
-            for rows in stream:
-                collect(rows)
-    except KeyboardInterrupt as exc:
-        for result in results:
-            result.interrupted = True
-            result.terminated = isinstance(exc, Terminated)
-        _keep_what_finishes(executor, collect)
-        log.info("sweep interrupted: %d episodes finished in this run", sum(r.ran for r in results))
+        if stopped is not None:
+            for result in results:
+                result.interrupted = True
+                result.terminated = isinstance(stopped, Terminated)
+            log.info(
+                "sweep interrupted: %d episodes finished in this run", sum(r.ran for r in results)
+            )
     finally:
-        _close(stream)
         progress.close()
         if store is not None:
             store.flush()
@@ -307,9 +315,32 @@ def _start(
     return executor.run(run_batch, tasks, **extra)
 
 
-def _keep_what_finishes(
-    executor: SweepExecutor, collect: Callable[[list[dict[str, Any]]], None]
-) -> None:
+def drain(
+    executor: SweepExecutor,
+    start: Callable[[], Iterator[Any]],
+    collect: Callable[[Any], None],
+) -> KeyboardInterrupt | None:
+    """Hand each result of the stream ``start()`` opens on ``executor`` to ``collect``.
+
+    On Ctrl-C (or SIGTERM, :class:`~puckboard.sweep.signals.Terminated`) the tasks not
+    started are dropped, the running ones end after their current unit and what they
+    finish within :data:`STOP_GRACE` seconds is collected too; the interrupt is then
+    returned (``None`` when every task ran), for the caller to say what it kept.
+    """
+    stream: Iterator[Any] | None = None
+    try:
+        stream = start()
+        for value in stream:
+            collect(value)
+    except KeyboardInterrupt as exc:
+        _keep_what_finishes(executor, collect)
+        return exc
+    finally:
+        _close(stream)
+    return None
+
+
+def _keep_what_finishes(executor: SweepExecutor, collect: Callable[[Any], None]) -> None:
     """After Ctrl-C: keep the rows of batches that end within :data:`STOP_GRACE` s (each
     ends after its current episode), then stop the rest; a second Ctrl-C stops at once."""
     stopping = executor.stop(STOP_GRACE)
