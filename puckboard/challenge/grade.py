@@ -22,7 +22,6 @@ import logging
 import time
 from collections import Counter
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -34,6 +33,7 @@ from ..sweep.rows import Outcome
 from ..sweep.run import drain, run_sweeps
 from ..sweep.signals import Terminated
 from .outputs import Outputs, SealedStore
+from .result import Grading
 from .standings import Standing, rank, summarise_entry, verdict_of
 from .submissions import History, Version, find_submissions
 from .tasks import TIMED_TICKS, preflight, replay
@@ -48,52 +48,6 @@ log = logging.getLogger(__name__)
 
 #: The largest file a submission's process may write (its printed output included).
 FILE_LIMIT = 16 * 1024 * 1024
-
-
-@dataclass
-class Grading:
-    """What a grading produced: the leaderboard's views and how the run went."""
-
-    challenge: Challenge
-    out: Path
-    #: the view the leaderboard leads with: ``final`` once frozen, else ``latest``
-    view: str
-    standings: list[Standing]
-    #: the latest view, where the final one leads and differs from it
-    latest: list[Standing] | None = None
-    final_at: str | None = None
-    checked: int = 0
-    ran: int = 0
-    skipped: int = 0
-    interrupted: bool = False
-    terminated: bool = False
-    wall_s: float = 0.0
-    new: list[str] = field(default_factory=list)
-    #: the graded seeds, once revealed (``None`` before)
-    seeds: dict[str, tuple[int, ...]] | None = None
-    revealed_at: str | None = None
-
-    def to_dict(self) -> dict[str, Any]:
-        """The ``--json`` object: the leaderboard's rows in rank order, and the run."""
-        out: dict[str, Any] = {
-            "challenge": self.challenge.name,
-            "title": self.challenge.title,
-            "ranking": list(self.challenge.ranking),
-            "cells": [c.name for c in self.challenge.graded],
-            "view": self.view,
-            "final_at": self.final_at,
-            "rows": [s.to_dict() for s in self.standings],
-            "latest": None if self.latest is None else [s.to_dict() for s in self.latest],
-            "checked": self.checked,
-            "ran": self.ran,
-            "skipped": self.skipped,
-            "interrupted": self.interrupted,
-            "new": list(self.new),
-            "revealed_at": self.revealed_at,
-        }
-        if self.seeds is not None:
-            out["seeds"] = {cell: list(s) for cell, s in self.seeds.items()}
-        return out
 
 
 def grade(
@@ -111,9 +65,9 @@ def grade(
     (see the module docstring); ``final`` freezes the final view on this run's versions,
     ``reveal`` (after the deadline) freezes it if not yet frozen and shows the seeds."""
     t0 = time.perf_counter()
+    submissions = find_submissions(folder)  # a bad folder is refused before anything changes
     outputs = Outputs(Path(out))
     outputs.open(challenge.identity(), secret.check())
-    submissions = find_submissions(folder)
     history = History(outputs.folder)
     new = []
     for submission in submissions:
@@ -143,8 +97,8 @@ def grade(
         history.freeze(history.latest(present))
     if reveal:
         outputs.reveal()
-    history.save()
     grading = run.standings(latest, history)
+    history.save()  # with when each version's grading finished
     grading.new = new
     grading.interrupted = stopped is not None
     grading.terminated = isinstance(stopped, Terminated)
@@ -404,9 +358,8 @@ class _Run:
             return []
         remarks = []
         output = self.outputs.output_file(version.id)
-        if output.exists() and output.stat().st_size:
-            lines = output.read_bytes().count(b"\n") or 1
-            remarks.append(f"printed {lines} line{'s' if lines != 1 else ''}")
+        if output.exists() and output.stat().st_size:  # how much depends on how often it ran
+            remarks.append("printed to its output file")
         work = self.outputs.workdir(version.name) / version.digest[:16]
         if work.is_dir():
             files = sorted(p.relative_to(work).as_posix() for p in work.rglob("*") if p.is_file())

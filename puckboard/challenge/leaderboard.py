@@ -26,8 +26,8 @@ from ..sweep.summary import format_table
 from .standings import Standing
 
 if TYPE_CHECKING:
-    from .grade import Grading
     from .outputs import Outputs
+    from .result import Grading
 
 __all__ = ["format_leaderboard", "seed_free", "write_outputs"]
 

@@ -25,7 +25,7 @@ from .spec import RANKING_KEYS
 from .standings import VERDICTS, Standing
 
 if TYPE_CHECKING:
-    from .grade import Grading
+    from .result import Grading
 
 __all__ = ["leaderboard_html"]
 

@@ -165,7 +165,8 @@ class History:
         return known[index]
 
     def file_of(self, version: Version) -> Path:
-        """Where the graded copy of ``version`` is kept."""
+        """Where the graded copy of ``version`` is kept, under the name it was handed in
+        with (what Python's messages about it then show)."""
         return self.folder / "versions" / version.name / version.digest[:16] / version.file
 
     def latest(self, present: dict[str, str] | None = None) -> dict[str, Version]:

@@ -413,8 +413,8 @@ class LocalExecutor(SweepExecutor):
                     self._assign(host, task)
             if not self._queue:
                 return
-            if len(self._hosts) < self.workers:
-                task = self._for_new_worker()
+            task = self._for_new_worker()
+            if task is not None and len(self._hosts) < self.workers:
                 self._assign(self._spawn(task.isolation), task)
                 continue
             idle = [h for h in self._hosts if h.task is None]
@@ -432,7 +432,9 @@ class LocalExecutor(SweepExecutor):
             return self._for_new_worker()
         return next((t for t in self._queue if t.isolation == host.isolation), None)
 
-    def _for_new_worker(self) -> Task:
+    def _for_new_worker(self) -> Task | None:
+        if not self._queue:
+            return None
         held = self._held()
         return next((t for t in self._queue if t.isolation not in held), self._queue[0])
 

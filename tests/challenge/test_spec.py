@@ -1,0 +1,123 @@
+"""Challenge files: every field read and checked, each mistake refused in one line."""
+
+from __future__ import annotations
+
+import pytest
+
+from puckboard.challenge import challenge_names, load_challenge, parse_challenge
+from puckboard.challenge.spec import RANKING_KEYS
+from puckboard.errors import ChallengeError
+
+MINIMAL = """
+name = "mini"
+[[practice.cells]]
+name = "lf"
+scene = "line-follow"
+[graded]
+episodes = 2
+[[graded.cells]]
+name = "bend"
+scene = "two-robot-pass-bend"
+profile = "epuck"
+variation = "plausible"
+"""
+
+
+def test_the_shipped_example_reads_and_says_what_it_grades():
+    assert "pass" in challenge_names()
+    challenge = load_challenge("pass")
+    assert challenge.factory == "make_controller"
+    assert [c.name for c in challenge.graded] == [
+        "bend",
+        "new tracks",
+        "lab conditions",
+        "slow link",
+    ]
+    assert challenge.baselines == ("stock", "improved", "robust")
+    assert challenge.ranking == ("worst_cell_success", "success", "median_progress")
+    slow = challenge.cell("slow link")
+    # the link's slow end, in whole physics steps: what transfer's link family runs
+    assert slow.parameters["control.period"] == pytest.approx(0.1)
+    assert (
+        slow.parameters["robot.profile"] == "epuck" and slow.parameters["variation"] == "plausible"
+    )
+    assert (
+        slow.describe()
+        == "two-robot-pass · profile epuck · variation plausible · link bluetooth-sercom"
+    )
+    assert challenge.practice_seeds == range(3)
+
+
+def test_defaults_and_a_scene_file_beside_the_challenge(tmp_path):
+    (tmp_path / "short.toml").write_text(
+        (load_challenge_scene_text() + "\n").replace('name = "line-follow"', 'name = "short"')
+    )
+    text = MINIMAL.replace('scene = "line-follow"', 'scene = "short.toml"')
+    (tmp_path / "mine.toml").write_text(text)
+    challenge = load_challenge(tmp_path / "mine.toml")
+    assert challenge.practice[0].scene.name == "short"
+    assert challenge.episodes == 2
+    # no limit given: the longest graded episode (120 s) and 30 s more
+    assert challenge.episode_timeout == 150.0
+    assert challenge.check_timeout == 30.0 and challenge.memory_mib == 1024
+    assert challenge.baselines == ()
+
+
+def load_challenge_scene_text() -> str:
+    from puckboard.scenario.scenefile import scene_path
+
+    return scene_path("line-follow").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("change", "said"),
+    [
+        (("[graded]", "[graded]\nepisodez = 3"), "[graded]: unknown key 'episodez' (did you mean 'episodes'?)"),
+        (('scene = "two-robot-pass-bend"', 'scene = "two-robot-pass-bent"'), "[[graded.cells]] 1 ('bend'): unknown scene 'two-robot-pass-bent'"),
+        (('variation = "plausible"', 'variation = "likely"'), "variation 'likely' is not one of none, plausible, reality-gap"),
+        (('profile = "epuck"', 'profile = "epuk"'), "profile: unknown robot profile 'epuk'"),
+        (("[graded]", '[ranking]\norder = ["fastest"]\n[graded]'), "[ranking] order: unknown key 'fastest'"),
+        (("[graded]", '[ranking]\nbaselines = ["mine.py:make"]\n[graded]'), "'mine.py:make' is not a shipped controller"),
+        (("[graded]", "[limits]\nepisode_timeout = 0\n[graded]"), "[limits] episode_timeout: must be within 1..86400, got 0"),
+        (('name = "mini"', 'name = "a b"'), "name: needs a short name"),
+        (('profile = "epuck"', 'set = { "noise.proximty" = 0.1 }'), "set: unknown parameter 'noise.proximty'"),
+        (('profile = "epuck"', 'link = "carrier-pigeon"'), "link 'carrier-pigeon' is not one of"),
+        (("episodes = 2", "episodes = 2\n[[graded.cells]]\nname = 'bend'\nscene = 'line-follow'"), "two cells are named 'bend'"),
+    ],
+)  # fmt: skip
+def test_a_mistake_is_one_line_naming_the_file_the_table_and_the_fix(change, said):
+    old, new = change
+    assert old in MINIMAL
+    with pytest.raises(ChallengeError) as refused:
+        parse_challenge(MINIMAL.replace(old, new, 1), source="mine.toml")
+    message = str(refused.value)
+    assert message.startswith("mine.toml: ") and said in message, message
+    assert "\n" not in message
+
+
+def test_a_graded_cell_set_twice_under_two_names_is_refused():
+    twice = (
+        MINIMAL
+        + '[[graded.cells]]\nname = "again"\nscene = "two-robot-pass-bend"\nprofile = "epuck"\nvariation = "plausible"\n'
+    )
+    with pytest.raises(ChallengeError, match="cells 'bend' and 'again' are the same cell"):
+        parse_challenge(twice, source="mine.toml")
+
+
+def test_identity_names_what_changes_the_graded_episodes():
+    challenge = parse_challenge(MINIMAL, source="a.toml")
+    more = parse_challenge(MINIMAL.replace("episodes = 2", "episodes = 3"), source="a.toml")
+    ranked = parse_challenge(MINIMAL + '[ranking]\norder = ["success"]\n', source="a.toml")
+    assert challenge.differences(more.identity()) == ["episodes 3 there, 2 here"]
+    assert challenge.differences(ranked.identity()) == []  # the rule may change: nothing reruns
+    assert set(RANKING_KEYS) >= set(ranked.ranking)
+
+
+def test_a_missing_or_unreadable_challenge_is_one_line(tmp_path):
+    with pytest.raises(ChallengeError, match="no challenge 'passs': name a shipped one"):
+        load_challenge("passs")
+    with pytest.raises(ChallengeError, match="cannot read challenge file"):
+        load_challenge(tmp_path / "nowhere.toml")
+    (tmp_path / "broken.toml").write_text("name = [")
+    with pytest.raises(ChallengeError, match="broken.toml: not valid TOML"):
+        load_challenge(tmp_path / "broken.toml")
