@@ -287,6 +287,12 @@ def _run_grade(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         )
     except ChallengeError as exc:
         raise CliError(str(exc)) from None
+    except RuntimeError as exc:
+        from ..sweep.cluster import ClusterSetupError
+
+        if isinstance(exc, ClusterSetupError):
+            raise CliError(str(exc)) from None
+        raise
     finally:
         on.close()
     _report(args, grading)

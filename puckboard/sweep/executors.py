@@ -449,6 +449,12 @@ class LocalExecutor(SweepExecutor):
             self._drop(host)
 
     # -- stopping ----------------------------------------------------------------------
+    def request_stop(self) -> None:
+        """Ask the running tasks to end after their current unit (from any thread); what
+        they return is yielded as usual. :meth:`cancel` clears the request."""
+        if self._stop_event is not None:
+            self._stop_event.set()
+
     def stop(self, grace: float) -> Iterator[Any]:
         self._stopping = True
         if self._stop_event is not None:

@@ -163,3 +163,41 @@ def test_the_rest_of_a_batch_runs_after_its_episode_is_lost(tmp_path, what, kind
             assert {k: v for k, v in row.items() if k not in timing} == {
                 k: v for k, v in expected[row["key"]].items() if k not in timing
             }
+
+
+def test_a_dask_cluster_stops_a_sleeping_layer_on_its_process(tmp_path):
+    """Where its workers may start processes (the local cluster of our own is started so),
+    a Dask worker runs each batch in a host process of its own, which it kills as a
+    local sweep does."""
+    pytest.importorskip("dask.distributed")
+    from puckboard.sweep import DaskExecutor
+
+    (tmp_path / "nap.py").write_text(SLEEPER)
+    plan = SweepPlan.from_specs(
+        "line-follow",
+        controllers=[f"{(tmp_path / 'nap.py').as_posix()}:make_controller", "stock"],
+        seeds="0:2",
+        fixed={"duration": DURATION},
+    )
+    with DaskExecutor(local_workers=1) as executor:
+        assert executor.stops_processes
+        result = run_sweep(plan, "line-follow", executor=executor, episode_timeout=1)
+    lost = [r for r in result.rows if r["error"]]
+    assert len(lost) == 2 and all(r["controller"] == plan.controllers[0] for r in lost)
+    assert all(r["error_kind"] == "timeout" and "process was stopped" in r["error"] for r in lost)
+    expected = run_sweep(
+        SweepPlan(
+            "line-follow", controllers=("stock",), seeds=range(2), fixed={"duration": DURATION}
+        ),
+        "line-follow",
+        executor=InlineExecutor(),
+    )
+    timing = {"wall_s", "realtime_factor"}
+    kept = sorted(
+        (r["key"], {k: v for k, v in r.items() if k not in timing}.items())
+        for r in result.rows
+        if not r["error"]
+    )
+    assert kept == sorted(
+        (r["key"], {k: v for k, v in r.items() if k not in timing}.items()) for r in expected.rows
+    )
