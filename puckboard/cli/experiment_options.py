@@ -147,10 +147,10 @@ def add_where_to_run(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="wall-clock seconds after which an episode is stopped and counted as 'error' "
-        "of kind 'timeout'; on local workers the process running it is killed and replaced, "
-        "which stops any layer (a busy loop, time.sleep, a call blocked in C); on a Dask "
-        "cluster (--scheduler) the episode is interrupted from within, which stops a layer "
-        "running Python code but not one blocked in a C call such as time.sleep "
+        "of kind 'timeout': the process running it is killed and replaced, which stops any "
+        "layer (a busy loop, time.sleep, a call blocked in C); only on a Dask cluster whose "
+        "workers may not start processes (docs/sweeps.md) is the episode interrupted from "
+        "within instead, which stops a layer running Python code but not one blocked in C "
         "(default: no limit)",
     )
     parser.add_argument(
