@@ -32,7 +32,9 @@ __all__ = [
     "FLAGSHIP_CONTROLLERS",
     "FLAGSHIP_PROFILES",
     "FLAGSHIP_SCENES",
+    "children_cpu_s",
     "flagship_plan",
+    "load_average",
     "run_suite",
     "student_controller",
 ]
@@ -49,11 +51,12 @@ TARGET_S = 300.0
 _TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 
 
-def _load() -> float | None:
+def load_average() -> float | None:
+    """The machine's load average over the last minute (None where not told)."""
     return round(os.getloadavg()[0], 2) if hasattr(os, "getloadavg") else None
 
 
-def _children_cpu_s() -> float | None:
+def children_cpu_s() -> float | None:
     """CPU seconds of this process's ended children (the workers, once closed)."""
     try:
         import resource
@@ -120,9 +123,9 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
         "seeds_per_model": n,
         "episodes": len(plan),
         "workers": WORKERS,
-        "load_average_before": _load(),
+        "load_average_before": load_average(),
     }
-    cpu_before = _children_cpu_s()
+    cpu_before = children_cpu_s()
     t0 = time.perf_counter()
     executor = LocalExecutor(WORKERS)
     try:
@@ -131,7 +134,7 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
     finally:
         executor.close()
     wall = time.perf_counter() - t0
-    cpu_after = _children_cpu_s()
+    cpu_after = children_cpu_s()
     cpu = None if cpu_before is None or cpu_after is None else cpu_after - cpu_before
     out.update(
         wall_s=round(wall, 1),
@@ -140,6 +143,6 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
         workers_cpu_s=None if cpu is None else round(cpu, 1),
         idle_two_cores_estimate_s=None if cpu is None else round(cpu / WORKERS, 1),
         target_s=TARGET_S,
-        load_average_after=_load(),
+        load_average_after=load_average(),
     )
     return out

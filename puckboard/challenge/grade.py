@@ -84,12 +84,19 @@ def grade(
     own = executor is None
     executor = executor or LocalExecutor()
     stopped: KeyboardInterrupt | None = None
+    steps = {
+        "check": lambda: run.check(executor),
+        "episodes": lambda: run.episodes(executor, progress or NullProgress()),
+        "replays": lambda: run.replays(executor),
+    }
+    phase_s: dict[str, float] = {}
     try:
-        stopped = run.check(executor)
-        if stopped is None:
-            stopped = run.episodes(executor, progress or NullProgress())
-        if stopped is None:
-            stopped = run.replays(executor)
+        for name, step in steps.items():
+            started = time.perf_counter()
+            stopped = step()
+            phase_s[name] = time.perf_counter() - started
+            if stopped is not None:
+                break
     finally:
         if own:
             executor.close()
@@ -100,6 +107,7 @@ def grade(
     grading = run.standings(latest, history)
     history.save()  # with when each version's grading finished
     grading.new = new
+    grading.phase_s = phase_s
     grading.interrupted = stopped is not None
     grading.terminated = isinstance(stopped, Terminated)
     grading.seeds = seeds if outputs.revealed else None

@@ -32,6 +32,8 @@ class Grading:
     interrupted: bool = False
     terminated: bool = False
     wall_s: float = 0.0
+    #: seconds each step took: the pre-flight checks, the graded episodes, the replays
+    phase_s: dict[str, float] = field(default_factory=dict)
     new: list[str] = field(default_factory=list)
     #: the graded seeds, once revealed (``None`` before)
     seeds: dict[str, tuple[int, ...]] | None = None
@@ -54,6 +56,8 @@ class Grading:
             "interrupted": self.interrupted,
             "new": list(self.new),
             "revealed_at": self.revealed_at,
+            "wall_s": self.wall_s,
+            "phase_s": dict(self.phase_s),
         }
         if self.seeds is not None:
             out["seeds"] = {cell: list(s) for cell, s in self.seeds.items()}

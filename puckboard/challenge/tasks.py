@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..sweep.worker import LostUnit, report_unit_began, report_unit_done
+from ..sweep.worker import LostUnit, quieter_logs, report_unit_began, report_unit_done
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -60,7 +60,8 @@ def preflight(
         value = {**_lost_check(lost), "spec": spec}
     else:
         report_unit_began(0)
-        value = {**_check(spec, factory, scene, parameters, seed, ticks), "spec": spec}
+        with quieter_logs():
+            value = {**_check(spec, factory, scene, parameters, seed, ticks), "spec": spec}
     report_unit_done(0, value)
     return [value]
 
@@ -221,7 +222,8 @@ def replay(
     page's document}``, ``data`` ``None`` when the run raised or was lost. The document's
     title and scene description are ``title`` and ``description``, not the run's own,
     which may name its seed."""
-    data = None if lost is not None else _recorded(scene, spec, seed, parameters)
+    with quieter_logs():
+        data = None if lost is not None else _recorded(scene, spec, seed, parameters)
     if data is not None:
         data["title"] = title
         data["scene"]["description"] = description

@@ -15,10 +15,11 @@ reports go nowhere.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -36,6 +37,7 @@ __all__ = [
     "LocalStopFlag",
     "bind_stop_event",
     "mark_ready",
+    "quieter_logs",
     "report_unit_began",
     "report_unit_done",
     "run_batch",
@@ -167,11 +169,8 @@ def run_batch(
     without running again, and the batch goes on from the next one. Rows are returned
     from ``start`` on.
     """
-    logger = logging.getLogger("puckboard")
-    previous = logger.level
-    logger.setLevel(max(previous, log_level))
     rows: list[dict[str, Any]] = []
-    try:
+    with quieter_logs(log_level):
         for index in range(start, len(specs)):
             spec = specs[index]
             if lost is not None and index == start:
@@ -185,6 +184,18 @@ def run_batch(
             rows.append(row)
             report_unit_done(index, row)
         return rows
+
+
+@contextlib.contextmanager
+def quieter_logs(level: int = logging.ERROR) -> Iterator[None]:
+    """puckboard's own log messages below ``level`` dropped within the block: a warning a
+    single run shows once (a clamped wheel command, say) would otherwise be printed by
+    every episode a worker runs."""
+    logger = logging.getLogger("puckboard")
+    previous = logger.level
+    logger.setLevel(max(previous, level))
+    try:
+        yield
     finally:
         logger.setLevel(previous)
 
