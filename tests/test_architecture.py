@@ -124,6 +124,9 @@ def files_of(subpackage: str) -> list[Path]:
         # a study runs episodes only through the sweep; it builds a controller only to
         # name the numbers there are to tune
         ("tune", ("puckboard.cli", "puckboard.backends", "puckboard.sim", "puckboard.control")),
+        # a challenge runs episodes through the sweep's workers; its checks and replays,
+        # which run there, build controllers and episodes, never a backend or the engine
+        ("challenge", ("puckboard.cli", "puckboard.backends", "puckboard.sim")),
     ],
 )
 def test_dependencies_point_one_way(subpackage, forbidden):
@@ -231,7 +234,7 @@ FLOORS = (
     ("backends",),
     ("estimation", "control"),
     ("recording", "viz", "web"),
-    ("sweep", "sensitivity", "tune", "transfer", "calibration", "bench"),
+    ("sweep", "sensitivity", "tune", "transfer", "challenge", "calibration", "bench"),
     ("cli",),
 )
 
