@@ -18,13 +18,12 @@ them is what two idle cores would take.
 from __future__ import annotations
 
 import tempfile
-import time
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from ..sweep.executors import LocalExecutor
 from ..sweep.signals import stop_on_terminate
-from .transfer import children_cpu_s, load_average, student_controller
+from .transfer import load_average, on_local_workers, student_controller
 
 __all__ = ["CHALLENGE", "SUBMISSIONS", "WORKERS", "make_class", "run_suite"]
 
@@ -80,34 +79,22 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
         "workers": WORKERS,
         "load_average_before": load_average(),
     }
-    cpu_before = children_cpu_s()
-    t0 = time.perf_counter()
-    executor = LocalExecutor(WORKERS)
-    try:
-        executor.start()
-        grading = grade(
-            challenge,
-            folder / "class",
-            Secret(_SECRET, challenge.name),
-            folder / "out",
-            executor=executor,
-        )
-    finally:
-        executor.close()
-    wall = time.perf_counter() - t0
-    cpu_after = children_cpu_s()
-    cpu = None if cpu_before is None or cpu_after is None else cpu_after - cpu_before
+    secret = Secret(_SECRET, challenge.name)
+    grading, measured = on_local_workers(
+        lambda executor: grade(
+            challenge, folder / "class", secret, folder / "out", executor=executor
+        ),
+        WORKERS,
+    )
+    wall = measured["wall_s"]
     out.update(
-        wall_s=round(wall, 1),
+        wall_s=wall,
         phase_s={k: round(v, 1) for k, v in grading.phase_s.items()},
         episodes=grading.ran,
         episodes_per_s=round(grading.ran / wall, 2) if wall else None,
-        verdicts={
-            v: sum(s.verdict == v for s in grading.standings)
-            for v in {s.verdict for s in grading.standings}
-        },
-        workers_cpu_s=None if cpu is None else round(cpu, 1),
-        idle_two_cores_estimate_s=None if cpu is None else round(cpu / WORKERS, 1),
+        verdicts=dict(Counter(s.verdict for s in grading.standings)),
+        workers_cpu_s=measured["workers_cpu_s"],
+        idle_two_cores_estimate_s=measured["idle_two_cores_estimate_s"],
         load_average_after=load_average(),
     )
     return out

@@ -22,8 +22,9 @@ import os
 import re
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from ..sweep.executors import LocalExecutor
 from ..sweep.signals import stop_on_terminate
@@ -35,6 +36,7 @@ __all__ = [
     "children_cpu_s",
     "flagship_plan",
     "load_average",
+    "on_local_workers",
     "run_suite",
     "student_controller",
 ]
@@ -45,6 +47,7 @@ FLAGSHIP_CONTROLLERS = ("robust", "improved")
 #: The flagship's seeds: the command's default (puckboard.cli.transfer.DEFAULT_SEEDS).
 FLAGSHIP_SEEDS = (400, 404)
 WORKERS = 2
+T = TypeVar("T")
 #: What the flagship report should take on two cores (the issue's target).
 TARGET_S = 300.0
 
@@ -125,24 +128,42 @@ def _run_suite(n: int, folder: Path) -> dict[str, Any]:
         "workers": WORKERS,
         "load_average_before": load_average(),
     }
+    result, measured = on_local_workers(
+        lambda executor: run_transfer(plan, scenes, executor=executor)
+    )
+    wall = measured["wall_s"]
+    out.update(
+        wall_s=wall,
+        episodes_per_s=round(result.ran / wall, 2) if wall else None,
+        errors=len(result.errors),
+        workers_cpu_s=measured["workers_cpu_s"],
+        idle_two_cores_estimate_s=measured["idle_two_cores_estimate_s"],
+        target_s=TARGET_S,
+        load_average_after=load_average(),
+    )
+    return out
+
+
+def on_local_workers(
+    work: Callable[[LocalExecutor], T], workers: int = WORKERS
+) -> tuple[T, dict[str, Any]]:
+    """``work(executor)`` on ``workers`` local workers started for it, and what it took:
+    ``wall_s`` from the workers' start to the end, and where the platform tells it the
+    workers' CPU seconds (``workers_cpu_s``) and half of them
+    (``idle_two_cores_estimate_s``, what two idle cores would take)."""
     cpu_before = children_cpu_s()
     t0 = time.perf_counter()
-    executor = LocalExecutor(WORKERS)
+    executor = LocalExecutor(workers)
     try:
         executor.start()
-        result = run_transfer(plan, scenes, executor=executor)
+        result = work(executor)
     finally:
         executor.close()
     wall = time.perf_counter() - t0
     cpu_after = children_cpu_s()
     cpu = None if cpu_before is None or cpu_after is None else cpu_after - cpu_before
-    out.update(
-        wall_s=round(wall, 1),
-        episodes_per_s=round(result.ran / wall, 2) if wall else None,
-        errors=len(result.errors),
-        workers_cpu_s=None if cpu is None else round(cpu, 1),
-        idle_two_cores_estimate_s=None if cpu is None else round(cpu / WORKERS, 1),
-        target_s=TARGET_S,
-        load_average_after=load_average(),
-    )
-    return out
+    return result, {
+        "wall_s": round(wall, 1),
+        "workers_cpu_s": None if cpu is None else round(cpu, 1),
+        "idle_two_cores_estimate_s": None if cpu is None else round(cpu / 2, 1),
+    }

@@ -22,12 +22,11 @@ does not exist, a parameter a sweep would refuse. Each mistake is one
 
 from __future__ import annotations
 
-import difflib
 import hashlib
 import json
 import re
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -41,6 +40,7 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 if TYPE_CHECKING:
+    from ..scenario.reader import TableReader
     from ..scenario.scene import Scene
 
 __all__ = [
@@ -211,209 +211,162 @@ def load_challenge(ref: str | Path) -> Challenge:
 def parse_challenge(text: str, *, source: str, folder: Path | None = None) -> Challenge:
     """A challenge from its TOML ``text``; scene and profile files named in it are found
     relative to ``folder`` (a shipped challenge names shipped ones only)."""
+    from ..scenario.reader import TableReader
+
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ChallengeError(f"{source}: not valid TOML: {exc}") from None
-    return _Reader(source, folder).challenge(data)
+    try:  # read as a scene file is: every mistake names the file and the key's path
+        return _Reader(folder).challenge(TableReader(data, "", source, _TOP))
+    except PuckboardError as exc:
+        raise ChallengeError(str(exc)) from None
 
 
 class _Reader:
-    """Reads one file's tables, every error naming the file and the table."""
+    """Reads a challenge file's tables (scenario.reader's ``TableReader``s)."""
 
-    def __init__(self, source: str, folder: Path | None) -> None:
-        self.source = source
+    def __init__(self, folder: Path | None) -> None:
         self.folder = folder
 
-    def fail(self, where: str, problem: str) -> ChallengeError:
-        return ChallengeError(f"{self.source}: {where}: {problem}")
-
-    def keys(self, table: Any, known: Sequence[str], where: str) -> dict[str, Any]:
-        if not isinstance(table, dict):
-            raise self.fail(where, f"expected a table, got {table!r}")
-        for key in table:
-            if key not in known:
-                close = difflib.get_close_matches(key, known, n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
-                raise self.fail(where, f"unknown key {key!r}{hint}; keys: {', '.join(known)}")
-        return table
-
-    def number(self, value: Any, where: str, *, low: float, high: float) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(where, f"needs a number, got {value!r}")
-        if not low <= value <= high:
-            raise self.fail(where, f"must be within {low:g}..{high:g}, got {value!r}")
-        return float(value)
-
-    def challenge(self, data: dict[str, Any]) -> Challenge:
-        top = self.keys(data, _TOP, "the top level")
-        name = top.get("name")
-        if not isinstance(name, str) or not _NAME.match(name):
-            raise self.fail(
-                "name", f"needs a short name of letters, digits, '-', '_' or '.', got {name!r}"
-            )
-        factory = top.get("factory", "make_controller")
-        if not isinstance(factory, str) or not factory.isidentifier():
-            raise self.fail("factory", f"needs a Python function name, got {factory!r}")
-        practice = self.keys(top.get("practice", {}), _PRACTICE, "[practice]")
-        graded = self.keys(top.get("graded"), _GRADED, "[graded]")
-        practice_cells = self.cells(practice.get("cells"), "practice")
-        graded_cells = self.cells(graded.get("cells"), "graded")
-        episodes = int(
-            self.number(graded.get("episodes", 10), "[graded] episodes", low=1, high=MAX_EPISODES)
-        )
-        limits = self.keys(top.get("limits", {}), _LIMITS, "[limits]")
+    def challenge(self, top: TableReader) -> Challenge:
+        name = top.string("name", "")
+        if not _NAME.match(name):
+            top.fail("name", "a short name of letters, digits, '-', '_' or '.'", name)
+        factory = top.string("factory", "make_controller")
+        if not factory.isidentifier():
+            top.fail("factory", "a Python function name", factory)
+        practice = self.table(top, "practice", _PRACTICE)
+        graded = self.table(top, "graded", _GRADED)
+        practice_cells = self.cells(practice, "practice")
+        graded_cells = self.cells(graded, "graded")
+        episodes = self.whole(graded, "episodes", 10, MAX_EPISODES)
+        limits = top.sub("limits", _LIMITS) or _empty(top, "limits")
         longest = max(float(c.parameters.get("duration", c.scene.duration)) for c in graded_cells)
-        episode_timeout = self.number(
-            limits.get("episode_timeout", longest + 30.0),
-            "[limits] episode_timeout",
-            low=1,
-            high=86400,
-        )
-        check_timeout = self.number(
-            limits.get("check_timeout", CHECK_TIMEOUT), "[limits] check_timeout", low=1, high=3600
-        )
-        memory = limits.get("memory_mib", MEMORY_MIB)
-        memory_mib = (
-            None
-            if memory == 0
-            else int(self.number(memory, "[limits] memory_mib", low=0, high=1 << 20))
-        )
-        ranking = self.keys(top.get("ranking", {}), _RANKING, "[ranking]")
+        memory = self.whole(limits, "memory_mib", MEMORY_MIB, 1 << 20, low=0)
+        ranking = top.sub("ranking", _RANKING) or _empty(top, "ranking")
         return Challenge(
             name=name,
-            title=str(top.get("title", name)),
-            description=str(top.get("description", "")).strip(),
-            source=self.source,
+            title=top.string("title", name),
+            description=" ".join(top.string("description", "").split()),
+            source=top.source,
             factory=factory,
             practice=practice_cells,
-            practice_seeds=self.seeds(practice.get("seeds", "0:3")),
+            practice_seeds=self.seeds(practice),
             graded=graded_cells,
             episodes=episodes,
-            episode_timeout=episode_timeout,
-            check_timeout=check_timeout,
-            memory_mib=memory_mib,
-            ranking=self.order(ranking.get("order", list(DEFAULT_RANKING))),
-            baselines=self.baselines(ranking.get("baselines", [])),
+            episode_timeout=limits.number(
+                "episode_timeout", longest + 30.0, unit="s", low=1, high=86400
+            ),
+            check_timeout=limits.number("check_timeout", CHECK_TIMEOUT, unit="s", low=1, high=3600),
+            memory_mib=memory or None,
+            ranking=self.names(ranking, "order", list(DEFAULT_RANKING), RANKING_KEYS),
+            baselines=self.names(ranking, "baselines", [], _shipped_controllers()),
         )
 
-    def seeds(self, value: Any) -> range:
+    def table(self, top: TableReader, key: str, keys: Sequence[str]) -> TableReader:
+        table = top.sub(key, keys)
+        if table is None:
+            top.fail(key, "", message=f"missing; a challenge needs [{key}] with [[{key}.cells]]")
+        return table  # type: ignore[return-value]
+
+    def whole(self, table: TableReader, key: str, default: int, high: int, low: int = 1) -> int:
+        value = table.number(key, default, low=low, high=high)
+        if not value.is_integer():
+            table.fail(key, "a whole number", value)
+        return int(value)
+
+    def seeds(self, practice: TableReader) -> range:
         from ..sweep.plan import PlanError, parse_seeds
 
-        if not isinstance(value, str):
-            raise self.fail("[practice] seeds", f'needs a range as text, e.g. "0:3", got {value!r}')
+        text = practice.string("seeds", "0:3")
         try:
-            seeds = parse_seeds(value)
+            seeds = parse_seeds(text)
         except PlanError as exc:
-            raise self.fail("[practice] seeds", str(exc).replace("--seeds ", "")) from None
+            practice.fail("seeds", "", message=str(exc).replace("--seeds ", ""))
         if len(seeds) > MAX_EPISODES:
-            raise self.fail("[practice] seeds", f"at most {MAX_EPISODES} seeds, got {len(seeds)}")
+            practice.fail("seeds", f"at most {MAX_EPISODES} seeds", text)
         return seeds
 
-    def order(self, value: Any) -> tuple[str, ...]:
-        where = "[ranking] order"
-        if not isinstance(value, list) or not value:
-            raise self.fail(where, f"needs a list of {', '.join(RANKING_KEYS)}, got {value!r}")
-        for key in value:
-            if key not in RANKING_KEYS:
-                raise self.fail(where, f"unknown key {key!r}; use {', '.join(RANKING_KEYS)}")
-        if len(set(value)) != len(value):
-            raise self.fail(where, "a key is listed twice")
-        return tuple(value)
-
-    def baselines(self, value: Any) -> tuple[str, ...]:
-        from ..behaviours.presets import CONTROLLERS
-
-        where = "[ranking] baselines"
+    def names(
+        self, table: TableReader, key: str, default: list[str], known: Collection[str]
+    ) -> tuple[str, ...]:
+        value = table.raw(key) if table.has(key) else default
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            raise self.fail(where, f"needs a list of shipped controllers, got {value!r}")
-        for spec in value:
-            if spec not in CONTROLLERS:
-                raise self.fail(
-                    where, f"{spec!r} is not a shipped controller; use {', '.join(CONTROLLERS)}"
-                )
+            table.fail(key, f"a list of names ({', '.join(known)})", value)
+        for item in value:
+            if item not in known:
+                table.fail(key, "", message=f"unknown name {item!r}; use {', '.join(known)}")
         if len(set(value)) != len(value):
-            raise self.fail(where, "a baseline is listed twice")
+            table.fail(key, "", message="a name is listed twice")
+        if key == "order" and not value:
+            table.fail(key, f"at least one of {', '.join(known)}", value)
         return tuple(value)
 
-    def cells(self, value: Any, which: str) -> tuple[Cell, ...]:
-        if not isinstance(value, list) or not value:
-            raise self.fail(
-                f"[{which}]", f"needs at least one cell: [[{which}.cells]] with a name and a scene"
-            )
-        cells = [self.cell(entry, f"[[{which}.cells]] {i}") for i, entry in enumerate(value, 1)]
-        names = [c.name for c in cells]
-        for name in names:
-            if names.count(name) > 1:
-                raise self.fail(f"[[{which}.cells]]", f"two cells are named {name!r}")
+    def cells(self, table: TableReader, which: str) -> tuple[Cell, ...]:
+        cells = [self.cell(reader) for reader in table.items("cells", _CELL)]
+        if not cells:
+            table.fail("cells", "", message=f"missing; give at least one [[{which}.cells]]")
+        from ..scenario.reader import unique_names
+
+        unique_names([c.name for c in cells], f"{which}.cells", table.source)
         seen: dict[str, str] = {}
         for cell in cells:
-            same = json.dumps(
-                [
-                    cell.scene.name,
-                    _plain({k: v for k, v in cell.parameters.items() if k != "label.cell"}),
-                ]
-            )
+            settings = {k: v for k, v in cell.parameters.items() if k != "label.cell"}
+            same = json.dumps([cell.scene.name, _plain(settings)])
             if same in seen:
-                raise self.fail(
-                    f"[[{which}.cells]]",
-                    f"cells {seen[same]!r} and {cell.name!r} are the same cell",
+                table.fail(
+                    "cells", "", message=f"cells {seen[same]!r} and {cell.name!r} are the same cell"
                 )
             seen[same] = cell.name
         return tuple(cells)
 
-    def cell(self, entry: Any, where: str) -> Cell:
-        from ..scenario.scenefile import load_scene
-        from ..sweep.plan import PlanError, SweepPlan, check_parameter, profile_parameters
-
-        table = self.keys(entry, _CELL, where)
-        name = table.get("name")
-        if not isinstance(name, str) or not name.strip() or len(name) > 40:
-            raise self.fail(where, f"name needs a short text (at most 40 characters), got {name!r}")
-        where = f"{where} ({name!r})"
-        scene_ref = table.get("scene")
-        if not isinstance(scene_ref, str):
-            raise self.fail(
-                where, f"scene needs a shipped scene name or a scene file, got {scene_ref!r}"
-            )
-        try:
-            scene = load_scene(self.path(scene_ref))
-        except (PuckboardError, ValueError, OSError) as exc:
-            raise self.fail(where, str(exc)) from None
-        parameters: dict[str, Any] = {"label.cell": name}
-        if table.get("profile") is not None:
-            parameters.update(self.profile(table["profile"], where, profile_parameters))
-        variation = table.get("variation", "none")
+    def cell(self, table: TableReader) -> Cell:
         from ..profile import VARIATIONS
+        from ..profile.links import link_names
+        from ..scenario.scenefile import load_scene
+        from ..sweep.plan import PlanError, SweepPlan, check_parameter
 
-        if variation not in VARIATIONS:
-            raise self.fail(where, f"variation {variation!r} is not one of {', '.join(VARIATIONS)}")
+        name = table.string("name")
+        if not name.strip() or len(name) > 40:
+            table.fail("name", "a short text (at most 40 characters)", name)
+        try:
+            scene = load_scene(self.path(table.string("scene")))
+        except (PuckboardError, ValueError, OSError) as exc:
+            table.fail("scene", "", message=str(exc))
+        parameters: dict[str, Any] = {"label.cell": name}
+        if table.has("profile"):
+            parameters.update(self.profile(table))
+        variation = table.string("variation", "none", choices=VARIATIONS)
         if variation != "none":
             parameters["variation"] = variation
-        if table.get("duration") is not None:
-            parameters["duration"] = self.number(
-                table["duration"], f"{where}: duration", low=0.05, high=3600
+        if table.has("duration"):
+            parameters["duration"] = table.number(
+                "duration", unit="s", low=0, low_open=True, high=3600
             )
-        settings = table.get("set", {})
-        if not isinstance(settings, dict):
-            raise self.fail(where, f"set needs a table of parameters, got {settings!r}")
-        for key, value in settings.items():
+        settings = table.sub("set")
+        for key in settings.data if settings is not None else ():
             try:
                 check_parameter(key)
             except PlanError as exc:
-                raise self.fail(where, f"set: {exc}") from None
+                settings.fail(key, "", message=str(exc))  # type: ignore[union-attr]
             if key in ("duration", "variation", "robot.profile") or key.startswith(
                 ("label.", "profile.")
             ):
-                raise self.fail(where, f"set: give {key} as the cell's own key, not in set")
-            parameters[key] = value
-        if table.get("link") is not None:
-            parameters.update(self.link(table["link"], where, scene, parameters))
+                settings.fail(key, "", message=f"give {key} as the cell's own key")  # type: ignore[union-attr]
+            parameters[key] = settings.raw(key)  # type: ignore[union-attr]
+        if table.has("link"):
+            if any(k in parameters for k in ("control.period", "control.latency")):
+                table.fail(
+                    "link", "", message="give either link or set control.period / control.latency"
+                )
+            link = table.string("link", choices=tuple(link_names()))
+            parameters.update(self.link(link, scene, parameters))
         try:  # what a sweep would refuse, refused now
             SweepPlan(scene.name, fixed=parameters, seeds=range(1))
         except PlanError as exc:
-            raise self.fail(where, str(exc)) from None
-        written = {k: table[k] for k in _CELL if k in table and k != "name"}
+            table.fail("set", "", message=str(exc))
+        written = {k: table.data[k] for k in _CELL if k in table.data and k != "name"}
         return Cell(name=name, scene=scene, parameters=parameters, written=written)
 
     def path(self, ref: str) -> str | Path:
@@ -423,25 +376,34 @@ class _Reader:
             return self.folder / ref
         return ref
 
-    def profile(self, value: Any, where: str, parameters: Any) -> dict[str, Any]:
+    def profile(self, table: TableReader) -> dict[str, Any]:
         from ..profile.files import resolve_profile
         from ..profile.shipped import get_profile
+        from ..sweep.plan import profile_parameters
 
         try:
-            chosen = resolve_profile(value, relative_to=self.folder)
-            profile = get_profile(chosen).name if isinstance(chosen, str) else chosen
-            return dict(parameters(profile))
+            chosen = resolve_profile(table.raw("profile"), relative_to=self.folder)
+            return profile_parameters(
+                get_profile(chosen).name if isinstance(chosen, str) else chosen
+            )
         except (PuckboardError, ValueError, OSError) as exc:
-            raise self.fail(where, f"profile: {exc}") from None
+            table.fail("profile", "", message=str(exc))
+            raise  # unreachable: fail raised
 
-    def link(
-        self, value: Any, where: str, scene: Scene, parameters: Mapping[str, Any]
-    ) -> dict[str, Any]:
-        from ..profile.links import link_names
+    def link(self, link: str, scene: Scene, parameters: Mapping[str, Any]) -> dict[str, Any]:
         from ..transfer.families import link_timing
 
-        if value not in link_names():
-            raise self.fail(where, f"link {value!r} is not one of {', '.join(link_names())}")
-        if any(k in parameters for k in ("control.period", "control.latency")):
-            raise self.fail(where, "give either link or set control.period / control.latency")
-        return link_timing(value, float(parameters.get("dt", scene.dt)))
+        return link_timing(link, float(parameters.get("dt", scene.dt)))
+
+
+def _empty(top: TableReader, key: str) -> TableReader:
+    """An empty table in place of an absent optional one: every value its default."""
+    from ..scenario.reader import TableReader
+
+    return TableReader({}, top.where(key), top.source)
+
+
+def _shipped_controllers() -> tuple[str, ...]:
+    from ..behaviours.presets import CONTROLLERS
+
+    return tuple(CONTROLLERS)
