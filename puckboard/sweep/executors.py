@@ -313,6 +313,9 @@ class LocalExecutor(SweepExecutor):
         if deadlines:
             due = max(0.0, min(deadlines) - time.monotonic())
             timeout = due if timeout is None else min(timeout, due)
+        if not busy and not self._stopping and self._open:
+            # open tasks, none running and none left to start: they were lost track of
+            raise RuntimeError(f"{len(self._open)} tasks neither queued nor running")
         watched: list[Any] = [h.conn for h in busy] + [h.sentinel for h in self._hosts]
         ready = wait(watched, timeout) if watched else []
         for host in list(self._hosts):

@@ -40,10 +40,10 @@ KILLED_CLASS = ("robust_one", "improved_one", "stock_one", "raises", "not_python
 
 
 @pytest.mark.skipif(os.name != "posix", reason="kill -9 is SIGKILL")
-def test_kill_9_half_way_and_the_same_command_gives_the_same_leaderboard(tmp_path):
-    """Part of the class, killed once six episodes are on disk, then graded again by the
-    same command: every entry's row is what the whole class's uninterrupted grading gave
-    it, in the same order."""
+def test_ctrl_c_then_kill_9_and_the_same_command_gives_the_same_leaderboard(tmp_path):
+    """Part of the class, stopped by Ctrl-C and then by SIGKILL once a few episodes more
+    are on disk each time, then graded again by the same command: every entry's row is
+    what the whole class's uninterrupted grading gave it, in the same order."""
     reference = graded_class()
     challenge, submissions = write_class(tmp_path)
     for path in submissions.glob("*.py"):
@@ -56,16 +56,39 @@ def test_kill_9_half_way_and_the_same_command_gives_the_same_leaderboard(tmp_pat
         str(submissions), "--secret-file", str(tmp_path / "secret.txt"), "--out", str(out),
         "--workers", "2", "--quiet",
     ]  # fmt: skip
-    first = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     episodes = out / "episodes.csv"
-    deadline = time.monotonic() + 300
-    while not (episodes.exists() and episodes.read_bytes().count(b"\n") > 6):  # half-way
-        assert first.poll() is None, first.communicate()
-        assert time.monotonic() < deadline, "no episode graded in 300 s"
-        time.sleep(0.05)
-    first.send_signal(signal.SIGKILL)
-    first.communicate()
-    assert not (out / "leaderboard.html").exists()  # it was stopped before the end
+
+    def rows() -> int:
+        return episodes.read_bytes().count(b"\n") - 1 if episodes.exists() else 0
+
+    def start_and_wait_for(more: int) -> subprocess.Popen[str]:
+        before = rows()
+        process = subprocess.Popen(
+            command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
+        deadline = time.monotonic() + 300
+        while rows() < before + more:
+            assert process.poll() is None, process.communicate()
+            assert time.monotonic() < deadline, f"no {more} episodes graded in 300 s"
+            time.sleep(0.05)
+        return process
+
+    # Ctrl-C: the episodes that finished are kept, the page says who is incomplete
+    first = start_and_wait_for(3)
+    first.send_signal(signal.SIGINT)
+    _, err = first.communicate(timeout=60)
+    assert first.returncode == 130, err
+    assert (
+        err.splitlines()[-1].startswith("puckboard challenge: interrupted; ")
+        and "Traceback" not in err
+    )
+    kept = rows()
+    assert "incomplete" in (out / "results.csv").read_text()
+    # kill -9: nothing said, nothing lost but the episodes running
+    second = start_and_wait_for(3)
+    assert rows() > kept
+    second.send_signal(signal.SIGKILL)
+    second.communicate()
     again = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stderr
     assert " 0 already graded" not in again.stdout  # it resumed

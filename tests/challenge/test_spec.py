@@ -101,7 +101,9 @@ def test_a_graded_cell_set_twice_under_two_names_is_refused():
         MINIMAL
         + '[[graded.cells]]\nname = "again"\nscene = "two-robot-pass-bend"\nprofile = "epuck"\nvariation = "plausible"\n'
     )
-    with pytest.raises(ChallengeError, match="graded.cells: cells 'bend' and 'again' are the same cell"):
+    with pytest.raises(
+        ChallengeError, match="graded.cells: cells 'bend' and 'again' are the same cell"
+    ):
         parse_challenge(twice, source="mine.toml")
 
 
