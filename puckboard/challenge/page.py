@@ -33,7 +33,8 @@ _CSP = "default-src 'none'; style-src 'unsafe-inline'; img-src data:; base-uri '
 
 _STYLE = """
 body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto;
-       max-width: 78em; padding: 0 1em; color: #1d232b; }
+       max-width: 100em; padding: 0 1em; color: #1d232b; }
+p, ul, ol { max-width: 60em; }
 h1 { font-size: 1.6em; margin-bottom: 0.2em; }
 h2 { font-size: 1.15em; margin-top: 2em; }
 .meta { color: #5b6572; }
@@ -46,7 +47,9 @@ tr.baseline td { background: #fff6dc; }
 tr.baseline td.entry::after { content: " baseline"; font-size: 0.8em; color: #8a6d00;
          margin-left: 0.4em; }
 tr.unranked td { color: #5b6572; }
-.ci { color: #5b6572; font-size: 0.85em; }
+.ci { color: #5b6572; font-size: 0.8em; display: block; }
+td.when { white-space: nowrap; font-size: 0.85em; color: #5b6572; }
+td.replays { white-space: nowrap; }
 .verdict { font-weight: 600; }
 .verdict.graded { color: #1f7a3a; }
 .remarks, .why { font-size: 0.85em; color: #5b6572; }
@@ -69,8 +72,9 @@ def _row(s: Standing, cells: Sequence[str]) -> str:
     classes = [c for c, on in (("baseline", s.baseline), ("unranked", s.rank is None)) if on]
     rank = "" if s.rank is None else str(s.rank)
     cols = [f'<td class="n rank">{rank}</td>', f'<td class="entry">{_e(s.name)}</td>']
-    when = (s.graded_at or "").replace("T", " ").replace("Z", " UTC")
-    cols.append(f'<td class="when">{_e(when)}</td>')
+    day, _, hour = (s.graded_at or "").rstrip("Z").partition("T")
+    when = f"{_e(day)}<br>{_e(hour[:5])} UTC" if day else ""
+    cols.append(f'<td class="when">{when}</td>')
     overall = s.overall
     if overall is None:
         cols += ['<td class="n">-</td>'] * (2 + len(cells))
@@ -109,7 +113,7 @@ def _row(s: Standing, cells: Sequence[str]) -> str:
     )
     links = [
         f'<a href="{_e(s.replays[which])}" class="replay {which}">{label}</a>'
-        for which, label in (("worst", "worst run"), ("success", "a success"))
+        for which, label in (("worst", "worst"), ("success", "success"))
         if which in s.replays
     ]
     cols.append(f'<td class="replays">{" · ".join(links) or "-"}</td>')
