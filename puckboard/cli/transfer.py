@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 from .common import CliError, check_plot_file
 from .experiment_options import (
@@ -151,9 +151,8 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     )
     if result is None:
         return 1
-    # a report counts, times and ends as the sweeps it ran do (TransferResult has their
-    # fields, summed)
-    result.wall_s = wall_time(args, cast(Any, result))
+    # a report counts, times and ends as the sweeps it ran do (both are ExperimentRuns)
+    result.wall_s = wall_time(args, result)
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
@@ -164,7 +163,7 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         plot_transfer(result, args.plot)
         if not args.json:
             print(f"\nplot written to {args.plot}")
-    return exit_status(args, cast(Any, result), stored=store is not None, command="transfer")
+    return exit_status(args, result, stored=store is not None, command="transfer")
 
 
 def _families(args: argparse.Namespace) -> Any:

@@ -37,6 +37,7 @@ __all__ = [
     "CONDITION_STREAM",
     "REALITY_GAP",
     "ConditionRange",
+    "DrawnConditions",
     "draw_conditions",
 ]
 

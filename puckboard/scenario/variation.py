@@ -14,13 +14,23 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Collection
+from dataclasses import dataclass
 
 from ..errors import ProfileError
 from ..profile import VARIATIONS, draw, get_profile, variation_rng
-from .reality_gap import REALITY_GAP, draw_conditions
+from .reality_gap import REALITY_GAP, DrawnConditions, draw_conditions
 from .scene import Scene
 
-__all__ = ["check_variation", "vary_scene"]
+__all__ = ["Varied", "check_variation", "vary", "vary_scene"]
+
+
+@dataclass(frozen=True)
+class Varied:
+    """A scene as a variation drew it, and the conditions it drew (``reality-gap``; else
+    ``None``), so that what a run reports is what it ran, drawn once."""
+
+    scene: Scene
+    conditions: DrawnConditions | None = None
 
 
 def check_variation(variation: str) -> str:
@@ -34,18 +44,28 @@ def check_variation(variation: str) -> str:
 def vary_scene(
     scene: Scene, seed: int, variation: str = "none", fixed: Collection[str] = ()
 ) -> Scene:
+    """``scene`` as :func:`vary` draws it (what it drew left unsaid)."""
+    return vary(scene, seed, variation, fixed).scene
+
+
+def vary(scene: Scene, seed: int, variation: str = "none", fixed: Collection[str] = ()) -> Varied:
     """``scene`` with every robot's truth drawn (``plausible``), and in drawn conditions
     too (``reality-gap``: the same robots, conditions set in ``fixed`` kept), or as it
-    is (``none``).
+    is (``none``); with the conditions drawn, each drawn once.
 
     A robot whose truth the scene already gives (a recording of a varied run, a scene
     file's ``actual``) keeps it: that is the robot the scene describes.
     """
     if check_variation(variation) == "none":
-        return scene
+        return Varied(scene)
     if variation == REALITY_GAP:
-        robots_drawn = vary_scene(scene, seed, "plausible")
-        return draw_conditions(scene, seed, fixed).apply(robots_drawn)
+        conditions = draw_conditions(scene, seed, fixed)
+        return Varied(conditions.apply(_drawn_robots(scene, seed)), conditions)
+    return Varied(_drawn_robots(scene, seed))
+
+
+def _drawn_robots(scene: Scene, seed: int) -> Scene:
+    """``scene`` with every robot's truth drawn from its profile's plausible ranges."""
     robots = tuple(
         spec
         if spec.actual is not None

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..sweep.executors import LocalExecutor, SweepExecutor
 from ..sweep.progress import NullProgress, Progress
@@ -20,6 +20,10 @@ from ..sweep.run import SweepResult, run_sweep
 from ..sweep.store import ResultStore
 from .plan import TransferPlan
 from .result import TransferResult
+
+if TYPE_CHECKING:
+    from ..scenario.scene import Scene
+    from ..sweep.plan import SweepPlan
 
 __all__ = ["run_transfer"]
 
@@ -52,7 +56,7 @@ def _already_done(plan: TransferPlan, store: ResultStore | None) -> int:
 
 def run_transfer(
     plan: TransferPlan,
-    scenes: Mapping[str, Any],
+    scenes: Mapping[str, Scene],
     *,
     executor: SweepExecutor | None = None,
     store: ResultStore | None = None,
@@ -104,7 +108,7 @@ def run_transfer(
     return result
 
 
-def _from_store(sweep: Any, store: ResultStore | None) -> SweepResult:
+def _from_store(sweep: SweepPlan, store: ResultStore | None) -> SweepResult:
     """A sweep that did not start (the report was stopped first), from the rows ``store``
     already holds of it."""
     from ..sweep.rows import Outcome
