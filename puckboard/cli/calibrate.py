@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import re
 import sys
 import time
 from pathlib import Path
@@ -49,18 +48,19 @@ if TYPE_CHECKING:
 
 #: The backends that reach a real (or emulated) e-puck.
 ROBOT_BACKENDS = ("epuck2-wifi", "sercom")
-_LENGTH = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(mm|cm|m)?\s*$")
-_METRES = {"mm": 0.001, "cm": 0.01, "m": 1.0, None: 1.0}
 
 
 def length(text: str) -> float:
-    """argparse type of a distance: metres, or a number with mm, cm or m."""
-    match = _LENGTH.match(text)
-    if match is None:
+    """argparse type of a distance: metres, or a number with mm, cm or m (read as every
+    quantity is, :func:`puckboard.units.read_quantity`)."""
+    from ..units import read_quantity
+
+    try:
+        return read_quantity("distance", text, "m")
+    except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected a distance in metres or with a unit (60mm, 6cm, 0.06), got {text!r}"
-        )
-    return float(match.group(1)) * _METRES[match.group(2)]
+        ) from None
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

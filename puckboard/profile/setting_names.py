@@ -30,15 +30,14 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
-import re
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
-from decimal import Decimal
 from types import SimpleNamespace
 from typing import Any
 
 from ..errors import ProfileError
 from ..records import PROX_NAMES
+from ..units import read_quantity
 from .model import RobotProfile
 
 __all__ = [
@@ -132,24 +131,6 @@ SETTING_FIELDS: dict[str, _Field] = {
         "m", 0.0, 0.02, False, False, "half-width of a ground sensor's light spot"
     ),
 }  # fmt: skip
-
-# a unit's conversion of the written number: decimal, so "20.3mm" is exactly 0.0203
-_UNITS: dict[str, dict[str, Callable[[str], float]]] = {
-    "m": {
-        "m": float,
-        "cm": lambda x: float(Decimal(x) / 100),
-        "mm": lambda x: float(Decimal(x) / 1000),
-    },
-    "rad": {
-        "rad": float,
-        "deg": lambda x: math.radians(float(x)),
-        "°": lambda x: math.radians(float(x)),
-    },
-    "rad/s": {"rad/s": float},
-    "1": {},
-    "raw": {},
-}
-_NUMBER_WITH_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([a-z°/]*)\s*$")
 
 
 def _show(value: float, unit: str) -> str:
@@ -293,34 +274,10 @@ def _given(value: Any) -> str:
 
 
 def _number(setting: str, value: Any, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
-    if not isinstance(value, str):
-        return float(value)
-    match = _NUMBER_WITH_UNIT.match(value)
-    if match is None:
-        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
-    number, suffix = match.group(1), match.group(2)
-    if not suffix:
-        return float(number)
-    factors = _UNITS[unit]
-    if suffix not in factors:
-        raise ProfileError(
-            f"{setting} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}"
-        )
-    return factors[suffix](number)
-
-
-def _unit_words(unit: str) -> str:
-    if unit == "m":
-        return "metres, or with a unit: 31mm, 3.1cm"
-    if unit == "rad":
-        return "radians, or with a unit: 17deg"
-    if unit == "1":
-        return "a plain factor, no unit"
-    if unit == "raw":
-        return "raw sensor units, no unit"
-    return unit
+    try:
+        return read_quantity(setting, value, unit)
+    except ValueError as exc:
+        raise ProfileError(str(exc)) from None
 
 
 def expand_setting(setting: str) -> tuple[str, ...]:
