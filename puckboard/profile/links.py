@@ -11,8 +11,8 @@ that bound it; where no source gives a number the range is marked ``assumed``, a
 profiles' ``ir_gain`` is. The latency is one number, the sum of the sensing's age and
 the command's way to the wheels: the host shares no clock with the robot, so only the
 whole round trip can be timed, and that is all the sources report.
-:func:`draw_timing` draws one (period, latency) from a link, quantised to whole physics
-steps; ``puckboard calibrate link`` measures your own robot's (:mod:`.link_measure`).
+:func:`draw_timing` draws one (period, latency) from a link (a simulation rounds it to
+its whole steps); ``puckboard calibrate link`` measures your own robot's (:mod:`.link_measure`).
 """
 
 from __future__ import annotations
@@ -194,26 +194,20 @@ def get_link(name: str) -> LinkTiming:
         ) from None
 
 
-def _quantise(seconds: float, dt: float, minimum: int) -> float:
-    """``seconds`` rounded to whole steps of ``dt`` (at least ``minimum`` steps)."""
-    return max(minimum, round(seconds / dt)) * dt
-
-
-def draw_timing(link: LinkTiming | str, rng: np.random.Generator, dt: float) -> tuple[float, float]:
-    """One (period, latency) in seconds drawn uniformly within ``link``'s ranges, each
-    rounded to whole physics steps of ``dt`` (a period of at least one step).
+def draw_timing(link: LinkTiming | str, rng: np.random.Generator) -> tuple[float, float]:
+    """One (period, latency) in seconds drawn uniformly within ``link``'s ranges, as the
+    link has them; a simulation rounds them to its whole steps
+    (:meth:`puckboard.scenario.scene.Control.rounded`).
 
     Always two draws from ``rng`` (none skipped for a fixed range), so what is drawn
     after stays the same whichever link was drawn from.
     """
     if isinstance(link, str):
         link = get_link(link)
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
     u_period, u_latency = rng.random(2)
     period = link.period[0] + float(u_period) * (link.period[1] - link.period[0])
     latency = link.latency[0] + float(u_latency) * (link.latency[1] - link.latency[0])
-    return _quantise(period, dt, 1), _quantise(latency, dt, 0)
+    return period, latency
 
 
 def timing_overrides(period: float, latency: float) -> dict[str, Any]:

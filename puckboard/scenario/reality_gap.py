@@ -30,7 +30,7 @@ import numpy as np
 
 from ..profile.links import draw_timing, get_link
 from .conditions import apply_conditions, hand_placed, with_reflectance
-from .scene import CircleObstacle, PolygonObstacle, Scene
+from .scene import CircleObstacle, Control, PolygonObstacle, Scene
 
 __all__ = [
     "CONDITION_RANGES",
@@ -106,7 +106,7 @@ CONDITION_RANGES: dict[str, ConditionRange] = {
 
 #: The links a real robot is driven over (:data:`puckboard.profile.links.LINKS`, each
 #: range with its sources): one is drawn with equal odds, then its period and latency
-#: within its ranges (:func:`~puckboard.profile.links.draw_timing`, whole steps of dt).
+#: within its ranges (:func:`~puckboard.profile.links.draw_timing`), rounded to whole steps of dt.
 #: The simulators' own loops (CoppeliaSim, ARGoS) are models, not a robot's reality.
 REAL_LINKS = ("epuck2-wifi", "bluetooth-sercom", "usb-sercom")
 
@@ -219,8 +219,11 @@ def draw_conditions(scene: Scene, seed: int, fixed: Collection[str] = ()) -> Dra
         heading = {}
     rng = _rng(seed, "link")
     link = REAL_LINKS[int(rng.integers(len(REAL_LINKS)))]
-    period, latency = draw_timing(get_link(link), rng, scene.dt)
-    timing = {"control.period": period, "control.latency": latency}
+    control = Control.rounded(*draw_timing(get_link(link), rng), scene.dt)
+    timing = {
+        "control.period": float(control.period_for(scene.dt)),
+        "control.latency": control.latency,
+    }
     timing = {k: v for k, v in timing.items() if k not in fixed}
     if not timing:
         link = ""

@@ -29,6 +29,7 @@ __all__ = [
     "RobotSpec",
     "Scene",
     "Track",
+    "whole_steps",
 ]
 
 Colour = tuple[int, int, int]
@@ -248,6 +249,13 @@ class Control:
         """The control period (s) with physics step ``dt``."""
         return dt if self.period is None else self.period
 
+    @classmethod
+    def rounded(cls, period: float, latency: float, dt: float) -> Control:
+        """The loop at ``period`` and ``latency`` (s) as the simulator can run it: each
+        rounded to the nearest whole number of physics steps of ``dt`` (the period to
+        one step at least), by :func:`whole_steps`."""
+        return cls(period=whole_steps(period, dt, minimum=1), latency=whole_steps(latency, dt))
+
     def steps(self, dt: float) -> tuple[int, int]:
         """(steps per tick, steps of latency) with physics step ``dt``; ``ValueError``
         (one line, saying how to fix it) for a period or latency that is negative, not
@@ -257,6 +265,13 @@ class Control:
             _whole_steps("control.period", period, dt, minimum=1),
             _whole_steps("control.latency", self.latency, dt, minimum=0),
         )
+
+
+def whole_steps(seconds: float, dt: float, *, minimum: int = 0) -> float:
+    """``seconds`` rounded to the nearest whole number of physics steps of ``dt`` (at least
+    ``minimum`` steps), in seconds: the one rounding of a time the simulator takes in
+    whole steps (a link's drawn or measured timing, a family's slow end)."""
+    return max(minimum, round(seconds / dt)) * dt
 
 
 def _same(a: float, b: float) -> bool:

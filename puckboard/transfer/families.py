@@ -190,23 +190,17 @@ def scene_value(scene: Scene, name: str) -> float:
     raise KeyError(f"{name} is not a setting a family can scale")
 
 
-def _whole_steps(seconds: float, dt: float, minimum: int) -> float:
-    # as puckboard.profile.links.draw_timing rounds a drawn timing to the physics step
-    return max(minimum, round(seconds / dt)) * dt
-
-
 def link_timing(name: str, dt: float) -> dict[str, float]:
     """The loop's timing on link ``name`` at its slow end (the longest period and latency
     its sources allow), each rounded to whole physics steps of ``dt``: the edge of the
     envelope the link's sources draw, where a controller that holds anywhere in it must
     hold too."""
     from ..profile.links import get_link
+    from ..scenario.scene import Control
 
     link = get_link(name)
-    return {
-        "control.period": _whole_steps(link.period[1], dt, 1),
-        "control.latency": _whole_steps(link.latency[1], dt, 0),
-    }
+    control = Control.rounded(link.period[1], link.latency[1], dt)
+    return {"control.period": float(control.period_for(dt)), "control.latency": control.latency}
 
 
 def _link_families() -> tuple[Family, ...]:
