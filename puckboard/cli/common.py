@@ -27,9 +27,11 @@ if TYPE_CHECKING:
 __all__ = [
     "CliError",
     "OneController",
+    "VariationName",
     "add_variation_argument",
     "add_web_arguments",
     "bind_error_message",
+    "check_host",
     "check_plot_file",
     "check_port",
     "check_seconds",
@@ -79,13 +81,36 @@ class _ArgumentError(CliError):
         self.prog = prog
 
 
+class _StoreOnce(argparse._StoreAction):
+    """An option of one value, refused when given twice (``--seed 7 --seed 8``): argparse
+    would keep the last without a word, and which one was meant only the user knows."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given = vars(namespace).setdefault("_given_once", {})
+        if option_string is not None and self.dest in given:
+            shown = self.option_strings[-1]
+            parser.error(f"{shown} given twice ({given[self.dest]}, then {values}); give it once")
+        given[self.dest] = values
+        setattr(namespace, self.dest, values)
+
+
 class _SubcommandParser(argparse.ArgumentParser):
     """A subcommand's parser whose refusals end like every other bad input: one line
     ``puckboard CMD: error: ...`` and status 2 from :func:`main`, not argparse's usage
-    block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage."""
+    block and ``SystemExit``; ``puckboard CMD --help`` still shows the usage. An option
+    of one value given twice is refused (:class:`_StoreOnce`)."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        # argument groups share these, so every plain option of the subcommand is one
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
         # A value that starts with a minus and a digit ('--seeds -5:2', '--distance
         # -5mm') is a value, not an option: argparse alone takes only plain numbers
         # ('-5', '-0.5') so, and refuses the rest with "expected one argument", which
@@ -177,6 +202,19 @@ def check_port(port: int | None, flag: str = "--port", *, listen_on: str | None 
             pass
     except OSError as exc:
         raise CliError(bind_error_message(exc, listen_on, port, flag)) from None
+
+
+def check_host(host: str | None, flag: str = "--host", port_flag: str = "--port") -> None:
+    """Refuse a host that carries a port (``127.0.0.1:38000``): the port is an option of
+    its own, and the address with a port appended again names no machine."""
+    if host is None or host.count(":") != 1:  # none, or an IPv6 address
+        return
+    name, _, port = host.partition(":")
+    if port.isdigit():
+        raise CliError(
+            f"{flag} {host!r} holds a port; give it with {port_flag}: {flag} {name} "
+            f"{port_flag} {port}"
+        )
 
 
 def missing_extra(exc: ImportError, what: str) -> CliError:
@@ -452,20 +490,40 @@ def bind_error_message(exc: BaseException, host: str, port: int, flag: str = "--
     return f"{where}: {reason}{hint}"
 
 
+class VariationName(argparse.Action):
+    """``--variation NAME``: a name of the variations' registry (an installed package's
+    too), refused in one line otherwise; ``variation_given`` notes that it was given."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        from ..scenario.variation import check_variation
+
+        try:
+            setattr(namespace, self.dest, check_variation(str(values)))
+        except ValueError as exc:
+            parser.error(f"--variation: {exc}")
+        namespace.variation_given = True
+
+
 def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--seed") -> None:
-    """``--variation none|plausible|reality-gap``, the same for ``run``, ``sweep``,
-    ``tune`` and ``serve``; ``seeded_by`` is the option that seeds the draw (``sweep``
-    has ``--seeds``)."""
+    """``--variation NAME`` (the variations' registry, :mod:`puckboard.scenario.variation`),
+    the same for ``run``, ``sweep``, ``tune`` and ``serve``; ``seeded_by`` is the option
+    that seeds the draw (``sweep`` has ``--seeds``)."""
+    from ..scenario.variation import NONE, VARIATIONS
+
+    listed = "; ".join(f"{v.name}: {v.help}" for v in VARIATIONS.values() if v is not NONE)
     parser.add_argument(
         "--variation",
-        choices=("none", "plausible", "reality-gap"),
-        default="none",
-        help="plausible: build each robot from numbers drawn within what the sources allow "
-        f"(seeded by {seeded_by}, a robot each; its controller still believes the profile); "
-        "reality-gap: the same robots, in conditions drawn within sourced ranges too (noise "
-        "levels, line contrast and width, obstacles' IR reflectance, a hand placement, a real "
-        "link's control timing); "
-        "default none: every robot exactly as its profile says",
+        action=VariationName,
+        default=NONE.name,
+        metavar="NAME",
+        help=f"how each robot (and world) is drawn, seeded by {seeded_by}: {listed}; default "
+        f"{NONE.name}: {NONE.help} (an installed package may add variations)",
     )
 
 

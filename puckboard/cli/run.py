@@ -24,6 +24,7 @@ from .common import (
     OneController,
     add_variation_argument,
     add_web_arguments,
+    check_host,
     check_port,
     check_seconds,
     check_speed,
@@ -141,12 +142,18 @@ def main(args: argparse.Namespace) -> int:
         overrides = parse_overrides(args.overrides)
     except ValueError as exc:
         raise CliError(str(exc)) from None
+    if "variation" in overrides and getattr(args, "variation_given", False):
+        raise CliError(
+            f"--variation {args.variation} and --set variation={overrides['variation']}: the "
+            "variation is given twice; give it once"
+        )
     if args.profile is not None:
         overrides["robot.profile"] = args.profile
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     check_seconds(args.duration)
     check_port(args.port)  # a client port: refused now, not after its connection timeout
+    check_host(args.host)
     check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     if args.speed is not None and not args.web:
         raise CliError("--speed paces the run for the web view; use it with --web")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError
+from .common import CliError, seed_type
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -20,7 +20,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
     parser.add_argument("name", nargs="?", help="scene to print (with 'show')")
     parser.add_argument(
-        "--seed", type=int, default=None,
+        "--seed", type=seed_type, default=None,
         help="with 'show' and a generated scene (generated-pass): print the scene that "
         "seed draws, as a file 'puckboard run' runs to the same result as "
         "'puckboard run NAME --seed N'",

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .common import CliError, check_plot_file
+from .common import CliError, VariationName, check_plot_file
 from .experiment_options import (
     add_duration,
     add_fixed_sets,
@@ -148,8 +148,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--variation",
-        choices=("none", "plausible", "reality-gap"),
+        action=VariationName,
         default=None,
+        metavar="NAME",
         help="plausible: at each value draw every other number of each robot within its range "
         "(the field's effect on robots that differ in everything else); reality-gap: the same, "
         "in conditions drawn within sourced ranges too; default none: the "

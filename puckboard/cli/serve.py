@@ -155,7 +155,7 @@ def main(args: argparse.Namespace) -> int:
         file=out,
     )
     profiles = sorted({get_profile(r.profile).name for r in server.api.world.scene.robots})
-    varied = "; each robot drawn within plausible ranges" if args.variation != "none" else ""
+    varied = f"; robots drawn by --variation {args.variation}" if args.variation != "none" else ""
     print(f"  robot profile: {', '.join(profiles)} (--profile to change){varied}", file=out)
     for line in server.describe():
         print(f"  {line}", file=out)

@@ -199,7 +199,7 @@ def _plan(args: argparse.Namespace, scene: Scene) -> SweepPlan:
         if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
             raise CliError("give either --profile or --set robot.profile=..., not both")
         fixed.update(_profile_parameters(args.profile))
-    if args.variation != "none":
+    if getattr(args, "variation_given", False):
         fixed["variation"] = args.variation
     try:
         plan = SweepPlan.from_specs(

@@ -163,7 +163,7 @@ def _spec(args: argparse.Namespace) -> TuneSpec:
         params = tuple(parse_param(text) for text in args.params)
         _check_space(params, args.controller)
         fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
-        if args.variation != "none":
+        if getattr(args, "variation_given", False):
             fixed["variation"] = args.variation
         profiles = tuple(args.profiles)
         for text in args.sets:

@@ -47,15 +47,14 @@ from ..behaviours.presets import ControllerFactory, load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
-from ..scenario.conditions import CONDITIONS
 from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
 from ..scenario.overrides import apply_scene_overrides
-from ..scenario.reality_gap import REALITY_GAP, draw_conditions
 from ..scenario.result import EpisodeResult
 from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.variation import vary_scene
+from ..scenario.settings import SETTINGS, check_scene
+from ..scenario.variation import NONE, get_variation
 from .loop import ControlLoop
 
 if TYPE_CHECKING:
@@ -134,23 +133,30 @@ class Episode:
         self.backend = backend if backend is not None else default_backend()
         _check_call(seed, self.backend, backend_options)
         overrides = dict(overrides or {})
-        variation = str(overrides.pop("variation", variation))
+        chosen = get_variation(_one_variation(variation, overrides.pop("variation", None)))
         # a generated scene (generated-pass) draws its track from the episode's seed
         self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
-        # conditions the run sets itself are its definition: reality-gap keeps them
-        fixed = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
+        # settings the run sets itself are its definition: a variation keeps them
+        fixed = [n for n in overrides if n in SETTINGS]
         if any(get_profile(r.profile).link is not None for r in self.scene.robots):
-            fixed += ["control.period", "control.latency"]  # the robot's own, measured link
-        #: what ``reality-gap`` drew, as the result reports it (None for other variations)
+            fixed += [s.name for s in SETTINGS.values() if s.link]  # the robot's own link
+        #: what the variation drew, as the result reports it (None if it reports nothing)
         self.conditions = (
-            draw_conditions(self.scene, int(seed), fixed).to_dict()
-            if variation == REALITY_GAP
-            else None
+            chosen.drawn(self.scene, int(seed), fixed) if chosen.drawn is not None else None
         )
-        self.scene = vary_scene(self.scene, int(seed), variation, fixed)
+        drawn_from = self.scene
+        self.scene = chosen.vary(self.scene, int(seed), fixed)
         self.seed = int(seed)
-        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
-            self.scene = link_control(self.scene)  # a profile file's measured link timing
+        # where the loop's timing comes from, for a backend that cannot run it
+        timing = _timing_origin(chosen.name, drawn_from, self.scene)
+        unlinked = self.scene
+        self.scene = link_control(self.scene)  # a profile file's measured link timing
+        if self.scene is not unlinked:
+            timing = f"the profile's [link] ({_profile_names(self.scene)}) gives"
+        try:
+            check_scene(self.scene)  # every setting in bounds, however the scene was built
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
@@ -185,9 +191,12 @@ class Episode:
                     f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
                     f"{', '.join(self.connection.adapters)}"
                 )
+            if self.connection.stepper is None and self.scene is not unlinked:
+                self.scene = unlinked  # a robot's own link: the [link] describes it
             self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
-            self.loop = ControlLoop(bindings, period=_loop_period(self.scene, self.world))
+            period = _loop_period(self.scene, self.world, timing)
+            self.loop = ControlLoop(bindings, period=period)
             self.judge = Judge(self.scene)
             self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
@@ -344,19 +353,51 @@ class Episode:
         return self.result
 
 
-def _loop_period(scene: Scene, world: World | None) -> float | None:
+def _loop_period(scene: Scene, world: World | None, timing: str) -> float | None:
     """The control period the scene asks for (None: the loop's default, one step or a real
     robot's 0.05 s). A latency is simulated by the embedded world, which delays each
     wheel command itself; on any other backend the delay is the link's own, so a scene
-    asking for one there is refused rather than silently run without it."""
+    asking for one there is refused rather than silently run without it, naming what
+    asked for it (``timing``: the run's setting, a variation's draw, a profile's link)."""
     control = scene.control
     if control.latency > 0 and world is None:
+        latency = f"control.latency = {control.latency:g} s"
+        if not timing:
+            raise SceneError(
+                f"{latency} is simulated by the embedded backend only; a real link brings "
+                "its own (measure it with puckboard calibrate link), so leave "
+                "control.latency at 0 on this backend"
+            )
         raise SceneError(
-            f"control.latency = {control.latency:g} s is simulated by the embedded backend "
-            "only; a real link brings its own (measure it with puckboard calibrate link), "
-            "so leave control.latency at 0 on this backend"
+            f"{timing} {latency}, which the embedded backend alone simulates (this backend "
+            "cannot delay a command); run it with --backend embedded"
         )
     return control.period
+
+
+def _timing_origin(variation: str, before: Scene, after: Scene) -> str:
+    """``--variation NAME drew ...`` when the variation set the loop's timing (it keeps a
+    timing the run sets), else ``""``."""
+    if after.control != before.control:
+        return f"--variation {variation} drew a real link's timing:"
+    return ""
+
+
+def _profile_names(scene: Scene) -> str:
+    names = dict.fromkeys(get_profile(r.profile).name for r in scene.robots)
+    return ", ".join(names)
+
+
+def _one_variation(argument: str, setting: Any) -> str:
+    """The variation of a run given ``variation=`` and perhaps an overrides' ``variation``
+    too: two different ones are refused (which was meant, only the caller knows)."""
+    if setting is None:
+        return str(argument)
+    if str(argument) not in (NONE.name, str(setting)):
+        raise ValueError(
+            f"variation given twice: {argument!r} and, in the overrides, {setting!r}; give it once"
+        )
+    return str(setting)
 
 
 #: The keywords of :func:`run_episode` itself; the rest go to the backend.

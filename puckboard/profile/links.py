@@ -19,13 +19,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..errors import ProfileError
 
-__all__ = ["LINKS", "LinkTiming", "draw_timing", "get_link", "link_names", "timing_overrides"]
+__all__ = ["LINKS", "LONGEST_LINK_S", "LinkTiming", "draw_timing", "get_link", "link_names"]
 
 #: Bits a serial line sends per byte: start bit, 8 data bits, stop bit (8N1).
 _BITS_PER_BYTE = 10
@@ -43,6 +42,12 @@ _EPUCK2_CYCLE_BYTES = 22 + 103
 def _serial_seconds(n_bytes: int, baud: int = _EPUCK1_BAUD) -> float:
     """The time ``n_bytes`` take on a serial line at ``baud`` (8N1): a lower bound."""
     return n_bytes * _BITS_PER_BYTE / baud
+
+
+#: The longest control period or latency (s) a link may have: a loop slower than a second
+#: drives no e-puck anywhere sensible, so a bigger number is a unit mistake (ms for s).
+#: A profile's ``[link]`` and the run's ``control.*`` settings are bounded by it.
+LONGEST_LINK_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -208,8 +213,3 @@ def draw_timing(link: LinkTiming | str, rng: np.random.Generator) -> tuple[float
     period = link.period[0] + float(u_period) * (link.period[1] - link.period[0])
     latency = link.latency[0] + float(u_latency) * (link.latency[1] - link.latency[0])
     return period, latency
-
-
-def timing_overrides(period: float, latency: float) -> dict[str, Any]:
-    """The overrides that run a scene at this timing (``run_episode(overrides=...)``)."""
-    return {"control.period": float(period), "control.latency": float(latency)}

@@ -441,6 +441,7 @@ def apply_overrides(
         overrides=tuple(record),
         sources=sources,
         extra=dict(profile.extra),
+        link=profile.link,  # its measured link is not a number these settings change
     )
 
 

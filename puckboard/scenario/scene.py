@@ -260,10 +260,10 @@ class Control:
         """(steps per tick, steps of latency) with physics step ``dt``; ``ValueError``
         (one line, saying how to fix it) for a period or latency that is negative, not
         finite, or not a whole number of steps."""
-        period = self.period_for(dt)
+        # the settings that set them are named control.<field> (scenario.settings)
         return (
-            _whole_steps("control.period", period, dt, minimum=1),
-            _whole_steps("control.latency", self.latency, dt, minimum=0),
+            _whole_steps("period", self.period_for(dt), dt, minimum=1),
+            _whole_steps("latency", self.latency, dt, minimum=0),
         )
 
 
@@ -278,8 +278,10 @@ def _same(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-12)
 
 
-def _whole_steps(name: str, value: float, dt: float, *, minimum: int) -> int:
-    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``."""
+def _whole_steps(field: str, value: float, dt: float, *, minimum: int) -> int:
+    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``;
+    ``field`` names the setting (``control.<field>``) in the one-line error."""
+    name = f"control.{field}"
     if not math.isfinite(value) or value < 0 or (minimum and value <= 0):
         bound = "positive" if minimum else "zero or positive"
         raise ValueError(f"{name} must be a finite, {bound} number of seconds, got {value!r}")

@@ -1,57 +1,201 @@
-"""Plausible robots for a scene: each robot's truth drawn from its profile's ranges
-(and, with ``reality-gap``, plausible conditions: :mod:`.reality_gap`).
+"""Variations: how each episode's robots (and world) are drawn from its seed, by name.
 
-``--variation plausible`` asks how a controller fares on robots as they might really be
-built, not only on the profile's numbers. Each robot of the scene gets an ``actual``
-profile (:attr:`~puckboard.scenario.scene.RobotSpec.actual`) drawn by
-:func:`puckboard.profile.draw` from a generator of its own, seeded ``[seed, robot index,
-VARIATION_STREAM]``: the same seed draws the same robots, two robots differ, and the
-simulation's own generator (noise, start jitter) draws exactly what it draws without
-variation. The controller keeps believing the nominal profile.
+``--variation NAME`` (``run``, ``sweep``, ``tune``, ``serve``, ``sensitivity``; a sweep's
+``variation`` parameter; ``run_episode(variation=...)``) names one :class:`Variation` of
+this registry. Each says what it does to a scene for a seed and a line of help; the
+command line's choices, the sweeps' checks and every report read them here, so a new one
+is one entry:
+
+* ``none``: every robot exactly as its profile says;
+* ``plausible``: each robot drawn within its profile's sourced ranges
+  (:mod:`.plausible`);
+* ``reality-gap``: the same robots, in conditions drawn within sourced ranges too
+  (:mod:`.reality_gap`).
+
+A package adds one without editing puckboard, as it adds a backend: an entry point in
+the ``puckboard.variations`` group naming a :class:`Variation` (in its
+``pyproject.toml``::
+
+    [project.entry-points."puckboard.variations"]
+    worn-wheels = "my_package.variations:WORN_WHEELS"
+
+), or :func:`register_variation` from Python. A built-in name is never replaced by an
+installed one. A variation draws from generators of its own, seeded from the episode's
+seed, so the simulation's own draws stay as they are.
 """
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Collection
+import logging
+import pkgutil
+from collections.abc import Callable, Collection
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ProfileError
-from ..profile import VARIATIONS, draw, get_profile, variation_rng
-from .reality_gap import REALITY_GAP, draw_conditions
-from .scene import Scene
 
-__all__ = ["check_variation", "vary_scene"]
+if TYPE_CHECKING:
+    from .scene import Scene
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "NONE",
+    "PLAUSIBLE",
+    "REALITY_GAP",
+    "VARIATIONS",
+    "Variation",
+    "check_variation",
+    "get_variation",
+    "register_variation",
+    "variation_names",
+    "variations_help",
+    "vary_scene",
+]
+
+log = logging.getLogger(__name__)
+
+#: The entry-point group an installed package names its variations in.
+ENTRY_POINT_GROUP = "puckboard.variations"
 
 
-def check_variation(variation: str) -> str:
-    """``variation`` if it is one of :data:`~puckboard.profile.VARIATIONS`, else a one-line
-    :class:`~puckboard.errors.ProfileError`."""
-    if variation not in VARIATIONS:
-        raise ProfileError(f"unknown variation {variation!r}; use one of {', '.join(VARIATIONS)}")
-    return variation
+@dataclass(frozen=True)
+class Variation:
+    """One way of drawing an episode's robots (and world) from its seed.
+
+    ``vary(scene, seed, fixed)`` returns the scene the episode runs; ``fixed`` names the
+    settings the run sets itself (``--set``, a profile's measured link), which a
+    variation that draws conditions keeps as set. ``drawn(scene, seed, fixed)``, when
+    given, says what it drew in words a result reports (``puckboard run --json``'s
+    ``conditions``). ``help`` is one line for ``--help``.
+    """
+
+    name: str
+    help: str
+    vary: Callable[[Scene, int, Collection[str]], Scene]
+    drawn: Callable[[Scene, int, Collection[str]], dict[str, Any]] | None = None
+
+
+def _as_is(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
+    return scene
+
+
+# The built-in variations' draws load on first use: the command line lists the names
+# while it builds its parser, before numpy may be imported.
+def _plausible(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
+    from .plausible import plausible_robots
+
+    return plausible_robots(scene, seed)
+
+
+def _reality_gap(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
+    from .plausible import plausible_robots
+    from .reality_gap import draw_conditions
+
+    # the same robots as plausible draws for the seed, in conditions drawn besides
+    return draw_conditions(scene, seed, fixed).apply(plausible_robots(scene, seed))
+
+
+def _reality_gap_drawn(scene: Scene, seed: int, fixed: Collection[str]) -> dict[str, Any]:
+    from .reality_gap import draw_conditions
+
+    return draw_conditions(scene, seed, fixed).to_dict()
+
+
+NONE = Variation("none", "every robot exactly as its profile says", _as_is)
+PLAUSIBLE = Variation(
+    "plausible",
+    "build each robot from numbers drawn within what the sources allow (a robot each; its "
+    "controller still believes the profile)",
+    _plausible,
+)
+REALITY_GAP = Variation(
+    "reality-gap",
+    "the plausible robots, in conditions drawn within sourced ranges too (noise levels, "
+    "line contrast and width, obstacles' IR reflectance, a hand placement, a real link's "
+    "control timing)",
+    _reality_gap,
+    _reality_gap_drawn,
+)
+
+#: Every variation by name: the built-in ones, then the registered and installed ones.
+VARIATIONS: dict[str, Variation] = {v.name: v for v in (NONE, PLAUSIBLE, REALITY_GAP)}
+_BUILT_IN = frozenset(VARIATIONS)
+_installed_read = False
+
+
+def _read_installed() -> None:
+    """Add the installed packages' variations (entry points) to :data:`VARIATIONS`, once."""
+    global _installed_read
+    if _installed_read:
+        return
+    _installed_read = True
+    from importlib.metadata import entry_points
+
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        package = ep.dist.name if ep.dist is not None else "an installed package"
+        if ep.name in _BUILT_IN:
+            log.warning(
+                "%s offers a variation %r, which puckboard already has; keeping puckboard's",
+                package,
+                ep.name,
+            )
+            continue
+        try:
+            variation = pkgutil.resolve_name(ep.value)
+        except (ImportError, AttributeError, ValueError) as exc:
+            log.warning("%s offers variation %r, which does not load: %s", package, ep.name, exc)
+            continue
+        if not isinstance(variation, Variation) or variation.name != ep.name:
+            log.warning(
+                "%s offers variation %r as %r, not a Variation of that name; left out",
+                package,
+                ep.name,
+                ep.value,
+            )
+            continue
+        VARIATIONS.setdefault(ep.name, variation)
+
+
+def register_variation(variation: Variation) -> None:
+    """Make ``--variation NAME`` (and ``run_episode(variation=NAME)``) draw ``variation``;
+    a built-in one cannot be replaced."""
+    if variation.name in _BUILT_IN:
+        raise ValueError(f"variation {variation.name!r} is built in; give yours another name")
+    VARIATIONS[variation.name] = variation
+
+
+def variation_names() -> list[str]:
+    """Every variation's name, the built-in ones first."""
+    _read_installed()
+    return list(VARIATIONS)
+
+
+def get_variation(name: str) -> Variation:
+    """The variation called ``name``; a one-line
+    :class:`~puckboard.errors.ProfileError` naming the known ones otherwise."""
+    if not isinstance(name, str) or name not in VARIATIONS:
+        _read_installed()
+    try:
+        return VARIATIONS[name]
+    except (KeyError, TypeError):
+        raise ProfileError(
+            f"unknown variation {name!r}; use one of {', '.join(variation_names())}"
+        ) from None
+
+
+def check_variation(name: str) -> str:
+    """``name`` if it names a variation, else a one-line ``ProfileError``."""
+    return get_variation(name).name
+
+
+def variations_help() -> str:
+    """Every variation and what it does, in one line for help texts."""
+    return "; ".join(f"{v.name}: {v.help}" for v in (VARIATIONS[n] for n in variation_names()))
 
 
 def vary_scene(
-    scene: Scene, seed: int, variation: str = "none", fixed: Collection[str] = ()
+    scene: Scene, seed: int, variation: str = NONE.name, fixed: Collection[str] = ()
 ) -> Scene:
-    """``scene`` with every robot's truth drawn (``plausible``), and in drawn conditions
-    too (``reality-gap``: the same robots, conditions set in ``fixed`` kept), or as it
-    is (``none``).
-
-    A robot whose truth the scene already gives (a recording of a varied run, a scene
-    file's ``actual``) keeps it: that is the robot the scene describes.
-    """
-    if check_variation(variation) == "none":
-        return scene
-    if variation == REALITY_GAP:
-        robots_drawn = vary_scene(scene, seed, "plausible")
-        return draw_conditions(scene, seed, fixed).apply(robots_drawn)
-    robots = tuple(
-        spec
-        if spec.actual is not None
-        else dataclasses.replace(
-            spec, actual=draw(get_profile(spec.profile), variation_rng(seed, i))
-        )
-        for i, spec in enumerate(scene.robots)
-    )
-    return dataclasses.replace(scene, robots=robots)
+    """``scene`` as variation ``variation`` draws it for ``seed``, settings named in
+    ``fixed`` kept as the run set them."""
+    return get_variation(variation).vary(scene, int(seed), fixed)

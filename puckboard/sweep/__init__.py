@@ -16,7 +16,7 @@ from .check import check_plan
 from .cluster import DaskExecutor
 from .discover import FACTORY_NAME, controllers_in_dir
 from .executors import InlineExecutor, LocalExecutor, SweepExecutor, WorkerLostError
-from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
+from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
 from .progress import make_progress
 from .run import SweepResult, run_sweep
 from .stats import wilson_interval
@@ -25,7 +25,6 @@ from .summary import GroupSummary, rank_controllers, summarise
 
 __all__ = [
     "FACTORY_NAME",
-    "PARAMETERS",
     "SCENE_CONTROLLERS",
     "DaskExecutor",
     "EpisodeSpec",

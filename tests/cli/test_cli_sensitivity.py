@@ -264,7 +264,8 @@ def test_an_option_the_method_would_ignore_is_refused_in_one_line(capsys, tmp_pa
 def test_too_many_values_are_refused_and_close_values_read_apart(capsys):
     from puckboard.sensitivity.units import value_digits
 
-    assert main([*SMALL, "--values", "100000"]) == 2
+    values = SMALL.index("--values") + 1  # an option is given once
+    assert main([*SMALL[:values], "100000", *SMALL[values + 1 :]]) == 2
     assert "--values 100000 is more than 100 per field" in one_error_line(capsys)
     values = [0.7 + i * 0.6 / 99 for i in range(100)]
     digits = value_digits(values)

@@ -84,7 +84,7 @@ def test_overrides_reach_the_scene_and_every_robots_layer():
     [
         ({"noise.wheels": 1.0}, "unknown override 'noise.wheels'"),
         ({"speed": 1.0}, "unknown override 'speed'"),
-        ({"dt": -1}, "finite number >= 0"),
+        ({"dt": -1}, r"override dt = -1: outside \(0, 1\] s"),
         ({"layer.Nope.speed": 1.0}, "no controller has a layer 'Nope'"),
         ({"layer.LineFollow.nope": 1.0}, "has no parameter 'nope'"),
         ({"layer.LineFollow.speed": "fast"}, "needs a number"),

@@ -12,10 +12,11 @@ import pytest
 from puckboard.cli import main
 from puckboard.cli.link_table import link_table_markdown
 from puckboard.errors import ProfileError, SceneError
-from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link, timing_overrides
+from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link
 from puckboard.scenario import load_scene
 from puckboard.scenario.overrides import apply_scene_overrides
 from puckboard.scenario.scene import Control, whole_steps
+from puckboard.scenario.settings import link_settings
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -61,7 +62,7 @@ def test_draws_lie_in_the_range_and_run_rounded_to_whole_steps(dt):
                 assert abs(value / dt - round(value / dt)) < 1e-9
                 assert low - dt / 2 - 1e-12 <= value <= high + dt / 2 + 1e-12
             scene = apply_scene_overrides(
-                load_scene("line-follow"), {"dt": dt, **timing_overrides(period, latency)}
+                load_scene("line-follow"), {"dt": dt, **link_settings(period, latency)}
             )
             assert scene.control.steps(dt)[0] >= 1
 

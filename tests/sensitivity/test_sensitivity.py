@@ -124,7 +124,7 @@ def test_a_profile_file_s_own_numbers_are_measured_not_varied(repo_root):
         ({"fields": ["prox_radius.side"], "profiles": ("epuck-vrep",)}, "not an uncertain"),
         ({"values": 0}, "--values must be at least 1"),
         ({"profiles": ("epuck", "epuck")}, "profile listed twice"),
-        ({"variation": "wild"}, "none, plausible or reality-gap"),
+        ({"variation": "wild"}, "unknown variation 'wild'; use one of none, plausible"),
     ],
 )
 def test_bad_plans_are_one_line_saying_what_to_do(kwargs, message):

@@ -300,7 +300,8 @@ def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys, tmp_p
     args = [a.replace("CRUISE", f"{cruise.as_posix()}:make_controller") for a in args]
     out = tmp_path / "runs.csv"
     extra = [] if "--out" in args else ["--out", str(out)]
-    assert main(["sweep", "line-follow", "--workers", "1", "--quiet", *extra, *args]) == 2
+    workers = [] if "--workers" in args else ["--workers", "1"]  # an option is given once
+    assert main(["sweep", "line-follow", *workers, "--quiet", *extra, *args]) == 2
     captured = capsys.readouterr()
     assert message in captured.err
     assert len(captured.err.splitlines()) == 1, captured.err

@@ -115,7 +115,7 @@ def joint_plan(
     if len(set(labels)) != len(labels):
         raise PlanError(f"profile listed twice in {labels}")
     points = tuple(
-        {**profile_parameters(p if p.overrides else p.name), "variation": PLAUSIBLE} for p in chosen
+        {**profile_parameters(p), "variation": PLAUSIBLE} for p in chosen
     )
     sweep = SweepPlan(
         scenario=scenario,

@@ -15,6 +15,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from ...scenario.variation import NONE
 from ...sweep.executors import SweepExecutor
 from ...sweep.plan import params_key, seeds_text
 from ...sweep.progress import Progress
@@ -116,7 +117,7 @@ class Analysis:
             "controller": self.controller,
             "profile": self.profile,
             "shipped": None if self.shipped is None else self.shipped.rate_dict(),
-            "plausible": None if self.plausible is None else self.plausible.rate_dict(),
+            PLAUSIBLE: None if self.plausible is None else self.plausible.rate_dict(),
             "ranking": [
                 {"field": r.field.path, "spread": r.spread, "clear": r.clear} for r in self.fields
             ],
@@ -150,7 +151,7 @@ def analyse(plan: SensitivityPlan, outcomes: Iterable[Outcome]) -> list[Analysis
                     for g in [stats(plan.point_key(p))]
                     if g is not None
                 ]
-                if shipped is not None and f.shipped_inside and plan.variation == "none":
+                if shipped is not None and f.shipped_inside and plan.variation == NONE.name:
                     values.append(ValueResult(f.shipped, True, shipped))
                 values.sort(key=lambda v: v.value)
                 results.append(FieldResult(f, tuple(values)))
