@@ -167,6 +167,7 @@ def _cell(
     design = Band(DESIGN, DESIGN, 1.0, scene, stats(controller, design_point))
     bands, radii = [], []
     dt = (plan.dts or {}).get(scene, 0.0)
+    seeds = len(plan.seeds)  # a point with fewer episodes is incomplete
     for family in plan.families:
         mine = [p for p in points if p.family == family.name]
         if not mine:
@@ -183,12 +184,14 @@ def _cell(
                 RadiusResult(
                     family.name,
                     grid,
-                    robustness_radius(grid, threshold=threshold, by="estimate"),
-                    robustness_radius(grid, threshold=threshold, by="lower"),
+                    robustness_radius(grid, threshold=threshold, by="estimate", episodes=seeds),
+                    robustness_radius(grid, threshold=threshold, by="lower", episodes=seeds),
                     tuple(family.scale_text(s, dt) for s in family.grid),
                 )
             )
-    skipped = tuple((s.family, s.why) for s in plan.skipped if s.scene == scene)
+    skipped = tuple(
+        (s.family, s.why) for s in plan.skipped if s.scene == scene and s.profile in ("", profile)
+    )
     return Cell(scene, controller, profile, design, tuple(bands), tuple(radii), skipped)
 
 
