@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, check_port, check_writable, help_text, missing_extra
+from .common import CliError, check_host, check_port, check_writable, help_text, missing_extra
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
@@ -193,6 +193,7 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
             "serves an emulated one)"
         )
     check_port(args.port)
+    check_host(args.host)
     return {
         key: value
         for key, value in (("host", args.host), ("port", args.port), ("device", args.device))
