@@ -501,7 +501,7 @@ def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(s
 def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
     """The tuning's "use it" line, on the transfer's default seeds (none of the lab's),
     with every link the page's table names and the family of its radius."""
-    from puckboard.cli.transfer import DEFAULT_SEEDS
+    from puckboard.sweep.defaults import TRANSFER_SEEDS as DEFAULT_SEEDS
     from puckboard.sweep.plan import parse_seeds
 
     argv, shown = transfer_shown()

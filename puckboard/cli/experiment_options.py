@@ -19,16 +19,17 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from ..sweep.defaults import DEFAULT_SCENARIO
 from .common import CliError, check_seconds, check_writable
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
     from ..sweep.executors import SweepExecutor
+    from ..sweep.options import RunOptions
     from ..sweep.run import SweepResult
     from ..sweep.store import ResultStore
 
 __all__ = [
-    "DEFAULT_SCENARIO",
     "add_controllers",
     "add_duration",
     "add_fixed_sets",
@@ -42,13 +43,12 @@ __all__ = [
     "exit_status",
     "fixed_sets",
     "open_out",
+    "run_options",
     "scene_or_error",
     "wall_time",
     "with_executor",
 ]
 
-#: The scene an experiment runs when none is named.
-DEFAULT_SCENARIO = "two-robot-pass"
 T = TypeVar("T")
 
 
@@ -164,8 +164,8 @@ def add_out(parser: argparse.ArgumentParser) -> None:
         "--out",
         type=Path,
         metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
-        "there",
+        help="append one row per episode to FILE (.csv, or .parquet with puckboard[dask]); "
+        "re-runs skip rows already there",
     )
 
 
@@ -209,7 +209,7 @@ def open_out(args: argparse.Namespace) -> ResultStore | None:
     except ValueError as exc:  # the file's name or contents: the flag that named it
         raise CliError(f"--out {exc}") from exc
     except (ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
+        raise CliError(f"--out {str(args.out)!r}: {exc}") from exc
 
 
 def with_executor(
@@ -287,6 +287,24 @@ def execute(
         executor.close()
         if store is not None:
             store.close()
+
+
+def run_options(
+    args: argparse.Namespace, executor: SweepExecutor, store: ResultStore | None, label: str
+) -> RunOptions:
+    """The run's options as every experiment command takes them: on ``executor``,
+    appending to ``store`` (``--out``), in ``--batch-size`` batches, ``--episode-timeout``
+    each, progress labelled ``label`` unless ``-q``."""
+    from ..sweep.options import RunOptions
+    from ..sweep.progress import make_progress
+
+    return RunOptions(
+        executor=executor,
+        store=store,
+        batch_size=args.batch_size,
+        progress=make_progress(enabled=not args.quiet, label=label),
+        episode_timeout=args.episode_timeout,
+    )
 
 
 def wall_time(args: argparse.Namespace, result: SweepResult) -> float:

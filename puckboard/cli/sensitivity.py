@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from ..sweep.defaults import JOINT_SEEDS, SENSITIVITY_SEEDS
 from .common import CliError, VariationName, check_plot_file
 from .experiment_options import (
     add_duration,
@@ -32,6 +33,7 @@ from .experiment_options import (
     exit_status,
     fixed_sets,
     open_out,
+    run_options,
     scene_or_error,
     with_executor,
 )
@@ -46,14 +48,7 @@ if TYPE_CHECKING:
 
 R = TypeVar("R")  # what an analysis returns
 
-#: Seeds per value unless asked otherwise: a whole profile (the physical e-puck's 16
-#: fields × 7 values, about 2,000 episodes) of one controller in about six minutes on two
-#: cores, at the two-robot pass's measured 6 episodes/s (docs/simulator.md).
-DEFAULT_SEEDS = "0:20"
-#: Seeds (plausible robots) per controller and profile for ``--method joint``: enough that
-#: a number moving the tutorial controller's rate is clear (docs/sweeps.md says what N
-#: buys), the whole flagship analysis in about five minutes on two cores.
-JOINT_SEEDS = "0:300"
+DEFAULT_SEEDS = SENSITIVITY_SEEDS
 METHODS = ("one-at-a-time", "joint")
 
 
@@ -278,22 +273,13 @@ def _execute(
 ) -> R | None:
     """Run ``analysis`` (one-at-a-time's or the joint one) on the executor with the
     options both methods share; ``None`` when it was stopped (see ``execute``)."""
-    from ..sweep import make_progress
 
     return execute(
         args,
         executor,
         store,
         "sensitivity",
-        lambda on: analysis(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
-            episode_timeout=args.episode_timeout,
-        ),
+        lambda on: analysis(plan, scene, run_options(args, on, store, "sensitivity")),
     )
 
 

@@ -23,6 +23,7 @@ from .experiment_options import (
     execute,
     exit_status,
     open_out,
+    run_options,
     scene_or_error,
     wall_time,
     with_executor,
@@ -148,7 +149,7 @@ def _episode_count(args: argparse.Namespace) -> int | None:
 
 
 def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
-    from ..sweep import make_progress, run_sweep
+    from ..sweep import run_sweep
     from ..sweep.signals import interrupts_deferred
 
     # Ctrl-C here waits the moment the preparation takes and is raised after it: raised
@@ -165,15 +166,7 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         executor,
         store,
         "sweep",
-        lambda on: run_sweep(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet),
-            episode_timeout=args.episode_timeout,
-        ),
+        lambda on: run_sweep(plan, scene, run_options(args, on, store, "sweep")),
     )
     if result is None:
         return 1

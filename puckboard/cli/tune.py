@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..sweep.defaults import TUNE_TRIALS
 from .common import CliError, add_variation_argument, missing_extra, user_code_error
 from .experiment_options import (
     add_duration,
@@ -34,7 +35,7 @@ if TYPE_CHECKING:
     from ..tune.run import TrialEvent
     from ..tune.space import Choice, Param
 
-DEFAULT_TRIALS = 20
+DEFAULT_TRIALS = TUNE_TRIALS
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -16,6 +16,7 @@ from .check import check_plan
 from .cluster import DaskExecutor
 from .discover import FACTORY_NAME, controllers_in_dir
 from .executors import InlineExecutor, LocalExecutor, SweepExecutor, WorkerLostError
+from .options import RunOptions
 from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
 from .progress import make_progress
 from .run import SweepResult, run_sweep
@@ -32,6 +33,7 @@ __all__ = [
     "InlineExecutor",
     "LocalExecutor",
     "PlanError",
+    "RunOptions",
     "SweepExecutor",
     "SweepPlan",
     "SweepResult",

@@ -23,11 +23,11 @@ from typing import TYPE_CHECKING, Any
 
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
+from .options import DEFAULT_RUN, RunOptions
 from .plan import PlanError, SweepPlan, seeds_text
-from .progress import NullProgress, Progress
+from .progress import NullProgress
 from .rows import Outcome
 from .signals import Terminated
-from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
@@ -118,24 +118,19 @@ class SweepResult:
 
 
 def run_sweep(
-    plan: SweepPlan,
-    scene: Scene | str | Path,
-    *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
+    plan: SweepPlan, scene: Scene | str | Path, options: RunOptions = DEFAULT_RUN
 ) -> SweepResult:
-    """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
+    """Run every episode of ``plan`` on ``scene`` that ``options.store`` does not hold yet.
 
     ``scene`` is a :class:`~puckboard.scenario.scene.Scene`, a shipped scene name or a scene
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
-    need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
-    (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
-    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode whose
-    controller never returns; it is recorded as an ``error`` episode.
+    need the file. Without ``options.executor`` a :class:`LocalExecutor` on all cores is
+    used (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
+    ``interrupted=True``. ``options.episode_timeout`` (wall-clock seconds) ends an episode
+    whose controller never returns; it is recorded as an ``error`` episode.
     """
+    executor, store, progress = options.executor, options.store, options.progress
+    batch_size, episode_timeout = options.batch_size, options.episode_timeout
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
     if isinstance(scene, (str, Path)):  # a Scene (or anything with its fields) is used as is

@@ -15,20 +15,34 @@ machinery: local cores or Dask, resumable ``--out`` rows, progress, Ctrl-C.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..scenario.overrides import link_overrides
 from ..scenario.settings import SETTINGS, link_settings
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ..sweep.defaults import TRANSFER_SEEDS
+from ..sweep.plan import PlanError, SweepPlan, params_key, parse_seeds, profile_parameters
 from .families import DESIGN, PLAUSIBLE, Family, link_timing, scene_value
 
 if TYPE_CHECKING:
     from ..profile import RobotProfile
     from ..scenario.scene import Scene
 
-__all__ = ["Point", "Skipped", "TransferPlan", "family_params", "transfer_plan"]
+__all__ = [
+    "DEFAULT_SEEDS",
+    "Point",
+    "Skipped",
+    "TransferPlan",
+    "family_params",
+    "plan_from_names",
+    "transfer_plan",
+]
+
+#: Seeds per model unless asked otherwise (:data:`puckboard.sweep.defaults.TRANSFER_SEEDS`).
+DEFAULT_SEEDS = parse_seeds(TRANSFER_SEEDS)
 
 
 @dataclass(frozen=True)
@@ -256,3 +270,69 @@ def _sweeps(
         )
         for scene, unique in by_scene.items()
     )
+
+
+def plan_from_names(
+    scenes: Sequence[str | Scene] | str | Scene,
+    *,
+    controllers: Sequence[str] = (),
+    profiles: Sequence[str | RobotProfile] = (),
+    seeds: range | str = DEFAULT_SEEDS,
+    families: Sequence[str] | None = None,
+    fixed: Mapping[str, Any] | None = None,
+) -> tuple[TransferPlan, dict[str, Scene]]:
+    """A report's plan from what a user names, as ``puckboard transfer`` takes it: scenes
+    (shipped names, scene files or loaded scenes), controller specs (default: each
+    robot's from its scene), profiles (shipped names, profile files or profiles; default:
+    each scene's one), seeds (a range or ``A:B``), family names (default: all) and fixed
+    parameters; and every scene its sweeps run on, loaded, by name. Checked as the
+    command line checks it, before anything runs: a one-line
+    :class:`~puckboard.sweep.PlanError` (or another ``ValueError``) otherwise."""
+    from ..scenario.robot_profiles import scene_profile
+    from ..scenario.scenefile import load_scene
+    from ..sweep.check import check_plan
+    from ..sweep.plan import SCENE_CONTROLLERS
+    from .families import choose_families
+
+    given = (
+        [scenes] if isinstance(scenes, (str, Path)) or not isinstance(scenes, Sequence) else scenes
+    )
+    names = [s if isinstance(s, str) else getattr(s, "name", str(s)) for s in given]
+    if len(set(names)) != len(names):
+        raise PlanError(f"scene listed twice in {names}; give each once")
+    chosen = choose_families(families)
+    loaded = [s if not isinstance(s, (str, Path)) else load_scene(s) for s in given]
+    replacements = {f.scene: load_scene(f.scene) for f in chosen if f.scene is not None}
+    if profiles:
+        robots = [scene_profile(p) for p in profiles]
+        by_scene = {scene.name: list(robots) for scene in loaded}
+    else:
+        by_scene = {scene.name: [_own_profile(scene)] for scene in loaded}
+    plan = transfer_plan(
+        loaded,
+        controllers=list(controllers) or [SCENE_CONTROLLERS],
+        profiles=by_scene,
+        seeds=parse_seeds(seeds) if isinstance(seeds, str) else seeds,
+        families=chosen,
+        replacements=replacements,
+        fixed=fixed,
+    )
+    every = {**replacements, **{s.name: s for s in loaded}}
+    for sweep in plan.sweeps:
+        check_plan(sweep, every[sweep.scenario])
+    return plan, every
+
+
+def _own_profile(scene: Scene) -> str | RobotProfile:
+    """The one profile every robot of ``scene`` has; a ``PlanError`` when they differ."""
+    own = {json.dumps(_profile_id(r.profile)) for r in scene.robots}
+    if len(own) != 1:
+        raise PlanError(
+            f"the robots of {scene.name} have different profiles; name the one to run "
+            "with --profile NAME (repeatable)"
+        )
+    return scene.robots[0].profile
+
+
+def _profile_id(profile: str | RobotProfile) -> str | list[Any]:
+    return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]

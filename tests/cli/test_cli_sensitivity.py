@@ -230,7 +230,8 @@ def test_from_a_file_of_another_kind_names_from_not_out(capsys, tmp_path):
     assert main(["sensitivity", "--from", str(picture)]) == 2
     line = one_error_line(capsys)
     assert line == (
-        f"puckboard sensitivity: error: --from '{picture}': use a .csv or .parquet file name"
+        f"puckboard sensitivity: error: --from '{picture}': use a .csv or .parquet file name "
+        "(.parquet needs pyarrow: pip install 'puckboard[dask]')"
     )
     assert "--out" not in line
 
