@@ -283,15 +283,8 @@ class _Replay:
         return self.rec
 
     def arrays(self) -> dict[str, np.ndarray]:
-        r, n = self.rec, self.n
-        return {
-            "time": r.time[:n],
-            "pose": r.pose[:n],
-            "wheels": r.wheels[:n],
-            "layer": r.layer[:n],
-            "proximity": r.proximity[:n],
-            "ground": r.ground[:n],
-        }
+        """The recording's arrays (its own mapping) up to the row being shown."""
+        return {name: values[: self.n] for name, values in self.rec.arrays().items()}
 
 
 def replay(rec: Any, *, speed: float | None = 1.0, figure: Any = None) -> LiveView:
