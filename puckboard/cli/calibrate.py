@@ -35,7 +35,9 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, check_host, check_port, check_writable, help_text, missing_extra
+from .checks import check_host, check_port, check_writable
+from .errors import CliError, missing_extra
+from .parsing import help_text
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .common import CliError
+from .errors import CliError
 
 
 def calibrate_link(

@@ -16,7 +16,10 @@ import json
 import math
 import sys
 
-from .common import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
+from .bind import bind_error_message
+from .checks import check_port, check_seconds, seed_type
+from .errors import CliError
+from .parsing import help_text
 
 #: The robot uses 1000, which needs administrator rights to bind; kept equal to
 #: backends.epuck.factories.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.

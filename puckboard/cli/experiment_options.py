@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from ..sweep.defaults import DEFAULT_SCENARIO
-from .common import CliError, check_seconds, check_writable
+from .checks import check_seconds, check_writable
+from .errors import CliError
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene

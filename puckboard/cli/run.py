@@ -19,26 +19,24 @@ import json
 import sys
 from typing import TYPE_CHECKING, Any
 
-from .common import (
-    CliError,
-    OneController,
-    add_variation_argument,
-    add_web_arguments,
+from .checks import (
     check_host,
     check_port,
     check_seconds,
     check_speed,
     check_writable,
+    require,
+    seed_type,
+)
+from .errors import (
+    CliError,
     connection_loss_in_one_line,
     controller_error,
     first_line,
     missing_extra,
-    require,
-    seed_type,
-    serve_until_interrupted,
-    start_web_view,
-    web_url,
 )
+from .parsing import OneController, add_variation_argument
+from .web_view import add_web_arguments, serve_until_interrupted, start_web_view, web_url
 
 if TYPE_CHECKING:
     from ..control.episode import Episode
@@ -296,7 +294,7 @@ def _keep_web_view(web: Any) -> None:
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:
     """What to raise when building the episode failed: the controller's problem as every
-    command says it (:func:`~puckboard.cli.common.controller_error`), one line for other
+    command says it (:func:`~puckboard.cli.errors.controller_error`), one line for other
     bad input (a backend's), else the error itself (a bug: its traceback)."""
     shown = controller_error(exc, controller)
     if shown is not None:

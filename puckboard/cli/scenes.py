@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError, seed_type
+from .checks import seed_type
+from .errors import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

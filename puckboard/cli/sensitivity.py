@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from ..sweep.defaults import JOINT_SEEDS, SENSITIVITY_SEEDS
-from .common import CliError, VariationName, check_plot_file
+from .checks import check_plot_file
+from .errors import CliError
 from .experiment_options import (
     add_duration,
     add_fixed_sets,
@@ -37,6 +38,7 @@ from .experiment_options import (
     scene_or_error,
     with_executor,
 )
+from .parsing import VariationName
 
 if TYPE_CHECKING:
     from ..profile import RobotProfile

@@ -21,19 +21,11 @@ import argparse
 import sys
 from typing import Any
 
-from .common import (
-    CliError,
-    add_variation_argument,
-    add_web_arguments,
-    bind_error_message,
-    check_port,
-    check_seconds,
-    help_text,
-    missing_extra,
-    seed_type,
-    start_web_view,
-    web_url,
-)
+from .bind import bind_error_message
+from .checks import check_port, check_seconds, seed_type
+from .errors import CliError, missing_extra
+from .parsing import add_variation_argument, help_text
+from .web_view import add_web_arguments, start_web_view, web_url
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, add_variation_argument
+from .errors import CliError
 from .experiment_options import (
     add_duration,
     add_out,
@@ -28,6 +28,7 @@ from .experiment_options import (
     wall_time,
     with_executor,
 )
+from .parsing import add_variation_argument
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene

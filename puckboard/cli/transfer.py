@@ -16,7 +16,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 from ..sweep.defaults import TRANSFER_SEEDS
-from .common import CliError, check_plot_file
+from .checks import check_plot_file
+from .errors import CliError
 from .experiment_options import (
     add_controllers,
     add_duration,

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..sweep.defaults import TUNE_TRIALS
-from .common import CliError, add_variation_argument, missing_extra, user_code_error
+from .errors import CliError, missing_extra, user_code_error
 from .experiment_options import (
     add_duration,
     add_where_to_run,
@@ -26,6 +26,7 @@ from .experiment_options import (
     scene_or_error,
     with_executor,
 )
+from .parsing import add_variation_argument
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -138,11 +139,11 @@ def _tune(args: argparse.Namespace) -> int:
     except ImportError as exc:
         raise missing_extra(exc, "puckboard tune") from None
     if args.plot is not None:
-        from .common import check_plot_file
+        from .checks import check_plot_file
 
         check_plot_file(args.plot)
     if args.study is not None:
-        from .common import check_writable
+        from .checks import check_writable
 
         check_writable(args.study, "--study")
     return with_executor(args, _run)

@@ -93,7 +93,10 @@ def test_a_profile_file_runs_under_its_own_name(capsys):
         (["--set", "profile.axle_length=53"], "profile.axle_length = 53: outside [0.01 m"),
         (["--set", "robot.nobody.profile.axle_length=0.05"], "no robot 'nobody'"),
         (["--profile", "nope.toml"], "cannot read profile file 'nope.toml'"),
-        (["--variation", "wild"], "--variation: unknown variation 'wild'; use one of none, plausible"),
+        (
+            ["--variation", "wild"],
+            "--variation: unknown variation 'wild'; use one of none, plausible",
+        ),
     ],
 )
 def test_bad_robot_input_is_one_line(capsys, args, words):
