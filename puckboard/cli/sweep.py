@@ -52,7 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
             "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, variation, "
             "surface.line_contrast, surface.line_width, obstacle.ir_reflectance, "
-            "start.offset, start.heading, "
+            "start.offset, start.heading, control.period, control.latency, "
             "layer.<LayerName>.<attribute>, profile.<path> (every robot's, SI or with a unit: "
             "profile.prox_radius.side=30mm,33mm; paths: puckboard profiles show), "
             "robot.<name>.profile.<path>. Example: "
