@@ -27,7 +27,6 @@ seed, so the simulation's own draws stay as they are.
 from __future__ import annotations
 
 import logging
-import pkgutil
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -129,6 +128,7 @@ def _read_installed() -> None:
     if _installed_read:
         return
     _installed_read = True
+    import pkgutil
     from importlib.metadata import entry_points
 
     for ep in entry_points(group=ENTRY_POINT_GROUP):
