@@ -77,7 +77,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "  puckboard calibrate ir --backend epuck2-wifi --host 192.168.1.42 "
             "--out my-epuck.toml\n"
             "  puckboard calibrate ir --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
-            "  puckboard calibrate link --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
+            "  puckboard calibrate link --backend sercom --device /dev/rfcomm0 "
+            "--out my-epuck.toml\n"
             "  puckboard run two-robot-pass --profile my-epuck.toml\n"
         ),
     )
@@ -190,7 +191,8 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     if args.backend not in ROBOT_BACKENDS:
         given = f"--backend {args.backend}" if args.backend else "no --backend"
         raise CliError(
-            f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi --host IP or "
+            f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi "
+            "--host IP or "
             "--backend sercom --device DEVICE (no robot? 'puckboard emulate calibration-wall' "
             "serves an emulated one)"
         )

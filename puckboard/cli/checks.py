@@ -118,11 +118,12 @@ def check_writable(path: str | Path, flag: str, *, folder: bool = False) -> Path
     the one check of every output option (files and folders alike).
 
     Without this a read-only place, or a path through a regular file, is found out
-    after a long run: the run is lost and the error is a traceback. ``path`` is a file to be written (its folder is
-    created when missing) or, with ``folder=True``, a folder to write files in. Whether
-    the folder takes files is tried by creating and removing a file in it, the one test
-    that holds on every system and for every user (permission bits do not bind an
-    administrator, and Windows has access lists besides).
+    after a long run: the run is lost and the error is a traceback. ``path`` is a file
+    to be written (its folder is created when missing) or, with ``folder=True``, a
+    folder to write files in. Whether the folder takes files is tried by creating and
+    removing a file in it, the one test that holds on every system and for every user
+    (permission bits do not bind an administrator, and Windows has access lists
+    besides).
     """
     import tempfile
 

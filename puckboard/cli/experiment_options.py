@@ -72,8 +72,8 @@ def add_controllers(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY "
-        "(repeatable; default: each robot's controller from the scene)",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY (repeatable; default: each robot's controller from the scene)",
     )
 
 

@@ -53,7 +53,8 @@ def main(args: argparse.Namespace) -> int:
         first = " ".join(scene.description.split())
         robots = len(scene.robots)
         print(
-            f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, goal {scene.goal.resolve(scene)}: {first}"
+            f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, "
+            f"goal {scene.goal.resolve(scene)}: {first}"
         )
     return 0
 

@@ -38,7 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "examples:\n"
             "  puckboard serve two-robot-pass\n"
             "  puckboard run two-robot-pass --backend coppeliasim --port 23000\n"
-            "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   # a whole class\n"
+            "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   "
+            "# a whole class\n"
             "  puckboard serve arena --web                   # and watch it at http://127.0.0.1:8080/\n"
         ),
     )

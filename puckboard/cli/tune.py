@@ -1,11 +1,12 @@
 """``puckboard tune``: search a controller's numbers for the worst robot, not the average.
 
 Each ``--param PATH=LOW:HIGH[:int][:log]`` is a range Optuna's seeded TPE sampler draws
-from (``PATH=A,B,...``: a choice, for a setting that is true/false or a word); each trial runs the design seeds (``--seeds``) on every scene × profile and is
-scored by its worst cell, then the mean, then progress; hopeless trials are pruned
-after the first rounds. ``--study FILE`` keeps every finished trial (Ctrl-C keeps them,
-the same command resumes). The best parameters are run again on ``--validate`` seeds no
-trial saw. See ``docs/sweeps.md`` (tuning).
+from (``PATH=A,B,...``: a choice, for a setting that is true/false or a word); each
+trial runs the design seeds (``--seeds``) on every scene × profile and is scored by its
+worst cell, then the mean, then progress; hopeless trials are pruned after the first
+rounds. ``--study FILE`` keeps every finished trial (Ctrl-C keeps them, the same
+command resumes). The best parameters are run again on ``--validate`` seeds no trial
+saw. See ``docs/sweeps.md`` (tuning).
 """
 
 from __future__ import annotations
@@ -56,7 +57,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "(layer.<LayerName>.<attribute>, as for sweep --set). Ranges: LOW:HIGH (a real "
             "number), LOW:HIGH:int (a whole number), LOW:HIGH:log (drawn on a log scale), "
             "LOW:HIGH:int:log; a setting that is true/false or a word takes its choices instead: "
-            "layer.LineFollow.recovery=true,false. Example: puckboard tune two-robot-pass --controller improved "
+            "layer.LineFollow.recovery=true,false. Example: puckboard tune two-robot-pass "
+            "--controller improved "
             "--param layer.LineFollow.inner_factor=0.1:0.9 --set robot.profile=epuck,epuck-vrep "
             "--variation plausible --seeds 0:40 --validate 40:140 --study tune.journal"
         ),
@@ -65,9 +67,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "scenes", nargs="+", metavar="SCENE", help="shipped scene names or scene files"
     )
     parser.add_argument(
-        "--controller", required=True, metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY",
-    )  # fmt: skip
+        "--controller",
+        required=True,
+        metavar="SPEC",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY",
+    )
     parser.add_argument(
         "--param", dest="params", action="append", required=True,
         metavar="PATH=LOW:HIGH[:int][:log]",

@@ -21,8 +21,9 @@ run is the same with or without them.
 the dialect and every name are in :mod:`puckboard.scenario.overrides`): the scene's are
 applied before the backend opens, the layers' (:mod:`puckboard.behaviours.overrides`) on
 each robot's controller, and ``controller.<keyword>`` is handed to every robot's
-controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` = ``plausible`` (also the ``variation`` argument)
-builds each robot from numbers drawn within its profile's plausible ranges.
+controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` =
+``plausible`` (also the ``variation`` argument) builds each robot from numbers drawn
+within its profile's plausible ranges.
 """
 
 from __future__ import annotations

@@ -88,7 +88,11 @@ class _Field:
 #: Every setting head, in the order reports list them.
 SETTING_FIELDS: dict[str, _Field] = {
     "wheel_radius": _Field(
-        "m", 0.005, 0.05, False, False,
+        "m",
+        0.005,
+        0.05,
+        False,
+        False,
         "wheel radius: the nominal one (conversions, odometry) and both wheels; "
         ".left/.right: one wheel's true radius only",
         sensors="wheel",
@@ -98,30 +102,61 @@ SETTING_FIELDS: dict[str, _Field] = {
     "max_wheel_speed": _Field("rad/s", 0.0, 100.0, True, False, "wheel speed limit"),
     "prox_aperture": _Field("rad", 0.0, math.pi, True, True, "opening angle of each IR sensor"),
     "prox_max_distance": _Field(
-        "m", 0.0, 0.1, True, False,
+        "m",
+        0.0,
+        0.1,
+        True,
+        False,
         "detection cut-off: farther readings report nothing (prox_range)",
     ),
-    "prox_min_distance": _Field("m", 0.0, 0.1, False, True, "nearest distance an IR sensor detects"),
+    "prox_min_distance": _Field(
+        "m", 0.0, 0.1, False, True, "nearest distance an IR sensor detects"
+    ),
     "prox_radius": _Field(
-        "m", 0.0, 0.1, True, True,
+        "m",
+        0.0,
+        0.1,
+        True,
+        True,
         "distance of an IR sensor from the robot's centre, moved along its bearing",
-        sensors="ir", bare=False,
+        sensors="ir",
+        bare=False,
     ),
     "prox_heading": _Field(
-        "rad", -math.pi, math.pi, False, False,
+        "rad",
+        -math.pi,
+        math.pi,
+        False,
+        False,
         "look direction of an IR sensor; for a pair the left sensor's, mirrored on the right",
-        sensors="ir", bare=False, pairs_mirror=True,
+        sensors="ir",
+        bare=False,
+        pairs_mirror=True,
     ),
     "ir_gain": _Field(
-        "1", 0.0, 10.0, True, False,
-        "multiplier of an IR sensor's response above its ambient baseline", sensors="ir",
+        "1",
+        0.0,
+        10.0,
+        True,
+        False,
+        "multiplier of an IR sensor's response above its ambient baseline",
+        sensors="ir",
     ),
     "ir_offset": _Field(
-        "raw", -4095.0, 4095.0, False, False,
-        "raw units added to an IR sensor's calibrated value", sensors="ir",
+        "raw",
+        -4095.0,
+        4095.0,
+        False,
+        False,
+        "raw units added to an IR sensor's calibrated value",
+        sensors="ir",
     ),
     "ground_spacing": _Field(
-        "m", 0.0, 0.05, True, False,
+        "m",
+        0.0,
+        0.05,
+        True,
+        False,
         "lateral distance between adjacent ground sensors (the centre one stays)",
     ),
     "ground_forward": _Field(
@@ -130,7 +165,7 @@ SETTING_FIELDS: dict[str, _Field] = {
     "ground_footprint": _Field(
         "m", 0.0, 0.02, False, False, "half-width of a ground sensor's light spot"
     ),
-}  # fmt: skip
+}
 
 
 def _show(value: float, unit: str) -> str:

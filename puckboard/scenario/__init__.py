@@ -1,11 +1,11 @@
 """Scenarios: what the robots face and how they are judged.
 
 A :class:`Scene` is plain validated data (floor, track, obstacles, walls, robots, noise,
-goal, the control loop's timing) read from a scene file (:mod:`.scenefile`, TOML or JSON; the shipped ones live in
-``scenes/``) through its dict form (:mod:`.conversion`). The engine
-(:mod:`puckboard.sim`) builds a world from it, and the :class:`~.judge.Judge` scores the
-robots' trajectories against the scene's goal. Nothing here knows the engine, an adapter
-or a controller.
+goal, the control loop's timing) read from a scene file (:mod:`.scenefile`, TOML or
+JSON; the shipped ones live in ``scenes/``) through its dict form (:mod:`.conversion`).
+The engine (:mod:`puckboard.sim`) builds a world from it, and the :class:`~.judge.Judge`
+scores the robots' trajectories against the scene's goal. Nothing here knows the engine,
+an adapter or a controller.
 """
 
 from __future__ import annotations

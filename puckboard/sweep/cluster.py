@@ -231,7 +231,8 @@ class _ClusterHost:
             while not self._conn.poll(0.1):
                 if not self._process.is_alive():
                     raise ConnectionError(
-                        f"the local Dask cluster's process ended (exit code {self._process.exitcode})"
+                        "the local Dask cluster's process ended "
+                        f"(exit code {self._process.exitcode})"
                     )
                 if time.monotonic() > deadline:
                     raise TimeoutError(f"no local Dask cluster after {timeout:g} s")

@@ -148,9 +148,14 @@ def plot_arbitration(rec: Recording) -> Any:
             ax.broken_barh(bars, (y - 0.38, 0.76), facecolors=colour, edgecolor="none")
         switches = max(0, len(spans) - 1)
         ax.annotate(
-            f"{switches} switch{'' if switches == 1 else 'es'}", (1.0, y), xycoords=("axes fraction", "data"),
-            xytext=(14, 0), textcoords="offset points", va="center", fontsize=TYPE_SIZES["tick"],
-        )  # fmt: skip
+            f"{switches} switch{'' if switches == 1 else 'es'}",
+            (1.0, y),
+            xycoords=("axes fraction", "data"),
+            xytext=(14, 0),
+            textcoords="offset points",
+            va="center",
+            fontsize=TYPE_SIZES["tick"],
+        )
     handles_events = _draw_events(ax, rec, names)
     ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=TYPE_SIZES["label"])
     ax.set_ylim(-0.6, len(names) - 0.4)
@@ -286,11 +291,17 @@ def plot_wheels(rec: Recording) -> Any:
         ax.axhline(0.0, color="#404040", lw=1.0)
         ax.set_ylabel("rad/s")
         ax.set_title(
-            f"robot {name}: wheel commands", fontsize=TYPE_SIZES["label"], color=colours[name], loc="left",
+            f"robot {name}: wheel commands",
+            fontsize=TYPE_SIZES["label"],
+            color=colours[name],
+            loc="left",
             fontweight="bold",
-        )  # fmt: skip
+        )
         ax.legend(
-            fontsize=TYPE_SIZES["legend"], loc="upper left", bbox_to_anchor=(1.005, 1.0), frameon=False
+            fontsize=TYPE_SIZES["legend"],
+            loc="upper left",
+            bbox_to_anchor=(1.005, 1.0),
+            frameon=False,
         )
         _style_axes(ax)
     axes[-1].set_xlabel("time (s)")

@@ -117,7 +117,13 @@ class Stage:
             0.985, 0.015, "", fontsize=TYPE_SIZES["tick"], ha="right", va="bottom", color="#505050"
         )
         self._clock = fig.text(
-            0.985, 0.955, "", fontsize=TYPE_SIZES["title"], ha="right", va="center", family="monospace"
+            0.985,
+            0.955,
+            "",
+            fontsize=TYPE_SIZES["title"],
+            ha="right",
+            va="center",
+            family="monospace",
         )
 
         self._footer.set_animated(True)

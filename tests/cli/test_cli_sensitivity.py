@@ -60,7 +60,10 @@ def test_plot_draws_the_figure_and_out_resumes(capsys, tmp_path):
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        (["--fields", "ir_gains"], "'ir_gains' is not an uncertain field of epuck (did you mean ir_gain?)"),
+        (
+            ["--fields", "ir_gains"],
+            "'ir_gains' is not an uncertain field of epuck (did you mean ir_gain?)",
+        ),
         (["--fields", ","], "--fields: name at least one field"),
         (["--values", "0"], "--values must be at least 1, got 0"),
         (["--plot", "figure.txt"], "--plot 'figure.txt': use a .png, .svg or .pdf file name"),

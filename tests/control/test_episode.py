@@ -11,9 +11,16 @@ FIELDS = {
     "realtime_factor", "success", "failure", "failures", "robots", "events",
 }  # fmt: skip
 ROBOT_FIELDS = {
-    "name", "profile", "profile_values", "progress_laps", "distance_m", "collisions", "on_line_fraction",
-    "obstacles_passed", "passed_other",
-}  # fmt: skip
+    "name",
+    "profile",
+    "profile_values",
+    "progress_laps",
+    "distance_m",
+    "collisions",
+    "on_line_fraction",
+    "obstacles_passed",
+    "passed_other",
+}
 
 
 def without_wall_clock(d):

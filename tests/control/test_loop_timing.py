@@ -98,7 +98,8 @@ def test_latency_changes_a_run_and_is_reported():
     [
         (
             {"control.period": 0.07},
-            r"control\.period = 0\.07 s is not a whole number of physics steps of dt = 0\.05 s.*use 0\.05 or 0\.1 s",
+            r"control\.period = 0\.07 s is not a whole number of physics steps of dt = 0\.05 s"
+            r".*use 0\.05 or 0\.1 s",
         ),
         (
             {"control.latency": 0.03},
@@ -107,12 +108,24 @@ def test_latency_changes_a_run_and_is_reported():
         # one bound and one wording for every timing, whatever was wrong with it
         ({"control.period": -0.1}, r"^override control\.period = -0\.1: outside \(0, 1\] s \("),
         ({"control.period": 0}, r"^override control\.period = 0: outside \(0, 1\] s \("),
-        ({"control.latency": float("nan")}, r"^override control\.latency = nan: outside \[0, 1\] s"),
-        ({"control.latency": float("inf")}, r"^override control\.latency = inf: outside \[0, 1\] s"),
+        (
+            {"control.latency": float("nan")},
+            r"^override control\.latency = nan: outside \[0, 1\] s",
+        ),
+        (
+            {"control.latency": float("inf")},
+            r"^override control\.latency = inf: outside \[0, 1\] s",
+        ),
         ({"control.latency": 1e9}, r"^override control\.latency = 1e\+09: outside \[0, 1\] s"),
         ({"dt": 5}, r"^override dt = 5: outside \(0, 1\] s \(simulation step\)"),
-        ({"control.period": "fast"}, r"^override control\.period = 'fast': expected a number \(seconds, or"),
-        ({"control.period": "50mm"}, r"^override control\.period = '50mm': unit 'mm' does not fit; seconds"),
+        (
+            {"control.period": "fast"},
+            r"^override control\.period = 'fast': expected a number \(seconds, or",
+        ),
+        (
+            {"control.period": "50mm"},
+            r"^override control\.period = '50mm': unit 'mm' does not fit; seconds",
+        ),
         ({"dt": 0.02, "control.period": 0.05}, r"control\.period = 0\.05 s .* dt = 0\.02 s"),
         ({"control.period": 0.5}, r"control\.period 0\.5 s is longer than the robots' control"),
     ],

@@ -39,6 +39,7 @@ def test_an_assignment_is_split_at_its_first_equals_sign():
     assert parse_override(" noise.ground = 0.1 ") == ("noise.ground", 0.1)
     assert parse_override("layer.Cruise.name=a=b") == ("layer.Cruise.name", "a=b")
 
+
 def test_a_setting_given_twice_is_refused_naming_both_values():
     with pytest.raises(ValueError, match=r"^--set dt given twice \(dt=0.1, then dt=0.05\); give"):
         parse_overrides(["dt=0.1", "dt=0.05"])

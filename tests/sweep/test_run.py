@@ -297,7 +297,8 @@ CRUISE_ONLY = (
         # what 'run' refuses at once, refused before the first episode
         (["--controller", "improvd"], "controller 'improvd' cannot be built: unknown controller"),
         (["--controller", "stock", "--controller", "no_such_module:make"], "'no_such_module'"),
-        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number (the parameter is float), got 'abc'"),
+        (["--set", "layer.LineFollow.inner_factor=0.3,abc"],
+         "needs a number (the parameter is float), got 'abc'"),
         (["--set", "dt=0.05,1e-9"], "more than one episode may take"),
         (["--controller", "improved", "--controller", "CRUISE", "--set",
           "layer.LineFollow.inner_factor=0.3"], "no controller has a layer 'LineFollow'"),
@@ -430,8 +431,10 @@ def test_a_stopped_dask_sweep_frees_its_workers_after_one_episode(short_scene):
 
         given = executor.stop_flag()
         result = run_sweep(
-            small_plan(short_scene), short_scene, RunOptions(executor=executor, batch_size=1, progress=InterruptingProgress()),
-        )  # fmt: skip
+            small_plan(short_scene),
+            short_scene,
+            RunOptions(executor=executor, batch_size=1, progress=InterruptingProgress()),
+        )
         assert result.interrupted and 1 <= result.ran < len(small_plan(short_scene))
         assert Event(given.name, client=executor.client).is_set()
         assert executor.stop_flag().name != given.name

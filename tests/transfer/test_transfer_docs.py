@@ -142,7 +142,8 @@ def robust_transfer() -> tuple[list[str], list[list[str]]]:
         if line.startswith("$ puckboard transfer ") and "--controller robust" in line
     ]
     start = lines.index(
-        "| model | straight, `epuck` | straight, `epuck-vrep` | bend, `epuck` | bend, `epuck-vrep` |"
+        "| model | straight, `epuck` | straight, `epuck-vrep` | bend, `epuck` | "
+        "bend, `epuck-vrep` |"
     )
     rows = []
     for line in lines[start + 2 :]:

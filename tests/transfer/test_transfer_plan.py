@@ -381,8 +381,8 @@ def test_the_report_names_the_fixed_settings_in_its_head_and_each_model():
     head, *_ = text = format_result(result).splitlines()
     assert head.endswith("; every model with control.latency=0.05, layer.Cruise.speed=3.0")
     assert (
-        "  design: the scene with plausible robots (--variation plausible); with control.latency=0.05"
-        in text
+        "  design: the scene with plausible robots (--variation plausible); "
+        "with control.latency=0.05" in text
     )
     assert (
         "  radius: period: grid 50 ms, 100 ms, 200 ms; the controller ticks every 1, 2 or 4 "

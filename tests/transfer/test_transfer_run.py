@@ -27,8 +27,10 @@ def plan():
 def test_a_stopped_report_starts_no_further_scene_and_keeps_what_ran(tmp_path):
     with open_store(tmp_path / "runs.csv") as store:
         result = run_transfer_plan(
-            plan(), SCENES, RunOptions(executor=CountingExecutor(interrupt_after=1), store=store, batch_size=1),
-        )  # fmt: skip
+            plan(),
+            SCENES,
+            RunOptions(executor=CountingExecutor(interrupt_after=1), store=store, batch_size=1),
+        )
     assert result.interrupted and result.ran == 1
     assert [s.ran for s in result.sweeps] == [1, 0]
     first, second = result.cells

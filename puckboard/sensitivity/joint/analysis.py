@@ -11,10 +11,11 @@ numbers, from which :mod:`.estimate` bins a curve per number and ranks the numbe
 ~30 numbers on its own. A number is attributed *per robot*: ``left: body_radius`` and
 ``right: body_radius`` are two inputs. The robots of a scene play different parts (in the
 two-robot pass they go round the loop in opposite directions, so what one meets on its
-right the other meets on its left) and a number can matter for one part only; the two robots' mean would halve such an effect and mix it with noise from the
-other robot, and "the robot that failed" is not defined for an episode that passes and
-selects on the outcome for one that fails. A number that matters for both robots shows up
-twice, each with part of its effect.
+right the other meets on its left) and a number can matter for one part only; the two
+robots' mean would halve such an effect and mix it with noise from the other robot, and
+"the robot that failed" is not defined for an episode that passes and selects on the
+outcome for one that fails. A number that matters for both robots shows up twice, each
+with part of its effect.
 
 The rows are those of the one-at-a-time method's plausible point (same parameters, same
 keys), so either method's ``--out`` file feeds the other, and :func:`from_rows` recomputes

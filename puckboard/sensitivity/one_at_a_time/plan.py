@@ -69,7 +69,8 @@ FIELD_LABEL = "label.field"
 @dataclass(frozen=True)
 class Field:
     """One uncertain path of one profile: its range, its shipped value and the values the
-    analysis sets it to (in SI; ``unit`` as :func:`~puckboard.profile.setting_names.setting_unit`)."""
+    analysis sets it to (in SI; ``unit`` as
+    :func:`~puckboard.profile.setting_names.setting_unit`)."""
 
     profile: str
     path: str
