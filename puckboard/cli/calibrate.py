@@ -48,8 +48,6 @@ if TYPE_CHECKING:
     from ..calibration.readings import Measurements, PoseReading, Progress
     from ..calibration.response import WallModel
 
-#: The backends that reach a real (or emulated) e-puck.
-ROBOT_BACKENDS = ("epuck2-wifi", "sercom")
 
 
 def length(text: str) -> float:
@@ -188,7 +186,15 @@ def _check_name(name: str) -> None:
 
 
 def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
-    if args.backend not in ROBOT_BACKENDS:
+    from ..backends.registry import abilities_of
+
+    try:
+        calibratable = bool(args.backend) and abilities_of(args.backend).calibratable
+    except ValueError as exc:
+        raise CliError(f"--backend {args.backend}: {exc}") from None
+    except ImportError as exc:
+        raise missing_extra(exc, f"--backend {args.backend}") from None
+    if not calibratable:
         given = f"--backend {args.backend}" if args.backend else "no --backend"
         raise CliError(
             f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi "

@@ -26,8 +26,8 @@ from .errors import CliError
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
     from ..sweep.executors import SweepExecutor
+    from ..sweep.experiment import ExperimentRun
     from ..sweep.options import RunOptions
-    from ..sweep.run import SweepResult
     from ..sweep.store import ResultStore
 
 __all__ = [
@@ -308,7 +308,7 @@ def run_options(
     )
 
 
-def wall_time(args: argparse.Namespace, result: SweepResult) -> float:
+def wall_time(args: argparse.Namespace, result: ExperimentRun) -> float:
     """Seconds since the command began (workers' start-up and the plan included), which
     is what the user waited; the sweep's own ``wall_s`` where no start was noted."""
     started = getattr(args, "started", None)
@@ -316,7 +316,7 @@ def wall_time(args: argparse.Namespace, result: SweepResult) -> float:
 
 
 def exit_status(
-    args: argparse.Namespace, result: SweepResult, *, stored: bool, command: str = "sweep"
+    args: argparse.Namespace, result: ExperimentRun, *, stored: bool, command: str = "sweep"
 ) -> int:
     """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
     Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""

@@ -23,7 +23,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "scenario", nargs="?", default="two-robot-pass", help="scene name or .toml/.json file"
     )
     p.add_argument(
-        "--backend", default="embedded", help="embedded (default), coppeliasim, epuck2-wifi, sercom"
+        "--backend",
+        default=None,
+        help="the backend to watch, as puckboard run takes it (default: $PUCKBOARD_BACKEND, "
+        "else embedded)",
     )
     p.add_argument(
         "--controller",

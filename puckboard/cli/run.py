@@ -164,18 +164,22 @@ def main(args: argparse.Namespace) -> int:
         if value is not None
     }
     try:
-        from ..backends.registry import default_backend
+        from ..backends.registry import abilities_of, backend_names, default_backend
 
         args.backend = args.backend or default_backend()
+        remote = abilities_of(args.backend).remote
     except ValueError as exc:
         raise CliError(str(exc)) from None
-    if args.backend in ("embedded", "fake") and backend_options:
+    except ImportError:
+        remote = True  # opening the backend names the extra to install
+    if not remote and backend_options:
         names = [f"--{k}" for k in backend_options]
         flags = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
         verb, them = ("does", "it") if len(names) == 1 else ("do", "them")
+        reaching = backend_names(lambda able: able.remote)
         raise CliError(
             f"{flags} {verb} not apply to the {args.backend} backend; use {them} with "
-            "--backend coppeliasim, epuck2-wifi or sercom"
+            f"--backend {', '.join(reaching[:-1])} or {reaching[-1]}"
         )
     if args.record is not None:
         check_writable(args.record, "--record")  # not found out after a long run

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 from ..sweep.defaults import TRANSFER_SEEDS
 from .checks import check_plot_file
@@ -137,9 +137,8 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
     )
     if result is None:
         return 1
-    # a report counts, times and ends as the sweeps it ran do (TransferResult has their
-    # fields, summed)
-    result.wall_s = wall_time(args, cast(Any, result))
+    # a report counts, times and ends as the sweeps it ran do (both are ExperimentRuns)
+    result.wall_s = wall_time(args, result)
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
@@ -150,7 +149,7 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         plot_transfer(result, args.plot)
         if not args.json:
             print(f"\nplot written to {args.plot}")
-    return exit_status(args, cast(Any, result), stored=store is not None, command="transfer")
+    return exit_status(args, result, stored=store is not None, command="transfer")
 
 
 def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:

@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import argparse
 import socket
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from .bind import bind_error_message
 from .errors import CliError, missing_extra
+
+if TYPE_CHECKING:
+    from ..web.server import WebView
 
 __all__ = ["add_web_arguments", "serve_until_interrupted", "start_web_view", "web_url"]
 
@@ -32,7 +36,7 @@ def add_web_arguments(parser: argparse.ArgumentParser, web_help: str | None = No
     )  # fmt: skip
 
 
-def start_web_view(start: Any, args: argparse.Namespace) -> Any:
+def start_web_view(start: Callable[[], WebView], args: argparse.Namespace) -> WebView:
     """Start a web view with ``start()``; a missing aiohttp or a taken port is one line."""
     try:
         return start()
@@ -44,14 +48,14 @@ def start_web_view(start: Any, args: argparse.Namespace) -> Any:
         ) from None
 
 
-def web_url(view: Any, host: str) -> str:
+def web_url(view: WebView, host: str) -> str:
     """The URL to share: on every interface, the machine's name stands in for 0.0.0.0."""
     if host in ("0.0.0.0", "*", "::"):
         return f"http://{socket.gethostname()}:{view.port}/  (or this machine's address)"
     return str(view.url)
 
 
-def serve_until_interrupted(view: Any) -> None:
+def serve_until_interrupted(view: WebView) -> None:
     """Keep a web view up (its page, its verdict) until Ctrl-C, then close it; the
     Ctrl-C goes on to :func:`puckboard.cli.main`, which ends the command with status 130
     as every command ends on Ctrl-C."""

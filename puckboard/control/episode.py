@@ -41,21 +41,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..backends.registry import default_backend, open_backend, resolve_backend
+from ..backends.registry import abilities_of, default_backend, open_backend, resolve_backend
 from ..behaviours.controller import Controller
 from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 from ..behaviours.presets import ControllerFactory, load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
-from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
-from ..scenario.overrides import apply_scene_overrides
+from ..scenario.preparation import RunRequest, prepare_scene
 from ..scenario.result import EpisodeResult
-from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.settings import SETTINGS, check_scene
-from ..scenario.variation import NONE, get_variation
+from ..scenario.settings import check_scene
+from ..scenario.variation import NONE
 from .loop import ControlLoop
 
 if TYPE_CHECKING:
@@ -134,30 +132,26 @@ class Episode:
         self.backend = backend if backend is not None else default_backend()
         _check_call(seed, self.backend, backend_options)
         overrides = dict(overrides or {})
-        chosen = get_variation(_one_variation(variation, overrides.pop("variation", None)))
-        # a generated scene (generated-pass) draws its track from the episode's seed
-        self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
-        # settings the run sets itself are its definition: a variation keeps them
-        fixed = [n for n in overrides if n in SETTINGS]
-        if any(get_profile(r.profile).link is not None for r in self.scene.robots):
-            fixed += [s.name for s in SETTINGS.values() if s.link]  # the robot's own link
-        #: what the variation drew, as the result reports it (None if it reports nothing)
-        self.conditions = (
-            chosen.drawn(self.scene, int(seed), fixed) if chosen.drawn is not None else None
-        )
-        drawn_from = self.scene
-        self.scene = chosen.vary(self.scene, int(seed), fixed)
+        variation = _one_variation(variation, overrides.pop("variation", None))
         self.seed = int(seed)
-        # where the loop's timing comes from, for a backend that cannot run it
-        timing = _timing_origin(chosen.name, drawn_from, self.scene)
-        unlinked = self.scene
-        self.scene = link_control(self.scene)  # a profile file's measured link timing
-        if self.scene is not unlinked:
-            timing = f"the profile's [link] ({_profile_names(self.scene)}) gives"
+        # the scene this run plays: the scene as given through named steps, each condition
+        # drawn once (scenario.preparation); then what the backend drives (below)
+        able = abilities_of(self.backend)
+        run = RunRequest(
+            self.seed, overrides, variation, simulates_link=able.link_timing,
+            drives_robot=not able.simulated,
+        )  # fmt: skip
+        prepared = prepare_scene(_resolve_scene(scene), run)
+        self.scene = prepared.scene
         try:
             check_scene(self.scene)  # every setting in bounds, however the scene was built
         except ValueError as exc:
             raise SceneError(str(exc)) from None
+        #: what the variation drew besides the robots, as the result reports it (None when
+        #: nothing: every variation but reality-gap)
+        self.conditions = (
+            None if prepared.conditions is None else prepared.conditions.to_dict()
+        )
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
@@ -174,30 +168,10 @@ class Episode:
         try:
             self.world = self.connection.world
             self.blackboard = self.connection.blackboard
-            missing = [n for n in specs if n not in self.connection.adapters]
-            if missing and self.world is None and self.connection.adapters:
-                # a real robot (or a remote simulator holding fewer robots) drives only the
-                # robots it has: the episode, and the judge, shrink to those
-                log.warning(
-                    "backend %r drives only %s; leaving out %s",
-                    self.backend, ", ".join(self.connection.adapters), ", ".join(missing),
-                )  # fmt: skip
-                kept = tuple(r for r in self.scene.robots if r.name in self.connection.adapters)
-                self.scene = dataclasses.replace(self.scene, robots=kept)
-                specs = {n: specs[n] for n in specs if n in self.connection.adapters}
-                self.controllers = {n: self.controllers[n] for n in specs}
-                missing = []
-            if missing:
-                raise SceneError(
-                    f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
-                    f"{', '.join(self.connection.adapters)}"
-                )
-            if self.connection.stepper is None and self.scene is not unlinked:
-                self.scene = unlinked  # a robot's own link: the [link] describes it
+            specs = self._keep_the_robots_driven(specs)
             self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
-            period = _loop_period(self.scene, self.world, timing)
-            self.loop = ControlLoop(bindings, period=period)
+            self.loop = ControlLoop(bindings, period=_loop_period(self.scene, self.world))
             self.judge = Judge(self.scene)
             self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
@@ -217,6 +191,31 @@ class Episode:
                 _show_tree(trace(ctrl), show)
         if self.world is not None:
             self._feed_judge()  # the start poses (after any start jitter)
+
+    def _keep_the_robots_driven(
+        self, specs: dict[str, str | ControllerFactory]
+    ) -> dict[str, str | ControllerFactory]:
+        """``specs`` of the robots the opened backend drives: a real robot (or a remote
+        simulator holding fewer robots) drives only the robots it has, and the episode,
+        and the judge, shrink to those; a simulator missing one is an error."""
+        adapters = self.connection.adapters
+        missing = [n for n in specs if n not in adapters]
+        if not missing:
+            return specs
+        if self.world is not None or not adapters:
+            raise SceneError(
+                f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
+                f"{', '.join(adapters)}"
+            )
+        log.warning(
+            "backend %r drives only %s; leaving out %s",
+            self.backend, ", ".join(adapters), ", ".join(missing),
+        )  # fmt: skip
+        kept = tuple(r for r in self.scene.robots if r.name in adapters)
+        self.scene = dataclasses.replace(self.scene, robots=kept)
+        specs = {n: specs[n] for n in specs if n in adapters}
+        self.controllers = {n: self.controllers[n] for n in specs}
+        return specs
 
     # -- observation -----------------------------------------------------------------------
     @property
@@ -354,39 +353,20 @@ class Episode:
         return self.result
 
 
-def _loop_period(scene: Scene, world: World | None, timing: str) -> float | None:
+def _loop_period(scene: Scene, world: World | None) -> float | None:
     """The control period the scene asks for (None: the loop's default, one step or a real
     robot's 0.05 s). A latency is simulated by the embedded world, which delays each
     wheel command itself; on any other backend the delay is the link's own, so a scene
-    asking for one there is refused rather than silently run without it, naming what
-    asked for it (``timing``: the run's setting, a variation's draw, a profile's link)."""
+    asking for one there is refused rather than silently run without it (a drawn or a
+    measured one already was, naming where it came from: scenario.preparation)."""
     control = scene.control
     if control.latency > 0 and world is None:
-        latency = f"control.latency = {control.latency:g} s"
-        if not timing:
-            raise SceneError(
-                f"{latency} is simulated by the embedded backend only; a real link brings "
-                "its own (measure it with puckboard calibrate link), so leave "
-                "control.latency at 0 on this backend"
-            )
         raise SceneError(
-            f"{timing} {latency}, which the embedded backend alone simulates (this backend "
-            "cannot delay a command); run it with --backend embedded"
+            f"control.latency = {control.latency:g} s is simulated by the embedded backend "
+            "only; a real link brings its own (measure it with puckboard calibrate link), "
+            "so leave control.latency at 0 on this backend"
         )
     return control.period
-
-
-def _timing_origin(variation: str, before: Scene, after: Scene) -> str:
-    """``--variation NAME drew ...`` when the variation set the loop's timing (it keeps a
-    timing the run sets), else ``""``."""
-    if after.control != before.control:
-        return f"--variation {variation} drew a real link's timing:"
-    return ""
-
-
-def _profile_names(scene: Scene) -> str:
-    names = dict.fromkeys(get_profile(r.profile).name for r in scene.robots)
-    return ", ".join(names)
 
 
 def _one_variation(argument: str, setting: Any) -> str:

@@ -29,7 +29,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from ..errors import ProfileError
 
@@ -43,11 +43,13 @@ __all__ = [
     "REALITY_GAP",
     "VARIATIONS",
     "Variation",
+    "Varied",
     "check_variation",
     "get_variation",
     "register_variation",
     "variation_names",
     "variations_help",
+    "vary",
     "vary_scene",
 ]
 
@@ -57,47 +59,55 @@ log = logging.getLogger(__name__)
 ENTRY_POINT_GROUP = "puckboard.variations"
 
 
+class Drawn(Protocol):
+    """What a variation drew beyond the robots, as a run reports it."""
+
+    def to_dict(self) -> dict[str, Any]: ...
+
+
+@dataclass(frozen=True)
+class Varied:
+    """A scene as a variation drew it, and what else it drew (reality-gap's conditions;
+    ``None`` when nothing), so that what a run reports is what it ran, drawn once."""
+
+    scene: Scene
+    conditions: Drawn | None = None
+
+
 @dataclass(frozen=True)
 class Variation:
     """One way of drawing an episode's robots (and world) from its seed.
 
-    ``vary(scene, seed, fixed)`` returns the scene the episode runs; ``fixed`` names the
-    settings the run sets itself (``--set``, a profile's measured link), which a
-    variation that draws conditions keeps as set. ``drawn(scene, seed, fixed)``, when
-    given, says what it drew in words a result reports (``puckboard run --json``'s
-    ``conditions``). ``help`` is one line for ``--help``.
+    ``vary(scene, seed, fixed)`` gives the scene the episode runs and what was drawn
+    (:class:`Varied`); ``fixed`` names the settings the run sets itself (``--set``, a
+    profile's measured link), which a variation that draws conditions keeps as set.
+    ``help`` is one line for ``--help``.
     """
 
     name: str
     help: str
-    vary: Callable[[Scene, int, Collection[str]], Scene]
-    drawn: Callable[[Scene, int, Collection[str]], dict[str, Any]] | None = None
+    vary: Callable[[Scene, int, Collection[str]], Varied]
 
 
-def _as_is(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
-    return scene
+def _as_is(scene: Scene, seed: int, fixed: Collection[str]) -> Varied:
+    return Varied(scene)
 
 
 # The built-in variations' draws load on first use: the command line lists the names
 # while it builds its parser, before numpy may be imported.
-def _plausible(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
+def _plausible(scene: Scene, seed: int, fixed: Collection[str]) -> Varied:
     from .plausible import plausible_robots
 
-    return plausible_robots(scene, seed)
+    return Varied(plausible_robots(scene, seed))
 
 
-def _reality_gap(scene: Scene, seed: int, fixed: Collection[str]) -> Scene:
+def _reality_gap(scene: Scene, seed: int, fixed: Collection[str]) -> Varied:
     from .plausible import plausible_robots
     from .reality_gap import draw_conditions
 
-    # the same robots as plausible draws for the seed, in conditions drawn besides
-    return draw_conditions(scene, seed, fixed).apply(plausible_robots(scene, seed))
-
-
-def _reality_gap_drawn(scene: Scene, seed: int, fixed: Collection[str]) -> dict[str, Any]:
-    from .reality_gap import draw_conditions
-
-    return draw_conditions(scene, seed, fixed).to_dict()
+    # the same robots as plausible draws for the seed, in conditions drawn besides, once
+    conditions = draw_conditions(scene, seed, fixed)
+    return Varied(conditions.apply(plausible_robots(scene, seed)), conditions)
 
 
 NONE = Variation("none", "every robot exactly as its profile says", _as_is)
@@ -113,7 +123,6 @@ REALITY_GAP = Variation(
     "line contrast and width, obstacles' IR reflectance, a hand placement, a real link's "
     "control timing)",
     _reality_gap,
-    _reality_gap_drawn,
 )
 
 #: Every variation by name: the built-in ones, then the registered and installed ones.
@@ -193,9 +202,16 @@ def variations_help() -> str:
     return "; ".join(f"{v.name}: {v.help}" for v in (VARIATIONS[n] for n in variation_names()))
 
 
+def vary(
+    scene: Scene, seed: int, variation: str = NONE.name, fixed: Collection[str] = ()
+) -> Varied:
+    """``scene`` as variation ``variation`` draws it for ``seed``, settings named in
+    ``fixed`` kept as the run set them, with what else it drew (each drawn once)."""
+    return get_variation(variation).vary(scene, int(seed), fixed)
+
+
 def vary_scene(
     scene: Scene, seed: int, variation: str = NONE.name, fixed: Collection[str] = ()
 ) -> Scene:
-    """``scene`` as variation ``variation`` draws it for ``seed``, settings named in
-    ``fixed`` kept as the run set them."""
-    return get_variation(variation).vary(scene, int(seed), fixed)
+    """``scene`` as :func:`vary` draws it (what else it drew left unsaid)."""
+    return vary(scene, seed, variation, fixed).scene

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from . import experiment
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
 from .options import DEFAULT_RUN, RunOptions
@@ -77,30 +78,19 @@ class SweepResult:
     def ranking(self) -> list[GroupSummary]:
         return rank_controllers(self.outcomes)
 
+    # a sweep counts, times and heads itself as every experiment's run does (.experiment)
     def counts(self) -> dict[str, Any]:
-        """How the run went, as every experiment's ``--json`` says it: episodes
-        ``planned``, ``ran`` now, ``skipped`` (already in ``--out``), whether it was
-        ``interrupted``, how many ``errors`` (episodes that raised), ``wall_s``."""
-        return {
-            "planned": len(self.plan),
-            "ran": self.ran,
-            "skipped": self.skipped,
-            "interrupted": self.interrupted,
-            "errors": len(self.errors),
-            "wall_s": self.wall_s,
-        }
+        """:func:`puckboard.sweep.experiment.counts` of this run."""
+        return experiment.counts(self)
 
     @property
     def episodes_per_s(self) -> float:
         """Episodes this run ran per wall-clock second (0 when none ran)."""
-        return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+        return experiment.episodes_per_s(self)
 
     def episodes_text(self, stored: str | None = None) -> str:
-        """``N of M episodes (R run[, S already in FILE])``: how much of the plan there is
-        and where it came from, as every experiment's report heads it; ``stored`` names
-        the ``--out`` file (``None``: there is none)."""
-        counts = f"{self.ran} run" + (f", {self.skipped} already in {stored}" if stored else "")
-        return f"{len(self.outcomes)} of {len(self.plan)} episodes ({counts})"
+        """:func:`puckboard.sweep.experiment.episodes_text` of this run."""
+        return experiment.episodes_text(self, stored)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""

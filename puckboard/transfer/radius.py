@@ -27,7 +27,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..sweep.stats import Z95, wilson_interval
+from ..sweep.stats import Z95, PassRate, wilson_interval
 
 __all__ = [
     "BY",
@@ -44,22 +44,11 @@ THRESHOLD = 0.95
 BY = ("estimate", "lower")
 
 
-@dataclass(frozen=True)
-class GridPoint:
-    """One scale of a grid and the episodes run at it (``episodes`` 0: not run yet)."""
+@dataclass(frozen=True, kw_only=True)
+class GridPoint(PassRate):
+    """The pass rate at one scale of a grid (``episodes`` 0: not run yet)."""
 
     scale: float
-    successes: int
-    episodes: int
-
-    @property
-    def rate(self) -> float:
-        return self.successes / self.episodes if self.episodes else 0.0
-
-    @property
-    def interval(self) -> tuple[float, float]:
-        """The 95 % Wilson interval of the rate."""
-        return wilson_interval(self.successes, self.episodes)
 
     def keeps(self, threshold: float, by: str) -> bool:
         """Whether this point's rate is at least ``threshold``, judged ``by``."""

@@ -9,10 +9,11 @@ run, and a radius that reached one is marked incomplete.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
+from ..sweep import experiment
 from ..sweep.plan import params_key, seeds_text
 from ..sweep.rows import Outcome
 from ..sweep.run import SweepResult
@@ -129,7 +130,9 @@ class Cell:
 
 
 def _grid_point(scale: float, g: GroupSummary | None) -> GridPoint:
-    return GridPoint(scale, 0, 0) if g is None else GridPoint(scale, g.successes, g.episodes)
+    if g is None:
+        return GridPoint(0, 0, scale=scale)
+    return GridPoint(g.successes, g.episodes, scale=scale)
 
 
 def analyse(
@@ -160,7 +163,7 @@ def _cell(
     profile: str,
     controller: str,
     points: list[Point],
-    stats: Any,
+    stats: Callable[[str, Point], GroupSummary | None],
     threshold: float,
 ) -> Cell:
     design_point = next(p for p in points if p.family == DESIGN)
@@ -244,22 +247,21 @@ class TransferResult:
         """Every outcome of every sweep of the report."""
         return [o for s in self.sweeps for o in s.outcomes]
 
-    # A report counts, times and heads itself as the sweeps it ran do: the same fields
-    # (plan, outcomes, ran, skipped, interrupted, errors, wall_s), summed over them.
+    # A report counts, times and heads itself as the sweeps it ran do: it is an
+    # ExperimentRun (plan, outcomes, ran, skipped, interrupted, errors, wall_s), the
+    # sweeps' fields summed.
     @property
     def episodes_per_s(self) -> float:
         """Episodes this run ran per wall-clock second, as a sweep's (0 when none ran)."""
-        return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+        return experiment.episodes_per_s(self)
 
     def counts(self) -> dict[str, Any]:
-        """:meth:`SweepResult.counts <puckboard.sweep.run.SweepResult.counts>` of the
-        whole report."""
-        return SweepResult.counts(cast(Any, self))
+        """:func:`puckboard.sweep.experiment.counts` of the whole report."""
+        return experiment.counts(self)
 
     def episodes_text(self, stored: str | None = None) -> str:
-        """:meth:`SweepResult.episodes_text <puckboard.sweep.run.SweepResult.episodes_text>`
-        of the whole report."""
-        return SweepResult.episodes_text(cast(Any, self), stored)
+        """:func:`puckboard.sweep.experiment.episodes_text` of the whole report."""
+        return experiment.episodes_text(self, stored)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: the plan, counts, timing and one entry per cell."""

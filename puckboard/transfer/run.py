@@ -38,6 +38,7 @@ from .result import TransferResult
 if TYPE_CHECKING:
     from ..profile import RobotProfile
     from ..scenario.scene import Scene
+    from ..sweep.plan import SweepPlan
 
 __all__ = ["run_transfer", "run_transfer_plan"]
 
@@ -145,7 +146,7 @@ def run_transfer(
 
 
 def run_transfer_plan(
-    plan: TransferPlan, scenes: Mapping[str, Any], options: RunOptions = DEFAULT_RUN
+    plan: TransferPlan, scenes: Mapping[str, Scene], options: RunOptions = DEFAULT_RUN
 ) -> TransferResult:
     """Run every episode of ``plan`` not yet in ``options.store`` and summarise all of them.
 
@@ -193,7 +194,7 @@ def run_transfer_plan(
     return result
 
 
-def _from_store(sweep: Any, store: ResultStore | None) -> SweepResult:
+def _from_store(sweep: SweepPlan, store: ResultStore | None) -> SweepResult:
     """A sweep that did not start (the report was stopped first), from the rows ``store``
     already holds of it."""
     from ..sweep.rows import Outcome

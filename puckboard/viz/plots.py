@@ -91,7 +91,8 @@ def plot_trajectories(rec: Recording) -> Any:
     ax.set_title(f"Trajectories: {rec.title}", fontsize=TYPE_SIZES["title"])
     _style_axes(ax)
     fig.draw_without_rendering()  # laid out as it will be saved: names are placed by size
-    label_obstacles(ax, rec.scene, avoid=markers)
+    if rec.scene is not None:  # a recording made without its scene has none to name
+        label_obstacles(ax, rec.scene, avoid=markers)
     from matplotlib.lines import Line2D
 
     handles, _ = ax.get_legend_handles_labels()

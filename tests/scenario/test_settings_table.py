@@ -25,6 +25,7 @@ from puckboard.scenario.settings import SETTINGS, check_scene
 from puckboard.scenario.variation import (
     VARIATIONS,
     Variation,
+    Varied,
     get_variation,
     register_variation,
     variation_names,
@@ -135,7 +136,7 @@ def test_a_setting_reads_its_value_off_a_scene():
 
 def _worn(scene, seed, fixed):
     """Every robot's wheels worn down 0.3 mm: a third party's variation."""
-    return apply_scene_overrides(scene, {"profile.wheel_radius": 0.0202})
+    return Varied(apply_scene_overrides(scene, {"profile.wheel_radius": 0.0202}))
 
 
 @pytest.fixture

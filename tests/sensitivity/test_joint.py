@@ -68,7 +68,7 @@ def test_a_number_that_drives_the_outcome_is_ranked_first_and_clear():
     assert effect is not None and effect.high < 0  # the rate falls as the gain rises
     bins = a.ranking[0].bins
     assert len(bins) == 4 and sum(b.episodes for b in bins) == 300
-    assert bins[0].rate_low > bins[-1].rate_high  # the ends' Wilson intervals apart
+    assert bins[0].interval[0] > bins[-1].interval[1]  # the ends' Wilson intervals apart
     data = a.to_dict()
     assert data["clear"] == ["left: ir_gain.right"]
     assert data["ranking"][0] == {"number": "left: ir_gain.right", "clear": True,
@@ -111,7 +111,7 @@ def test_bins_hold_every_episode_once_with_their_ranges():
     x = np.arange(10.0)
     bins = binned_curve(x, (x > 4).astype(float), x / 10, 2)
     assert [(b.low, b.high, b.episodes, b.successes) for b in bins] == [(0, 4, 5, 0), (5, 9, 5, 5)]
-    assert bins[1].rate == 1.0 and bins[1].rate_low < 1.0
+    assert bins[1].rate == 1.0 and bins[1].interval[0] < 1.0
 
 
 def test_rows_of_other_points_are_left_out_and_from_rows_says_what_it_needs():
