@@ -133,9 +133,8 @@ def test_an_installed_simulator_that_simulates_the_link_runs_at_a_profiles_link(
 def test_calibrate_drives_an_installed_backend_that_says_it_can_be_calibrated(installed):
     import argparse
 
-    from puckboard.cli.common import CliError
-
     from puckboard.cli import calibrate
+    from puckboard.cli.errors import CliError
 
     def options(backend):
         args = argparse.Namespace(backend=backend, what="ir", host="10.0.0.9", port=None)
