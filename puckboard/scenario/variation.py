@@ -31,6 +31,7 @@ from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
+from .._plugins import offered
 from ..errors import ProfileError
 
 if TYPE_CHECKING:
@@ -138,31 +139,22 @@ def _read_installed() -> None:
         return
     _installed_read = True
     import pkgutil
-    from importlib.metadata import entry_points
 
-    for ep in entry_points(group=ENTRY_POINT_GROUP):
-        package = ep.dist.name if ep.dist is not None else "an installed package"
-        if ep.name in _BUILT_IN:
-            log.warning(
-                "%s offers a variation %r, which puckboard already has; keeping puckboard's",
-                package,
-                ep.name,
-            )
-            continue
+    for name, target, package in offered(ENTRY_POINT_GROUP, "variation", _BUILT_IN):
         try:
-            variation = pkgutil.resolve_name(ep.value)
+            variation = pkgutil.resolve_name(target)
         except (ImportError, AttributeError, ValueError) as exc:
-            log.warning("%s offers variation %r, which does not load: %s", package, ep.name, exc)
+            log.warning("%s offers variation %r, which does not load: %s", package, name, exc)
             continue
-        if not isinstance(variation, Variation) or variation.name != ep.name:
+        if not isinstance(variation, Variation) or variation.name != name:
             log.warning(
                 "%s offers variation %r as %r, not a Variation of that name; left out",
                 package,
-                ep.name,
-                ep.value,
+                name,
+                target,
             )
             continue
-        VARIATIONS.setdefault(ep.name, variation)
+        VARIATIONS.setdefault(name, variation)
 
 
 def register_variation(variation: Variation) -> None:
