@@ -4,8 +4,8 @@
 (default 30) on the shipped challenge (``pass``: four graded cells of eight episodes,
 and the three shipped controllers as baselines) on two local worker processes, as
 ``puckboard challenge grade`` does, into a fresh output folder. The class is the shipped
-controllers' factories and the tutorial's controller (its ``# my_controller.py`` block,
-where ``docs/tutorial.md`` is installed), in turn, each file made distinct by a comment
+controllers' factories and the tutorial's controller (its ``my_controller.py``, which
+defines ``make_controller``), in turn, each file made distinct by a comment
 so that each is a version of its own.
 
 Reported: the wall time and each step's (the pre-flight checks, the graded episodes,
@@ -39,18 +39,18 @@ def make_class(n: int, folder: Path) -> list[str]:
     """``n`` submission files in ``folder``, the shipped controllers' factories and the
     tutorial's controller in turn; returns what each one is."""
     folder.mkdir(parents=True, exist_ok=True)
-    kinds = ["robust", "improved", "stock"]
+    kinds = ["robust", "improved", "stock", "tutorial"]
     tutorial = student_controller(folder.parent)
-    if tutorial is not None:
-        kinds.append("tutorial")
     made = []
     for i in range(n):
         kind = kinds[i % len(kinds)]
         if kind == "tutorial":
-            text = Path(tutorial.rpartition(":")[0]).read_text(encoding="utf-8")  # type: ignore[union-attr]
-            text += "\n\ndef make_controller(**params):\n    return my_controller()\n"
+            text = Path(tutorial.rpartition(":")[0]).read_text(encoding="utf-8")
         else:
-            text = f"from puckboard.behaviours import {kind}\n\n\ndef make_controller(**params):\n    return {kind}(**params)\n"
+            text = (
+                f"from puckboard.behaviours import {kind}\n\n\n"
+                f"def make_controller(**params):\n    return {kind}(**params)\n"
+            )
         (folder / f"student_{i:02d}.py").write_text(f"# student {i}\n{text}", encoding="utf-8")
         made.append(kind)
     return made

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import ChallengeError
 from ..sweep.executors import LocalExecutor, SweepExecutor
 from ..sweep.host import Isolation
+from ..sweep.options import RunOptions
 from ..sweep.plan import SweepPlan
 from ..sweep.progress import NullProgress, Progress
 from ..sweep.run import SweepResult, drain, run_sweeps
@@ -184,14 +185,13 @@ def check_submission(
                     )
                     for c in challenge.practice
                 ]
-                report.practice = run_sweeps(
-                    parts,
+                options = RunOptions(
                     executor=executor,
                     progress=progress or NullProgress(),
                     episode_timeout=challenge.episode_timeout,
-                    isolation=lambda _: isolation,
                     batch_size=1,
                 )
+                report.practice = run_sweeps(parts, options, isolation=lambda _: isolation)
                 report.interrupted = any(r.interrupted for r in report.practice)
         finally:
             if own:

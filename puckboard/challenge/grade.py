@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..sweep.executors import LocalExecutor, SweepExecutor
 from ..sweep.host import Isolation
+from ..sweep.options import RunOptions
 from ..sweep.plan import SweepPlan
 from ..sweep.progress import NullProgress, Progress
 from ..sweep.rows import Outcome
@@ -220,12 +221,15 @@ class _Run:
             )
             for cell in self.challenge.graded
         ]
-        results = run_sweeps(
-            parts,
+        options = RunOptions(
             executor=executor,
             store=self.store,
             progress=progress,
             episode_timeout=self.challenge.episode_timeout,
+        )
+        results = run_sweeps(
+            parts,
+            options,
             isolation=self.isolation,
             aliases={v.id: self.spec(v) for v in self.versions.values()},
         )

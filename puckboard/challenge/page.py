@@ -29,7 +29,10 @@ if TYPE_CHECKING:
 
 __all__ = ["leaderboard_html"]
 
-_CSP = "default-src 'none'; style-src 'unsafe-inline'; img-src data:; base-uri 'none'; form-action 'none'"
+_CSP = (
+    "default-src 'none'; style-src 'unsafe-inline'; img-src data:; base-uri 'none'; "
+    "form-action 'none'"
+)
 
 _STYLE = """
 body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto;
@@ -135,7 +138,8 @@ def _table(standings: Sequence[Standing], cells: Sequence[str], table_id: str) -
     ]
     header = "".join(f"<th>{_e(h)}</th>" for h in head)
     body = "\n".join(_row(s, cells) for s in standings)
-    return f'<table id="{table_id}"><thead><tr>{header}</tr></thead>\n<tbody>\n{body}\n</tbody></table>'
+    head_row = f"<thead><tr>{header}</tr></thead>"
+    return f'<table id="{table_id}">{head_row}\n<tbody>\n{body}\n</tbody></table>'
 
 
 def leaderboard_html(grading: Grading) -> str:

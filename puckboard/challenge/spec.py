@@ -322,7 +322,7 @@ class _Reader:
         return tuple(cells)
 
     def cell(self, table: TableReader) -> Cell:
-        from ..profile import VARIATIONS
+        from ..scenario.variation import variation_names
         from ..profile.links import link_names
         from ..scenario.scenefile import load_scene
         from ..sweep.plan import PlanError, SweepPlan, check_parameter
@@ -337,7 +337,7 @@ class _Reader:
         parameters: dict[str, Any] = {"label.cell": name}
         if table.has("profile"):
             parameters.update(self.profile(table))
-        variation = table.string("variation", "none", choices=VARIATIONS)
+        variation = table.string("variation", "none", choices=tuple(variation_names()))
         if variation != "none":
             parameters["variation"] = variation
         if table.has("duration"):

@@ -21,8 +21,10 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .common import CliError, check_writable, help_text
+from .checks import check_writable
+from .errors import CliError
 from .experiment_options import add_quiet, dask_executor, with_executor
+from .parsing import help_text
 
 if TYPE_CHECKING:
     from ..challenge.check import CheckReport
@@ -210,7 +212,8 @@ def _print_check(report: CheckReport) -> None:
         if ticks.get("ticks"):
             slow = ""
             if ticks.get("slowest_layer"):
-                slow = f"; slowest layer {ticks['slowest_layer']}, {1e3 * ticks['slowest_layer_s']:.2f} ms"
+                layer, spent = ticks["slowest_layer"], 1e3 * ticks["slowest_layer_s"]
+                slow = f"; slowest layer {layer}, {spent:.2f} ms"
             print(
                 f"ticks: median {1e3 * ticks['median_s']:.2f} ms, 95th percentile "
                 f"{1e3 * ticks['p95_s']:.2f} ms over {ticks['ticks']} ticks (control period "
@@ -235,7 +238,8 @@ def _print_check(report: CheckReport) -> None:
     if report.printed:
         print()
         print(
-            f"it printed {len(report.printed)} lines (at grading they go to a file, not the class's table); first:"
+            f"it printed {len(report.printed)} lines (at grading they go to a file, not the "
+            "class's table); first:"
         )
         for line in report.printed[:3]:
             print(f"  {line}")

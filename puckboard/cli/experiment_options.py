@@ -19,16 +19,18 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .common import CliError, check_seconds, check_writable
+from ..sweep.defaults import DEFAULT_SCENARIO
+from .checks import check_seconds, check_writable
+from .errors import CliError
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
     from ..sweep.executors import SweepExecutor
     from ..sweep.experiment import ExperimentRun
+    from ..sweep.options import RunOptions
     from ..sweep.store import ResultStore
 
 __all__ = [
-    "DEFAULT_SCENARIO",
     "add_controllers",
     "add_duration",
     "add_fixed_sets",
@@ -42,13 +44,12 @@ __all__ = [
     "exit_status",
     "fixed_sets",
     "open_out",
+    "run_options",
     "scene_or_error",
     "wall_time",
     "with_executor",
 ]
 
-#: The scene an experiment runs when none is named.
-DEFAULT_SCENARIO = "two-robot-pass"
 T = TypeVar("T")
 
 
@@ -71,8 +72,8 @@ def add_controllers(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY "
-        "(repeatable; default: each robot's controller from the scene)",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY (repeatable; default: each robot's controller from the scene)",
     )
 
 
@@ -168,8 +169,8 @@ def add_out(parser: argparse.ArgumentParser) -> None:
         "--out",
         type=Path,
         metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
-        "there",
+        help="append one row per episode to FILE (.csv, or .parquet with puckboard[dask]); "
+        "re-runs skip rows already there",
     )
 
 
@@ -213,7 +214,7 @@ def open_out(args: argparse.Namespace) -> ResultStore | None:
     except ValueError as exc:  # the file's name or contents: the flag that named it
         raise CliError(f"--out {exc}") from exc
     except (ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
+        raise CliError(f"--out {str(args.out)!r}: {exc}") from exc
 
 
 def with_executor(
@@ -291,6 +292,24 @@ def execute(
         executor.close()
         if store is not None:
             store.close()
+
+
+def run_options(
+    args: argparse.Namespace, executor: SweepExecutor, store: ResultStore | None, label: str
+) -> RunOptions:
+    """The run's options as every experiment command takes them: on ``executor``,
+    appending to ``store`` (``--out``), in ``--batch-size`` batches, ``--episode-timeout``
+    each, progress labelled ``label`` unless ``-q``."""
+    from ..sweep.options import RunOptions
+    from ..sweep.progress import make_progress
+
+    return RunOptions(
+        executor=executor,
+        store=store,
+        batch_size=args.batch_size,
+        progress=make_progress(enabled=not args.quiet, label=label),
+        episode_timeout=args.episode_timeout,
+    )
 
 
 def wall_time(args: argparse.Namespace, result: ExperimentRun) -> float:

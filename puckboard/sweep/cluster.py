@@ -188,7 +188,8 @@ class DaskExecutor(SweepExecutor):
         if hosted and not self.stops_processes:
             raise ClusterSetupError(
                 "this run keeps each episode's wall-clock limit on its process and "
-                f"submissions apart, which needs Dask workers that may start processes: {DAEMON_FIX}"
+                "submissions apart, which needs Dask workers that may start processes: "
+                f"{DAEMON_FIX}"
             )
         futures: dict[str, Any] = {}
         self._futures = futures
@@ -340,7 +341,8 @@ class _ClusterHost:
             while not self._conn.poll(0.1):
                 if not self._process.is_alive():
                     raise ConnectionError(
-                        f"the local Dask cluster's process ended (exit code {self._process.exitcode})"
+                        "the local Dask cluster's process ended "
+                        f"(exit code {self._process.exitcode})"
                     )
                 if time.monotonic() > deadline:
                     raise TimeoutError(f"no local Dask cluster after {timeout:g} s")

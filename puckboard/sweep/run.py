@@ -26,11 +26,11 @@ from . import experiment
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
 from .host import Isolation
+from .options import DEFAULT_RUN, RunOptions
 from .plan import EpisodeSpec, PlanError, SweepPlan, seeds_text
-from .progress import NullProgress, Progress
+from .progress import NullProgress
 from .rows import Outcome
 from .signals import Terminated
-from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
@@ -125,52 +125,35 @@ class SweepResult:
 
 
 def run_sweep(
-    plan: SweepPlan,
-    scene: Scene | str | Path,
-    *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
+    plan: SweepPlan, scene: Scene | str | Path, options: RunOptions = DEFAULT_RUN
 ) -> SweepResult:
-    """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
+    """Run every episode of ``plan`` on ``scene`` that ``options.store`` does not hold yet.
 
     ``scene`` is a :class:`~puckboard.scenario.scene.Scene`, a shipped scene name or a scene
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
-    need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
-    (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
-    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode that
-    runs longer; it is recorded as an ``error`` episode of kind ``timeout``. An executor
-    that :attr:`~puckboard.sweep.executors.SweepExecutor.stops_processes` (local workers)
-    kills the process running it, which stops any layer; elsewhere (in this process, on
-    Dask) the episode is interrupted from within, which stops a layer running Python code
-    but not one blocked in a C call (:mod:`puckboard.sweep.watchdog`).
+    need the file. Without ``options.executor`` a :class:`LocalExecutor` on all cores is
+    used (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
+    ``interrupted=True``. ``options.episode_timeout`` (wall-clock seconds) ends an episode
+    that runs longer; it is recorded as an ``error`` episode of kind ``timeout``. An
+    executor that :attr:`~puckboard.sweep.executors.SweepExecutor.stops_processes` (local
+    workers) kills the process running it, which stops any layer; elsewhere (in this
+    process, on Dask workers that may not start processes) the episode is interrupted from
+    within, which stops a layer running Python code but not one blocked in a C call
+    (:mod:`puckboard.sweep.watchdog`).
     """
-    (result,) = run_sweeps(
-        [(plan, scene)],
-        executor=executor,
-        store=store,
-        batch_size=batch_size,
-        progress=progress,
-        episode_timeout=episode_timeout,
-    )
+    (result,) = run_sweeps([(plan, scene)], options)
     return result
 
 
 def run_sweeps(
     parts: Sequence[tuple[SweepPlan, Scene | str | Path]],
+    options: RunOptions = DEFAULT_RUN,
     *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
     isolation: Callable[[str], Isolation | None] | None = None,
     aliases: Mapping[str, str] | None = None,
 ) -> list[SweepResult]:
     """:func:`run_sweep` for several plans, each on its scene, as one stream of tasks on
-    one executor and one ``store``; a result per plan, in order.
+    one executor and one ``options.store``; a result per plan, in order.
 
     ``isolation`` maps a controller of the plans to the
     :class:`~puckboard.sweep.host.Isolation` its episodes run in (``None``: shared
@@ -179,6 +162,8 @@ def run_sweeps(
     long as it can. ``aliases`` maps a controller spec, as the rows name it, to the spec
     the workers load (a submission's version, say, to its file).
     """
+    executor, store, progress = options.executor, options.store, options.progress
+    batch_size, episode_timeout = options.batch_size, options.episode_timeout
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
     scenes = [_loaded(plan, scene) for plan, scene in parts]

@@ -131,7 +131,9 @@ class Cell:
 
 
 def _grid_point(scale: float, g: GroupSummary | None) -> GridPoint:
-    return GridPoint(0, 0, scale=scale) if g is None else GridPoint(g.successes, g.episodes, scale=scale)
+    if g is None:
+        return GridPoint(0, 0, scale=scale)
+    return GridPoint(g.successes, g.episodes, scale=scale)
 
 
 def analyse(
@@ -169,6 +171,7 @@ def _cell(
     design = Band(DESIGN, DESIGN, 1.0, scene, stats(controller, design_point))
     bands, radii = [], []
     dt = (plan.dts or {}).get(scene, 0.0)
+    seeds = len(plan.seeds)  # a point with fewer episodes is incomplete
     for family in plan.families:
         mine = [p for p in points if p.family == family.name]
         if not mine:
@@ -185,12 +188,14 @@ def _cell(
                 RadiusResult(
                     family.name,
                     grid,
-                    robustness_radius(grid, threshold=threshold, by="estimate"),
-                    robustness_radius(grid, threshold=threshold, by="lower"),
+                    robustness_radius(grid, threshold=threshold, by="estimate", episodes=seeds),
+                    robustness_radius(grid, threshold=threshold, by="lower", episodes=seeds),
                     tuple(family.scale_text(s, dt) for s in family.grid),
                 )
             )
-    skipped = tuple((s.family, s.why) for s in plan.skipped if s.scene == scene)
+    skipped = tuple(
+        (s.family, s.why) for s in plan.skipped if s.scene == scene and s.profile in ("", profile)
+    )
     return Cell(scene, controller, profile, design, tuple(bands), tuple(radii), skipped)
 
 

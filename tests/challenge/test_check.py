@@ -32,7 +32,8 @@ def check(capsys, file, challenge, *extra):
         ("no_factory", "would not be graded: no_factory.py defines no make_controller(**params)"),
         ("wrong_return", "would not be graded: make_controller() returned int"),
         ("sys_exit", "would not be graded: make_controller() ended the process (sys.exit(3))"),
-        ("raises", "would be graded, but fix this first: a layer raised in its first ticks: RuntimeError: my layer broke"),
+        ("raises", "would be graded, but fix this first: a layer raised in its first ticks: "
+                   "RuntimeError: my layer broke"),
     ],
 )  # fmt: skip
 def test_check_names_the_problem(capsys, challenge, name, verdict):

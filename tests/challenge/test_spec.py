@@ -69,23 +69,51 @@ def load_challenge_scene_text() -> str:
     return scene_path("line-follow").read_text(encoding="utf-8")
 
 
-@pytest.mark.parametrize(
-    ("change", "said"),
-    [
-        (("[graded]", "[graded]\nepisodez = 3"), "graded.episodez: unknown key; did you mean 'episodes'?"),
-        (('scene = "two-robot-pass-bend"', 'scene = "two-robot-pass-bent"'), "graded.cells[0].scene: unknown scene 'two-robot-pass-bent'"),
-        (('variation = "plausible"', 'variation = "likely"'), "graded.cells[0].variation: expected one of none, plausible, reality-gap, got 'likely'"),
-        (('profile = "epuck"', 'profile = "epuk"'), "graded.cells[0].profile: unknown robot profile 'epuk'"),
-        (("[graded]", '[ranking]\norder = ["fastest"]\n[graded]'), "ranking.order: unknown name 'fastest'; use worst_cell_success"),
-        (("[graded]", '[ranking]\nbaselines = ["mine.py:make"]\n[graded]'), "ranking.baselines: unknown name 'mine.py:make'; use stock, improved, robust"),
-        (("[graded]", "[limits]\nepisode_timeout = 0\n[graded]"), "limits.episode_timeout: expected a number >= 1 (s), got 0.0"),
-        (("episodes = 2", "episodes = 2.5"), "graded.episodes: expected a whole number, got 2.5"),
-        (('name = "mini"', 'name = "a b"'), "name: expected a short name"),
-        (('profile = "epuck"', 'set = { "noise.proximty" = 0.1 }'), "set.noise.proximty: unknown parameter 'noise.proximty'"),
-        (('profile = "epuck"', 'link = "carrier-pigeon"'), "graded.cells[0].link: expected one of coppeliasim-sync"),
-        (("episodes = 2", "episodes = 2\n[[graded.cells]]\nname = 'bend'\nscene = 'line-follow'"), "graded.cells[1].name: 'bend' is used twice"),
-    ],
-)  # fmt: skip
+#: (what to change in MINIMAL, into what) -> what the one line says
+MISTAKES = [
+    (
+        ("[graded]", "[graded]\nepisodez = 3"),
+        "graded.episodez: unknown key; did you mean 'episodes'?",
+    ),
+    (
+        ('scene = "two-robot-pass-bend"', 'scene = "two-robot-pass-bent"'),
+        "graded.cells[0].scene: unknown scene 'two-robot-pass-bent'",
+    ),
+    (
+        ('variation = "plausible"', 'variation = "likely"'),
+        "graded.cells[0].variation: expected one of none, plausible, reality-gap, got 'likely'",
+    ),
+    (('profile = "epuck"', 'profile = "epuk"'), "graded.cells[0].profile: unknown robot profile"),
+    (
+        ("[graded]", '[ranking]\norder = ["fastest"]\n[graded]'),
+        "ranking.order: unknown name 'fastest'; use worst_cell_success",
+    ),
+    (
+        ("[graded]", '[ranking]\nbaselines = ["mine.py:make"]\n[graded]'),
+        "ranking.baselines: unknown name 'mine.py:make'; use stock, improved, robust",
+    ),
+    (
+        ("[graded]", "[limits]\nepisode_timeout = 0\n[graded]"),
+        "limits.episode_timeout: expected a number >= 1 (s), got 0.0",
+    ),
+    (("episodes = 2", "episodes = 2.5"), "graded.episodes: expected a whole number, got 2.5"),
+    (('name = "mini"', 'name = "a b"'), "name: expected a short name"),
+    (
+        ('profile = "epuck"', 'set = { "noise.proximty" = 0.1 }'),
+        "set.noise.proximty: unknown parameter 'noise.proximty'",
+    ),
+    (
+        ('profile = "epuck"', 'link = "carrier-pigeon"'),
+        "graded.cells[0].link: expected one of coppeliasim-sync",
+    ),
+    (
+        ("episodes = 2", "episodes = 2\n[[graded.cells]]\nname = 'bend'\nscene = 'line-follow'"),
+        "graded.cells[1].name: 'bend' is used twice",
+    ),
+]
+
+
+@pytest.mark.parametrize(("change", "said"), MISTAKES)
 def test_a_mistake_is_one_line_naming_the_file_the_table_and_the_fix(change, said):
     old, new = change
     assert old in MINIMAL
@@ -97,9 +125,9 @@ def test_a_mistake_is_one_line_naming_the_file_the_table_and_the_fix(change, sai
 
 
 def test_a_graded_cell_set_twice_under_two_names_is_refused():
-    twice = (
-        MINIMAL
-        + '[[graded.cells]]\nname = "again"\nscene = "two-robot-pass-bend"\nprofile = "epuck"\nvariation = "plausible"\n'
+    twice = MINIMAL + (
+        '[[graded.cells]]\nname = "again"\nscene = "two-robot-pass-bend"\n'
+        'profile = "epuck"\nvariation = "plausible"\n'
     )
     with pytest.raises(
         ChallengeError, match="graded.cells: cells 'bend' and 'again' are the same cell"

@@ -41,7 +41,10 @@ variation = "plausible"
 
 SECRET = "the lecturer's own words"
 
-_SHIPPED = "from puckboard.behaviours import {0}\ndef make_controller(**params):\n    return {0}(**params)\n"
+_SHIPPED = (
+    "from puckboard.behaviours import {0}\ndef make_controller(**params):\n"
+    "    return {0}(**params)\n"
+)
 
 _LAYER = """
 import os, sys, time

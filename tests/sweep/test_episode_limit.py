@@ -20,6 +20,7 @@ import pytest
 from sweep_helpers import DURATION, PATIENCE_S
 
 from puckboard.sweep import InlineExecutor, LocalExecutor, SweepPlan, run_sweep
+from puckboard.sweep.options import RunOptions
 
 pytestmark = pytest.mark.slow
 
@@ -148,14 +149,15 @@ def test_the_rest_of_a_batch_runs_after_its_episode_is_lost(tmp_path, what, kind
         fixed={"duration": DURATION},
     )
     with LocalExecutor(workers=1) as executor:
-        result = run_sweep(plan, "line-follow", executor=executor, batch_size=3, episode_timeout=1)
+        options = RunOptions(executor=executor, batch_size=3, episode_timeout=1)
+        result = run_sweep(plan, "line-follow", options)
     assert result.ran == 3
     lost = [r for r in result.rows if r["error"]]
     assert len(lost) == 1 and lost[0]["error_kind"] == kind and said in lost[0]["error"]
     assert result.error_kinds() == {kind: 1}
 
     # the others, as this process runs them (the marker is there now: no episode is lost)
-    again = run_sweep(plan, "line-follow", executor=InlineExecutor())
+    again = run_sweep(plan, "line-follow", RunOptions(executor=InlineExecutor()))
     expected = {r["key"]: r for r in again.rows}
     timing = {"wall_s", "realtime_factor"}
     for row in result.rows:
@@ -181,7 +183,7 @@ def test_a_dask_cluster_stops_a_sleeping_layer_on_its_process(tmp_path):
     )
     with DaskExecutor(local_workers=1) as executor:
         assert executor.stops_processes
-        result = run_sweep(plan, "line-follow", executor=executor, episode_timeout=1)
+        result = run_sweep(plan, "line-follow", RunOptions(executor=executor, episode_timeout=1))
     lost = [r for r in result.rows if r["error"]]
     assert len(lost) == 2 and all(r["controller"] == plan.controllers[0] for r in lost)
     assert all(r["error_kind"] == "timeout" and "process was stopped" in r["error"] for r in lost)
@@ -190,7 +192,7 @@ def test_a_dask_cluster_stops_a_sleeping_layer_on_its_process(tmp_path):
             "line-follow", controllers=("stock",), seeds=range(2), fixed={"duration": DURATION}
         ),
         "line-follow",
-        executor=InlineExecutor(),
+        RunOptions(executor=InlineExecutor()),
     )
     timing = {"wall_s", "realtime_factor"}
     kept = sorted(

@@ -9,6 +9,7 @@ from sweep_helpers import DURATION
 
 from puckboard.sweep import InlineExecutor, LocalExecutor, SweepPlan
 from puckboard.sweep.host import Isolation
+from puckboard.sweep.options import RunOptions
 from puckboard.sweep.run import run_sweeps
 
 #: Notes, in the folder it runs in, the process that runs each of its episodes.
@@ -49,14 +50,13 @@ def test_each_isolation_runs_in_processes_and_folders_of_its_own(
     with LocalExecutor(workers=2) as executor:
         results = run_sweeps(
             list(zip(plans, (short_scene, bend))),
-            executor=executor,
-            batch_size=1,
+            RunOptions(executor=executor, batch_size=1),
             isolation=isolation,
             aliases=specs,
         )
     monkeypatch.chdir(tmp_path / "work")  # where this process's own episodes write
     expected = run_sweeps(
-        list(zip(plans, (short_scene, bend))), executor=InlineExecutor(), aliases=specs
+        list(zip(plans, (short_scene, bend))), RunOptions(executor=InlineExecutor()), aliases=specs
     )
     for got, want in zip(results, expected):
         assert got.ran == want.ran == 6
