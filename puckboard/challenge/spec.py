@@ -322,9 +322,9 @@ class _Reader:
         return tuple(cells)
 
     def cell(self, table: TableReader) -> Cell:
-        from ..scenario.variation import variation_names
         from ..profile.links import link_names
         from ..scenario.scenefile import load_scene
+        from ..scenario.variation import variation_names
         from ..sweep.plan import PlanError, SweepPlan, check_parameter
 
         name = table.string("name")
