@@ -324,6 +324,7 @@ class _Reader:
     def cell(self, table: TableReader) -> Cell:
         from ..profile.links import link_names
         from ..scenario.scenefile import load_scene
+        from ..scenario.settings import CONTROL_LATENCY, CONTROL_PERIOD
         from ..scenario.variation import variation_names
         from ..sweep.plan import PlanError, SweepPlan, check_parameter
 
@@ -356,7 +357,7 @@ class _Reader:
                 settings.fail(key, "", message=f"give {key} as the cell's own key")  # type: ignore[union-attr]
             parameters[key] = settings.raw(key)  # type: ignore[union-attr]
         if table.has("link"):
-            if any(k in parameters for k in ("control.period", "control.latency")):
+            if any(s.name in parameters for s in (CONTROL_PERIOD, CONTROL_LATENCY)):
                 table.fail(
                     "link", "", message="give either link or set control.period / control.latency"
                 )
