@@ -110,7 +110,7 @@ def _register_grade(actions: argparse._SubParsersAction) -> None:  # type: ignor
         "--scheduler",
         metavar="ADDRESS",
         help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (needs puckboard[dask]; "
-        "its workers must be able to start processes: see docs/lecturer-notes.md)",
+        "its workers must be able to start processes: see docs/challenges.md)",
     )
     grade.add_argument(
         "--final",
