@@ -239,7 +239,8 @@ def test_no_core_module_imports_the_cli():
 def test_import_puckboard_loads_no_heavy_or_optional_package():
     code = (
         "import sys, puckboard\n"
-        "heavy = ['numpy', 'py_trees', 'matplotlib', 'zmq', 'serial', 'rich', 'dask', 'filterpy', 'aiohttp']\n"
+        "heavy = ['numpy', 'py_trees', 'matplotlib', 'zmq', 'serial', 'rich', 'dask', "
+        "'filterpy', 'aiohttp']\n"
         "print(','.join(m for m in heavy if m in sys.modules))\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

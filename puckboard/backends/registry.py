@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 from .._extras import missing_package_message
+from .._plugins import offered
 
 __all__ = [
     "BACKENDS",
@@ -128,26 +129,16 @@ def _read_installed() -> None:
     if _installed_read:
         return
     _installed_read = True
-    from importlib.metadata import entry_points
-
-    for ep in entry_points(group=ENTRY_POINT_GROUP):
-        package = ep.dist.name if ep.dist is not None else "an installed package"
-        if ep.name in BACKENDS:
-            log.warning(
-                "%s offers a backend %r, which puckboard already has; keeping puckboard's",
-                package,
-                ep.name,
-            )
-            continue
-        if ":" not in ep.value:
+    for name, target, package in offered(ENTRY_POINT_GROUP, "backend", BACKENDS):
+        if ":" not in target:
             log.warning(
                 "%s offers backend %r as %r, not 'module:factory'; left out",
                 package,
-                ep.name,
-                ep.value,
+                name,
+                target,
             )
             continue
-        BACKENDS[ep.name] = BackendEntry(ep.value)
+        BACKENDS[name] = BackendEntry(target)
 
 
 def backend_names(able: Callable[[BackendAbilities], bool] | None = None) -> list[str]:

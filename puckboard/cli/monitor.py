@@ -4,16 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from .common import (
-    CliError,
-    OneController,
-    check_seconds,
-    check_speed,
-    connection_loss_in_one_line,
-    controller_error,
-    require,
-    seed_type,
-)
+from .checks import check_seconds, check_speed, require, seed_type
+from .errors import CliError, connection_loss_in_one_line, controller_error
+from .parsing import OneController
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -21,8 +21,9 @@ run is the same with or without them.
 the dialect and every name are in :mod:`puckboard.scenario.overrides`): the scene's are
 applied before the backend opens, the layers' (:mod:`puckboard.behaviours.overrides`) on
 each robot's controller, and ``controller.<keyword>`` is handed to every robot's
-controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` = ``plausible`` (also the ``variation`` argument)
-builds each robot from numbers drawn within its profile's plausible ranges.
+controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` =
+``plausible`` (also the ``variation`` argument) builds each robot from numbers drawn
+within its profile's plausible ranges.
 """
 
 from __future__ import annotations
@@ -51,6 +52,8 @@ from ..scenario.judge import Judge
 from ..scenario.preparation import RunRequest, prepare_scene
 from ..scenario.result import EpisodeResult
 from ..scenario.scene import RobotSpec, Scene
+from ..scenario.settings import check_scene
+from ..scenario.variation import NONE
 from .loop import ControlLoop
 
 if TYPE_CHECKING:
@@ -129,16 +132,23 @@ class Episode:
         self.backend = backend if backend is not None else default_backend()
         _check_call(seed, self.backend, backend_options)
         overrides = dict(overrides or {})
-        variation = str(overrides.pop("variation", variation))
+        variation = _one_variation(variation, overrides.pop("variation", None))
         self.seed = int(seed)
         # the scene this run plays: the scene as given through named steps, each condition
         # drawn once (scenario.preparation); then what the backend drives (below)
+        able = abilities_of(self.backend)
         run = RunRequest(
-            self.seed, overrides, variation, simulates_link=abilities_of(self.backend).link_timing
-        )
+            self.seed, overrides, variation, simulates_link=able.link_timing,
+            drives_robot=not able.simulated,
+        )  # fmt: skip
         prepared = prepare_scene(_resolve_scene(scene), run)
         self.scene = prepared.scene
-        #: what ``reality-gap`` drew, as the result reports it (None for other variations)
+        try:
+            check_scene(self.scene)  # every setting in bounds, however the scene was built
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        #: what the variation drew besides the robots, as the result reports it (None when
+        #: nothing: every variation but reality-gap)
         self.conditions = (
             None if prepared.conditions is None else prepared.conditions.to_dict()
         )
@@ -362,7 +372,8 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
     """The control period the scene asks for (None: the loop's default, one step or a real
     robot's 0.05 s). A latency is simulated by the embedded world, which delays each
     wheel command itself; on any other backend the delay is the link's own, so a scene
-    asking for one there is refused rather than silently run without it."""
+    asking for one there is refused rather than silently run without it (a drawn or a
+    measured one already was, naming where it came from: scenario.preparation)."""
     control = scene.control
     if control.latency > 0 and world is None:
         raise SceneError(
@@ -371,6 +382,18 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
             "so leave control.latency at 0 on this backend"
         )
     return control.period
+
+
+def _one_variation(argument: str, setting: Any) -> str:
+    """The variation of a run given ``variation=`` and perhaps an overrides' ``variation``
+    too: two different ones are refused (which was meant, only the caller knows)."""
+    if setting is None:
+        return str(argument)
+    if str(argument) not in (NONE.name, str(setting)):
+        raise ValueError(
+            f"variation given twice: {argument!r} and, in the overrides, {setting!r}; give it once"
+        )
+    return str(setting)
 
 
 #: The keywords of :func:`run_episode` itself; the rest go to the backend.

@@ -22,14 +22,14 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..errors import SceneError
 from ..profile import get_profile
-from .conditions import CONDITIONS
 from .conversion import for_seed
 from .overrides import apply_scene_overrides
-from .reality_gap import DrawnConditions
 from .robot_profiles import link_control
 from .scene import Scene
-from .variation import vary
+from .settings import CONTROL_LATENCY, SETTINGS
+from .variation import NONE, Drawn, vary
 
 __all__ = [
     "STEPS",
@@ -52,11 +52,14 @@ class RunRequest:
     seed: int = 0
     #: The run's settings by dotted name (``--set``; ``variation`` is taken apart).
     overrides: Mapping[str, Any] = field(default_factory=dict)
-    #: ``none``, ``plausible`` or ``reality-gap``.
-    variation: str = "none"
+    #: A variation's name (:mod:`.variation`).
+    variation: str = NONE.name
     #: The backend simulates the control link itself (its ``link_timing`` ability), so a
     #: profile's measured link sets the run's period and latency.
     simulates_link: bool = False
+    #: The backend drives a robot (not ``simulated``): its link is the robot's own, which
+    #: a profile's measured link describes; nothing to simulate.
+    drives_robot: bool = False
 
 
 @dataclass(frozen=True)
@@ -64,8 +67,9 @@ class PreparedScene:
     """A scene part of the way through :data:`STEPS`, and what was drawn on the way."""
 
     scene: Scene
-    #: The conditions ``reality-gap`` drew (``None``: no such variation).
-    conditions: DrawnConditions | None = None
+    #: What the variation drew besides the robots (reality-gap's conditions; ``None``:
+    #: nothing).
+    conditions: Drawn | None = None
 
 
 Step = Callable[[PreparedScene, RunRequest], PreparedScene]
@@ -84,29 +88,51 @@ def apply_settings(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
 
 
 def set_by_run(scene: Scene, overrides: Mapping[str, Any]) -> list[str]:
-    """The conditions a run sets itself, which a variation keeps as set: those its
+    """The settings a run sets itself, which a variation keeps as set: those its
     settings name (they are its definition), and the loop's timing where a robot's
-    profile measured its own link."""
-    kept = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
+    profile measured its own link (:mod:`.settings` says which settings a link sets)."""
+    kept = [n for n in overrides if n in SETTINGS]
     if any(get_profile(r.profile).link is not None for r in scene.robots):
-        kept += ["control.period", "control.latency", "control.repeated"]  # its own link
+        kept += [s.name for s in SETTINGS.values() if s.link]  # the robot's own link
     return kept
 
 
 def draw_variation(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
-    """The robots as built and, with ``reality-gap``, the conditions, each drawn once
-    (:func:`.variation.vary`); conditions the run sets itself are kept."""
+    """The robots as built and what else the variation draws (reality-gap: the
+    conditions), each drawn once (:func:`.variation.vary`); settings the run sets itself
+    are kept. A latency drawn for a backend that cannot delay a command is refused,
+    naming the variation that drew it."""
     scene = prepared.scene
     varied = vary(scene, int(run.seed), run.variation, set_by_run(scene, run.overrides))
+    latency = varied.scene.control.latency
+    if latency > 0 and latency != scene.control.latency and not run.simulates_link:
+        raise SceneError(
+            f"--variation {run.variation} drew a real link's timing: "
+            f"{_cannot_delay(latency)}"
+        )
     return PreparedScene(varied.scene, varied.conditions)
 
 
 def take_link_timing(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
-    """On a backend that simulates the link, the link timing a robot's profile measured
-    (:func:`.robot_profiles.link_control`); elsewhere the link is its own."""
-    if not run.simulates_link:
+    """The link timing a robot's profile measured (:func:`.robot_profiles.link_control`),
+    one rule on every backend: a backend that simulates the link runs at it; one that
+    drives the robot itself has that link already; any other simulator cannot delay a
+    command, so a measured latency there is refused, as any latency is."""
+    if run.drives_robot:
         return prepared
-    return dataclasses.replace(prepared, scene=link_control(prepared.scene))
+    linked = link_control(prepared.scene)
+    latency = linked.control.latency
+    if linked is not prepared.scene and latency > 0 and not run.simulates_link:
+        names = ", ".join(dict.fromkeys(get_profile(r.profile).name for r in linked.robots))
+        raise SceneError(f"the profile's [link] ({names}) gives {_cannot_delay(latency)}")
+    return dataclasses.replace(prepared, scene=linked)
+
+
+def _cannot_delay(latency: float) -> str:
+    return (
+        f"{CONTROL_LATENCY.name} = {latency:g} s, which the embedded backend alone simulates "
+        "(this backend cannot delay a command); run it with --backend embedded"
+    )
 
 
 #: The steps from a scene as given to the scene a run plays, in order.

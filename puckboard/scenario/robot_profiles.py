@@ -130,7 +130,7 @@ def link_control(scene: Scene) -> Scene:
         )
     ((period, latency),) = links
     dt = scene.dt
-    control = Control(period=max(1, round(period / dt)) * dt, latency=round(latency / dt) * dt)
+    control = Control.rounded(period, latency, dt)
     cycles = next(
         (c for c in (get_profile(r.profile).link_cycles for r in scene.robots) if c is not None),
         None,

@@ -47,6 +47,9 @@ class ExperimentRun(Protocol):
     def errors(self) -> list[str]:
         """The messages of this run's episodes that raised, one per episode."""
 
+    def error_kinds(self) -> dict[str, int]:
+        """How those episodes ended (``error_kind`` → count), most first."""
+
     @property
     def wall_s(self) -> float:
         """Wall-clock seconds it took."""

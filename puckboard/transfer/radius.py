@@ -84,17 +84,22 @@ class Radius:
 
 
 def robustness_radius(
-    points: Sequence[GridPoint], *, threshold: float = THRESHOLD, by: str = "estimate"
+    points: Sequence[GridPoint],
+    *,
+    threshold: float = THRESHOLD,
+    by: str = "estimate",
+    episodes: int = 1,
 ) -> Radius:
     """The radius of ``points`` (a grid in its declared order, outward from the design
-    model): the last scale before the first that falls below ``threshold``."""
+    model): the last scale before the first that falls below ``threshold``. A point with
+    fewer than ``episodes`` episodes (an interrupted run) ends the walk, incomplete."""
     if by not in BY:
         raise ValueError(f"by must be one of {', '.join(BY)}, got {by!r}")
     if not 0.0 < threshold <= 1.0:
         raise ValueError(f"threshold must be in (0, 1], got {threshold}")
     at: GridPoint | None = None
     for point in points:
-        if point.episodes == 0:
+        if point.episodes < max(1, episodes):
             return Radius(None if at is None else at.scale, at, None, False, by, threshold)
         if not point.keeps(threshold, by):
             return Radius(None if at is None else at.scale, at, point, True, by, threshold)

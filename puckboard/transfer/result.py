@@ -9,6 +9,7 @@ run, and a radius that reached one is marked incomplete.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -130,7 +131,9 @@ class Cell:
 
 
 def _grid_point(scale: float, g: GroupSummary | None) -> GridPoint:
-    return GridPoint(0, 0, scale=scale) if g is None else GridPoint(g.successes, g.episodes, scale=scale)
+    if g is None:
+        return GridPoint(0, 0, scale=scale)
+    return GridPoint(g.successes, g.episodes, scale=scale)
 
 
 def analyse(
@@ -168,6 +171,7 @@ def _cell(
     design = Band(DESIGN, DESIGN, 1.0, scene, stats(controller, design_point))
     bands, radii = [], []
     dt = (plan.dts or {}).get(scene, 0.0)
+    seeds = len(plan.seeds)  # a point with fewer episodes is incomplete
     for family in plan.families:
         mine = [p for p in points if p.family == family.name]
         if not mine:
@@ -184,12 +188,14 @@ def _cell(
                 RadiusResult(
                     family.name,
                     grid,
-                    robustness_radius(grid, threshold=threshold, by="estimate"),
-                    robustness_radius(grid, threshold=threshold, by="lower"),
+                    robustness_radius(grid, threshold=threshold, by="estimate", episodes=seeds),
+                    robustness_radius(grid, threshold=threshold, by="lower", episodes=seeds),
                     tuple(family.scale_text(s, dt) for s in family.grid),
                 )
             )
-    skipped = tuple((s.family, s.why) for s in plan.skipped if s.scene == scene)
+    skipped = tuple(
+        (s.family, s.why) for s in plan.skipped if s.scene == scene and s.profile in ("", profile)
+    )
     return Cell(scene, controller, profile, design, tuple(bands), tuple(radii), skipped)
 
 
@@ -236,6 +242,14 @@ class TransferResult:
     @property
     def errors(self) -> list[str]:
         return [e for s in self.sweeps for e in s.errors]
+
+    def error_kinds(self) -> dict[str, int]:
+        """:meth:`SweepResult.error_kinds <puckboard.sweep.run.SweepResult.error_kinds>`
+        of the whole report."""
+        total: Counter[str] = Counter()
+        for sweep in self.sweeps:
+            total.update(sweep.error_kinds())
+        return dict(total.most_common())
 
     @property
     def outcomes(self) -> list[Outcome]:

@@ -203,6 +203,7 @@ def _run_scene(
     episode_timeout: float | None,
     progress: Progress | None,
 ) -> list[tuple[Cell, Outcome]]:
+    from ..sweep.options import RunOptions
     from ..sweep.plan import SweepPlan
     from ..sweep.run import run_sweep
 
@@ -214,9 +215,8 @@ def _run_scene(
         grid={"robot.profile": tuple(profiles)} if profiles else {},
         fixed=dict(params),
     )
-    result = run_sweep(
-        plan, scene, executor=executor, episode_timeout=episode_timeout, progress=progress
-    )
+    options = RunOptions(executor=executor, progress=progress, episode_timeout=episode_timeout)
+    result = run_sweep(plan, scene, options)
     if result.interrupted:
         raise Interrupted(result.terminated)
     for outcome in result.outcomes:

@@ -287,7 +287,12 @@ def _rgb(colour: Any) -> tuple[int, int, int]:
 
 
 def _write_gif(
-    path: Path, frames: Iterable[Frame], fps: float, rec: Recording, stage: Stage, indices: np.ndarray
+    path: Path,
+    frames: Iterable[Frame],
+    fps: float,
+    rec: Recording,
+    stage: Stage,
+    indices: np.ndarray,
 ) -> None:
     from PIL import Image
 

@@ -1,10 +1,11 @@
 """The live view: watch a run in a matplotlib window or a Jupyter notebook.
 
-The view is an episode observer. It reads the states a :class:`~puckboard.recording.recorder.Recorder`
-has taken from the blackboard and draws them on a :class:`~puckboard.viz.stage.Stage`, the
-same picture the animations use. It never touches the simulation: pausing blocks the
-control loop between two cycles and single-stepping lets exactly one cycle through, so a
-seeded run takes the same course with or without a window.
+The view is an episode observer. It reads the states a
+:class:`~puckboard.recording.recorder.Recorder` has taken from the blackboard and draws
+them on a :class:`~puckboard.viz.stage.Stage`, the same picture the animations use. It
+never touches the simulation: pausing blocks the control loop between two cycles and
+single-stepping lets exactly one cycle through, so a seeded run takes the same course with
+or without a window.
 
 Keys (window): ``space`` pause/resume, ``right`` or ``n`` one cycle while paused,
 ``+``/``-`` double/halve the playback speed, closing the window ends the viewing (the run
@@ -303,15 +304,8 @@ class _Replay:
         return self.rec
 
     def arrays(self) -> dict[str, np.ndarray]:
-        r, n = self.rec, self.n
-        return {
-            "time": r.time[:n],
-            "pose": r.pose[:n],
-            "wheels": r.wheels[:n],
-            "layer": r.layer[:n],
-            "proximity": r.proximity[:n],
-            "ground": r.ground[:n],
-        }
+        """The recording's arrays (its own mapping) up to the row being shown."""
+        return {name: values[: self.n] for name, values in self.rec.arrays().items()}
 
 
 def replay(

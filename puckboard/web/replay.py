@@ -78,11 +78,16 @@ def _scene_json(rec: Recording) -> dict[str, Any]:
     robots = []
     for name in names:
         entry = described.get(name) or {
-            "name": name, "colour": colours[name], "profile": profile.name,
+            "name": name,
+            "colour": colours[name],
+            "profile": profile.name,
             "radius": profile.body_radius,
-            "sensors": [[round(p.x, 4), round(p.y, 4), round(p.heading, 4)] for p in profile.prox_poses],
-            "sensor_names": list(PROX_NAMES), "range": profile.prox_range,
-        }  # fmt: skip
+            "sensors": [
+                [round(p.x, 4), round(p.y, 4), round(p.heading, 4)] for p in profile.prox_poses
+            ],
+            "sensor_names": list(PROX_NAMES),
+            "range": profile.prox_range,
+        }
         robots.append(entry)
     out["robots"] = robots
     return out

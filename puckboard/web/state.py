@@ -22,9 +22,10 @@ The page draws three things, each sent as it changes:
 visual tool; :class:`ServerFollower` from the
 :class:`~puckboard.backends.coppeliasim.server.view.ServedView` of a
 :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`
-(``puckboard serve --web``: the server's typed read-only face, never its internals), where the layer in control is what each client publishes as
-the string signal ``<model>.layer``.
-Both only read: the simulation is the same with or without a page watching it.
+(``puckboard serve --web``: the server's typed read-only face, never its internals),
+where the layer in control is what each client publishes as the string signal
+``<model>.layer``. Both only read: the simulation is the same with or without a page
+watching it.
 
 Colours and event words come from :mod:`puckboard.viz.style`, as in the other figures.
 """

@@ -134,7 +134,7 @@ def test_calibrate_drives_an_installed_backend_that_says_it_can_be_calibrated(in
     import argparse
 
     from puckboard.cli import calibrate
-    from puckboard.cli.common import CliError
+    from puckboard.cli.errors import CliError
 
     def options(backend):
         args = argparse.Namespace(backend=backend, what="ir", host="10.0.0.9", port=None)

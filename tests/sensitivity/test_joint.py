@@ -19,6 +19,7 @@ from puckboard.sensitivity.joint.estimate import (
 )
 from puckboard.sensitivity.one_at_a_time.plan import FIELD_LABEL
 from puckboard.sweep import PlanError
+from puckboard.sweep.options import RunOptions
 
 PATHS = ("body_radius", "ir_gain.right", "prox_heading.diagonal_right", "axle_length")
 
@@ -171,7 +172,7 @@ def test_ctrl_c_keeps_what_ran_and_analyses_it(short_scene):
     plan = joint_plan(short_scene.name, profiles=["epuck"], controllers=["stock"],
                       seeds=range(8), fixed={"duration": DURATION}, bins=2)  # fmt: skip
     result = run_joint(
-        plan, short_scene, executor=CountingExecutor(interrupt_after=3), batch_size=1
+        plan, short_scene, RunOptions(executor=CountingExecutor(interrupt_after=3), batch_size=1)
     )
     assert result.sweep.interrupted and result.sweep.ran == 3
     (analysis,) = result.analyses

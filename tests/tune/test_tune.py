@@ -295,8 +295,8 @@ def test_the_report_gives_both_rates_per_cell_and_a_line_to_run_it(short_pass, t
     ]
     best = data["best"]["params"]
     assert (
-        data["use"]
-        == f"--controller improved --set {INNER}={best[INNER]:.6g} --set controller.speed={best['speed']:.6g}"
+        data["use"] == f"--controller improved --set {INNER}={best[INNER]:.6g} "
+        f"--set controller.speed={best['speed']:.6g}"
     )
     text = format_result(result)
     assert "design (seeds 0:2)" in text and "validation (seeds 2:3)" in text
