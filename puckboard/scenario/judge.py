@@ -179,6 +179,12 @@ class _TrackProjector:
         arc = self.cum[best] + t[rows, best] * self.seg_len[best]
         return arc, np.sqrt(wx[rows, best]), self.heading[best]
 
+    def position(self, points: FloatArray) -> tuple[list[float], list[float]]:
+        """(arc position, distance to the line) of P×2 points, as :meth:`project` gives
+        them, in plain floats."""
+        arc, dist, _ = self.project(points)
+        return arc.tolist(), dist.tolist()
+
 
 @dataclass
 class _RobotState:
@@ -272,6 +278,9 @@ class Judge:
         self._pair_k0: dict[tuple[int, int], int] = {}
         self._pair_k: dict[tuple[int, int], int] = {}
         self._parallel_since: dict[tuple[int, int], float | None] = {}
+        # how long a robot's positions are kept (the longest window that reads them)
+        self._horizon = max(self.rules.stuck_s, self.rules.settle_s) + 1.0
+        self._sim_counts: list[int] = [0] * self.n  # the simulator's collision counts
 
     # -- feeding ---------------------------------------------------------------------------
     def update(
@@ -286,10 +295,13 @@ class Judge:
         self.time = float(time)
         if not self.started:
             self._start(p)
+        # a few robots: the per-robot bookkeeping below runs on plain floats, which cost
+        # less than numpy's scalars and give the same values
+        rows = p.tolist()
         self._track_update(p)
-        self._motion_update(p)
-        self._collision_update(p, collisions)
-        self._pair_update(p)
+        self._motion_update(rows)
+        self._collision_update(rows, collisions)
+        self._pair_update(rows)
         if not self.decided:
             self._decide()
 
@@ -334,18 +346,19 @@ class Judge:
         both[:n] = p[:, :2]
         both[n:, 0] = p[:, 0] + np.cos(p[:, 2]) * self._sensor_offsets
         both[n:, 1] = p[:, 1] + np.sin(p[:, 2]) * self._sensor_offsets
-        arc, dist, _ = self.projector.project(both)
+        arcs, dists = self.projector.position(both)
+        near_line, tolerance, closed = self.rules.near_line, self.on_line_tolerance, self.projector.closed
         for i, r in enumerate(self.robots):
             r.cycles += 1
-            r.near = bool(dist[i] <= self.rules.near_line)
-            r.on_line = bool(dist[self.n + i] <= self.on_line_tolerance)
+            r.near = dists[i] <= near_line
+            r.on_line = dists[n + i] <= tolerance
             if r.on_line:
                 r.on_line_cycles += 1
             if r.near:
-                delta = float(arc[i]) - r.arc
-                if self.projector.closed:
+                delta = arcs[i] - r.arc
+                if closed:
                     delta = (delta + L / 2) % L - L / 2
-                r.arc = float(arc[i])
+                r.arc = arcs[i]
                 r.unwrapped += delta
                 r.progress += r.sign * delta
                 r.best_progress = max(r.best_progress, r.progress)
@@ -387,25 +400,28 @@ class Judge:
             elif q + h < k * L:
                 r.obstacle_k[o] = k - 1
 
-    def _motion_update(self, p: FloatArray) -> None:
-        horizon = max(self.rules.stuck_s, self.rules.settle_s) + 1.0
+    def _motion_update(self, p: list[list[float]]) -> None:
+        horizon = self._horizon
         for i, r in enumerate(self.robots):
             _, x0, y0, _ = r.history[-1]
-            x, y = float(p[i, 0]), float(p[i, 1])
+            x, y = p[i][0], p[i][1]
             r.distance += math.hypot(x - x0, y - y0)
             r.history.append((self.time, x, y, r.progress))
             while r.history and self.time - r.history[0][0] > horizon:
                 r.history.popleft()
 
-    def _collision_update(self, p: FloatArray, collisions: npt.ArrayLike | None) -> None:
+    def _collision_update(self, p: list[list[float]], collisions: npt.ArrayLike | None) -> None:
         if collisions is not None:
-            counts = np.asarray(collisions, dtype=int).reshape(self.n)
+            counts = np.asarray(collisions, dtype=int).reshape(self.n).tolist()
+            if counts == self._sim_counts:
+                return  # nothing new touched anything (most steps)
+            self._sim_counts = counts
             for i, r in enumerate(self.robots):
-                new = int(counts[i]) - r.sim_collisions
+                new = counts[i] - r.sim_collisions
                 if new > 0:
                     r.collisions += new
                     self.events.append(Event(self.time, r.name, "collision"))
-                r.sim_collisions = int(counts[i])
+                r.sim_collisions = counts[i]
             return
         for i, r in enumerate(self.robots):
             now = self._contacts_of(i, p)
@@ -415,14 +431,14 @@ class Judge:
                 self.events.append(Event(self.time, r.name, "collision"))
             r.contacts = now
 
-    def _contacts_of(self, i: int, p: FloatArray) -> set[str]:
+    def _contacts_of(self, i: int, p: list[list[float]]) -> set[str]:
         """What robot ``i``'s body touches now (names), by geometry alone."""
         eps = 1e-4
         r = self.robots[i]
-        x, y = p[i, 0], p[i, 1]
+        x, y = p[i][0], p[i][1]
         out: set[str] = set()
         for j, other in enumerate(self.robots):
-            if j != i and math.hypot(p[j, 0] - x, p[j, 1] - y) < r.radius + other.radius + eps:
+            if j != i and math.hypot(p[j][0] - x, p[j][1] - y) < r.radius + other.radius + eps:
                 out.add(f"robot:{other.name}")
         for label, cx, cy, rad in self._circles:
             if math.hypot(cx - x, cy - y) < rad + r.radius + eps:
@@ -438,7 +454,7 @@ class Judge:
                 out.add("wall")
         return out
 
-    def _pair_update(self, p: FloatArray) -> None:
+    def _pair_update(self, p: list[list[float]]) -> None:
         rules = self.rules
         max_heading = math.radians(rules.parallel_heading_deg)
         for (i, j), since in self._parallel_since.items():
@@ -456,13 +472,14 @@ class Judge:
                     self.events.append(Event(self.time, ri.name, "passed_other"))
                     self.events.append(Event(self.time, rj.name, "passed_other"))
             # side by side, close, same heading, both driving
-            dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]
+            pi, pj = p[i], p[j]
+            dx, dy = pj[0] - pi[0], pj[1] - pi[1]
             dist = math.hypot(dx, dy)
-            dth = abs(_wrap(p[j, 2] - p[i, 2]))
+            dth = abs(_wrap(pj[2] - pi[2]))
             side_by_side = False
             if dist < rules.parallel_distance and dth < max_heading and dist > 0:
                 mean = math.atan2(
-                    math.sin(p[i, 2]) + math.sin(p[j, 2]), math.cos(p[i, 2]) + math.cos(p[j, 2])
+                    math.sin(pi[2]) + math.sin(pj[2]), math.cos(pi[2]) + math.cos(pj[2])
                 )
                 lateral = abs(-math.sin(mean) * dx + math.cos(mean) * dy) / dist
                 side_by_side = lateral > math.sin(math.radians(45.0))
