@@ -65,6 +65,7 @@ import numpy.typing as npt
 from ..geometry import project_on_segments
 from ..profile import get_profile, profile_values
 from .scene import CircleObstacle, PolygonObstacle, Scene
+from .track_position import NearestSegment, TrackProjector
 
 __all__ = ["FAILURES", "Event", "Judge", "JudgeRules", "RobotMetrics"]
 
@@ -145,47 +146,6 @@ class RobotMetrics:
         }
 
 
-class _TrackProjector:
-    """Nearest point on a polyline, as arc length, for several points at once.
-
-    One P×S array per quantity (P points, S segments); per-segment data are kept as
-    contiguous 1-D arrays so each numpy call streams through memory once.
-    """
-
-    def __init__(self, segments: FloatArray, closed: bool) -> None:
-        d = segments[:, 1] - segments[:, 0]
-        self.ax = np.ascontiguousarray(segments[:, 0, 0])
-        self.ay = np.ascontiguousarray(segments[:, 0, 1])
-        self.dx = np.ascontiguousarray(d[:, 0])
-        self.dy = np.ascontiguousarray(d[:, 1])
-        self.seg_len = np.hypot(self.dx, self.dy)
-        self.inv_len2 = 1.0 / np.maximum(self.seg_len**2, 1e-18)
-        self.heading = np.arctan2(self.dy, self.dx)
-        self.cum = np.concatenate([[0.0], np.cumsum(self.seg_len)])[:-1]
-        self.length = float(self.seg_len.sum())
-        self.closed = closed
-
-    def project(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(arc position, distance to the line, track heading there) for P×2 points."""
-        t, wx, wy = project_on_segments(
-            points[:, 0:1] - self.ax, points[:, 1:2] - self.ay, self.dx, self.dy,
-            inv_len2=self.inv_len2,
-        )  # fmt: skip
-        wx *= wx
-        wy *= wy
-        wx += wy  # squared distance
-        best = np.argmin(wx, axis=1)
-        rows = np.arange(len(points))
-        arc = self.cum[best] + t[rows, best] * self.seg_len[best]
-        return arc, np.sqrt(wx[rows, best]), self.heading[best]
-
-    def position(self, points: FloatArray) -> tuple[list[float], list[float]]:
-        """(arc position, distance to the line) of P×2 points, as :meth:`project` gives
-        them, in plain floats."""
-        arc, dist, _ = self.project(points)
-        return arc.tolist(), dist.tolist()
-
-
 @dataclass
 class _RobotState:
     name: str
@@ -249,9 +209,11 @@ class Judge:
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))
         track = scene.track
-        self.projector = _TrackProjector(track.segments(), track.closed) if track else None
-        self._points = np.zeros((2 * self.n, 2))
-        self._sensor_offsets = np.array([r.sensor_offset for r in self.robots])
+        projector = TrackProjector(track.segments(), track.closed) if track else None
+        self.projector = projector
+        # each robot's centre and sensor point, followed along the track cycle by cycle
+        self._centres = [NearestSegment(projector) for _ in self.robots] if projector else []
+        self._sensors = [NearestSegment(projector) for _ in self.robots] if projector else []
         self.length = self.projector.length if self.projector else 0.0
         self.on_line_tolerance = (track.width / 2 if track else 0.0) + self.rules.on_line_margin
         # obstacles standing on the line, with their arc positions
@@ -298,7 +260,7 @@ class Judge:
         # a few robots: the per-robot bookkeeping below runs on plain floats, which cost
         # less than numpy's scalars and give the same values
         rows = p.tolist()
-        self._track_update(p)
+        self._track_update(p, rows)
         self._motion_update(rows)
         self._collision_update(rows, collisions)
         self._pair_update(rows)
@@ -335,30 +297,36 @@ class Judge:
             for j in range(i + 1, self.n):
                 self._parallel_since[(i, j)] = None
 
-    def _track_update(self, p: FloatArray) -> None:
+    def _track_update(self, p: FloatArray, rows: list[list[float]]) -> None:
         if self.projector is None:
             for r in self.robots:
                 r.cycles += 1
             return
         L = self.length
-        n = self.n
-        both = self._points
-        both[:n] = p[:, :2]
-        both[n:, 0] = p[:, 0] + np.cos(p[:, 2]) * self._sensor_offsets
-        both[n:, 1] = p[:, 1] + np.sin(p[:, 2]) * self._sensor_offsets
-        arcs, dists = self.projector.position(both)
-        near_line, tolerance, closed = self.rules.near_line, self.on_line_tolerance, self.projector.closed
+        arcs = self.projector.arcs
+        near_line, tolerance = self.rules.near_line, self.on_line_tolerance
+        closed = self.projector.closed
+        # the point between the ground sensors: numpy's cos and sin, as ever
+        cos = np.cos(p[:, 2]).tolist()
+        sin = np.sin(p[:, 2]).tolist()
         for i, r in enumerate(self.robots):
+            x, y, _ = rows[i]
             r.cycles += 1
-            r.near = dists[i] <= near_line
-            r.on_line = dists[n + i] <= tolerance
+            nearest = self._centres[i].query(x, y, near_line)
+            r.near = nearest is not None
+            offset = r.sensor_offset
+            sensor = self._sensors[i].query(x + cos[i] * offset, y + sin[i] * offset, tolerance)
+            r.on_line = sensor is not None
             if r.on_line:
                 r.on_line_cycles += 1
-            if r.near:
-                delta = arcs[i] - r.arc
+            if nearest is not None:
+                j, t, _ = nearest
+                start, length = arcs[j]
+                arc = start + t * length
+                delta = arc - r.arc
                 if closed:
                     delta = (delta + L / 2) % L - L / 2
-                r.arc = arcs[i]
+                r.arc = arc
                 r.unwrapped += delta
                 r.progress += r.sign * delta
                 r.best_progress = max(r.best_progress, r.progress)
@@ -565,11 +533,13 @@ class Judge:
         window = self.rules.stuck_s
         if t - r.history[0][0] < window - 1e-9:
             return False  # not enough history to cover the window yet
-        return all(
-            math.hypot(x - xw, y - yw) < self.rules.stuck_distance
-            for tw, xw, yw, _ in r.history
-            if t - tw <= window + 1e-9
-        )
+        # oldest first: a robot that moves is far from where it was a window ago, so the
+        # first position inside the window usually settles it
+        stuck = self.rules.stuck_distance
+        for tw, xw, yw, _ in r.history:
+            if t - tw <= window + 1e-9 and math.hypot(x - xw, y - yw) >= stuck:
+                return False
+        return True
 
     def _pass_complete(self) -> bool:
         if self.n >= 2 and not all(self._pair_passed(i, j) for (i, j) in self._pair_k):
