@@ -104,19 +104,26 @@ class Sensor(str, enum.Enum):
         return self.value
 
 
-def _frozen_array(values: Any, n: int, what: str, *, dtype: Any = np.float64) -> np.ndarray:
-    """A read-only copy of ``values`` as ``n`` finite numbers, or a ValueError naming ``what``.
+def _frozen_array(values: Any, n: int, what: str) -> tuple[np.ndarray, list[float]]:
+    """A read-only copy of ``values`` as ``n`` finite numbers, and the numbers as a list
+    (for a record's own checks), or a ValueError naming ``what``.
 
     The checks run on a Python list: for 3 or 8 values that is several times cheaper than
-    numpy's reductions, and records are built for every robot on every control cycle.
+    numpy's reductions, and records are built for every robot on every control cycle. A
+    sum of finite numbers is finite unless it overflows, so one sum clears the usual
+    case and only a sum that is not finite looks at each number.
     """
-    arr = np.array(values, dtype=dtype, copy=True)
+    if type(values) is np.ndarray and values.dtype == np.float64:
+        arr = values.copy()  # the world's rows: a copy without np.array's conversions
+    else:
+        arr = np.array(values, dtype=np.float64, copy=True)
     if arr.shape != (n,):
         raise ValueError(f"{what} needs {n} values, got an array of shape {arr.shape}")
-    if arr.dtype.kind == "f" and not all(map(math.isfinite, arr.tolist())):
-        raise ValueError(f"{what} must be finite numbers, got {arr.tolist()}")
+    listed: list[float] = arr.tolist()
+    if not math.isfinite(sum(listed)) and not all(map(math.isfinite, listed)):
+        raise ValueError(f"{what} must be finite numbers, got {listed}")
     arr.setflags(write=False)
-    return arr
+    return arr, listed
 
 
 def _check_finite(cls_name: str, **values: float) -> None:
@@ -125,8 +132,20 @@ def _check_finite(cls_name: str, **values: float) -> None:
             raise NonFiniteError(f"{cls_name}.{name} must be a finite number, got {value!r}")
 
 
+def _finite_floats(*values: float) -> bool:
+    """Whether every value is a plain finite float: the usual case of a record built
+    every cycle, cleared without :func:`_check_finite`'s keyword loop (anything else
+    gets that full check, and its error)."""
+    for value in values:
+        if type(value) is not float or not -math.inf < value < math.inf:
+            return False
+    return True
+
+
 class _Named:
     """Named read access to an 8- or 3-element array, e.g. ``prox.front_left``."""
+
+    __slots__ = ()
 
     _names: tuple[str, ...] = ()
     _field: str = ""
@@ -145,7 +164,7 @@ class _Named:
         return {n: float(v) for n, v in zip(type(self)._names, values)}
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class Proximity(_Named):
     """The 8 IR proximity sensors, in ps0..ps7 order.
 
@@ -162,12 +181,13 @@ class Proximity(_Named):
     _field = "distance"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", _frozen_array(self.distance, 8, "Proximity.distance"))
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Proximity.raw"))
-        _check_finite("Proximity", range=self.range)
+        distance, distances = _frozen_array(self.distance, 8, "Proximity.distance")
+        object.__setattr__(self, "distance", distance)
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Proximity.raw")[0])
+        if not _finite_floats(self.range):
+            _check_finite("Proximity", range=self.range)
         if self.range <= 0:
             raise ValueError(f"Proximity.range must be positive (m), got {self.range}")
-        distances = self.distance.tolist()
         if min(distances) < 0 or max(distances) > self.range + 1e-9:
             raise ValueError(
                 f"Proximity.distance must lie in [0, range={self.range}] m, got "
@@ -192,7 +212,7 @@ class Proximity(_Named):
         return cls(np.full(8, range), np.zeros(8), range)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class Ground(_Named):
     """The 3 ground sensors gs0 (left), gs1 (centre), gs2 (right).
 
@@ -207,9 +227,9 @@ class Ground(_Named):
     _field = "value"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "value", _frozen_array(self.value, 3, "Ground.value"))
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 3, "Ground.raw"))
-        values = self.value.tolist()
+        value, values = _frozen_array(self.value, 3, "Ground.value")
+        object.__setattr__(self, "value", value)
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 3, "Ground.raw")[0])
         if min(values) < 0 or max(values) > 1:
             raise ValueError(f"Ground.value must lie in [0, 1], got {values}")
 
@@ -218,7 +238,7 @@ class Ground(_Named):
         return self.value < threshold
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class Light(_Named):
     """Ambient light at the 8 IR sensors (ps order), e-puck scale: 0 bright .. 4095 dark."""
 
@@ -228,10 +248,10 @@ class Light(_Named):
     _field = "raw"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw"))
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw")[0])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Acceleration:
     """Linear acceleration in the robot frame (m/s²), gravity included on z."""
 
@@ -240,10 +260,11 @@ class Acceleration:
     z: float
 
     def __post_init__(self) -> None:
-        _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
+        if not _finite_floats(self.x, self.y, self.z):
+            _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class AngularVelocity:
     """Angular velocity in the robot frame (rad/s), as a gyroscope measures it.
 
@@ -258,10 +279,11 @@ class AngularVelocity:
     z: float
 
     def __post_init__(self) -> None:
-        _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
+        if not _finite_floats(self.x, self.y, self.z):
+            _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class WheelEncoders:
     """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
 
@@ -269,10 +291,11 @@ class WheelEncoders:
     right: float
 
     def __post_init__(self) -> None:
-        _check_finite("WheelEncoders", left=self.left, right=self.right)
+        if not _finite_floats(self.left, self.right):
+            _check_finite("WheelEncoders", left=self.left, right=self.right)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class WheelSpeeds:
     """Measured (or, where nothing measures them, commanded) wheel speeds (rad/s)."""
 
@@ -280,10 +303,11 @@ class WheelSpeeds:
     right: float
 
     def __post_init__(self) -> None:
-        _check_finite("WheelSpeeds", left=self.left, right=self.right)
+        if not _finite_floats(self.left, self.right):
+            _check_finite("WheelSpeeds", left=self.left, right=self.right)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class WheelCommand:
     """A wheel speed command (rad/s), as produced by a behaviour layer."""
 
@@ -291,23 +315,15 @@ class WheelCommand:
     right: float
 
     def __post_init__(self) -> None:
-        # every layer decision and every wheel write builds one: plain finite floats (the
-        # usual case) are accepted without the general check's keyword-argument loop
-        left, right = self.left, self.right
-        if not (
-            type(left) is float
-            and type(right) is float
-            and -math.inf < left < math.inf
-            and -math.inf < right < math.inf
-        ):
-            _check_finite("WheelCommand", left=left, right=right)
+        if not _finite_floats(self.left, self.right):
+            _check_finite("WheelCommand", left=self.left, right=self.right)
 
     @classmethod
     def stop(cls) -> WheelCommand:
         return cls(0.0, 0.0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Pose:
     """Planar pose: position (m) and heading (rad, counter-clockwise from world x).
 
@@ -321,10 +337,11 @@ class Pose:
     ground_truth: bool = False
 
     def __post_init__(self) -> None:
-        _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
+        if not _finite_floats(self.x, self.y, self.theta):
+            _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, slots=True)
 class CameraImage:
     """An upright colour image: an H×W×3 uint8 array, row 0 at the top."""
 
