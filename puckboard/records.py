@@ -145,8 +145,6 @@ def _finite_floats(*values: float) -> bool:
 class _Named:
     """Named read access to an 8- or 3-element array, e.g. ``prox.front_left``."""
 
-    __slots__ = ()
-
     _names: tuple[str, ...] = ()
     _field: str = ""
 
@@ -164,7 +162,7 @@ class _Named:
         return {n: float(v) for n, v in zip(type(self)._names, values)}
 
 
-@dataclass(frozen=True, eq=False, slots=True)
+@dataclass(frozen=True, eq=False)
 class Proximity(_Named):
     """The 8 IR proximity sensors, in ps0..ps7 order.
 
@@ -212,7 +210,7 @@ class Proximity(_Named):
         return cls(np.full(8, range), np.zeros(8), range)
 
 
-@dataclass(frozen=True, eq=False, slots=True)
+@dataclass(frozen=True, eq=False)
 class Ground(_Named):
     """The 3 ground sensors gs0 (left), gs1 (centre), gs2 (right).
 
@@ -238,7 +236,7 @@ class Ground(_Named):
         return self.value < threshold
 
 
-@dataclass(frozen=True, eq=False, slots=True)
+@dataclass(frozen=True, eq=False)
 class Light(_Named):
     """Ambient light at the 8 IR sensors (ps order), e-puck scale: 0 bright .. 4095 dark."""
 
@@ -251,7 +249,7 @@ class Light(_Named):
         object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw")[0])
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Acceleration:
     """Linear acceleration in the robot frame (m/s²), gravity included on z."""
 
@@ -264,7 +262,7 @@ class Acceleration:
             _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class AngularVelocity:
     """Angular velocity in the robot frame (rad/s), as a gyroscope measures it.
 
@@ -283,7 +281,7 @@ class AngularVelocity:
             _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class WheelEncoders:
     """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
 
@@ -295,7 +293,7 @@ class WheelEncoders:
             _check_finite("WheelEncoders", left=self.left, right=self.right)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class WheelSpeeds:
     """Measured (or, where nothing measures them, commanded) wheel speeds (rad/s)."""
 
@@ -307,7 +305,7 @@ class WheelSpeeds:
             _check_finite("WheelSpeeds", left=self.left, right=self.right)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class WheelCommand:
     """A wheel speed command (rad/s), as produced by a behaviour layer."""
 
@@ -323,7 +321,7 @@ class WheelCommand:
         return cls(0.0, 0.0)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Pose:
     """Planar pose: position (m) and heading (rad, counter-clockwise from world x).
 
@@ -341,7 +339,7 @@ class Pose:
             _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
 
 
-@dataclass(frozen=True, eq=False, slots=True)
+@dataclass(frozen=True, eq=False)
 class CameraImage:
     """An upright colour image: an H×W×3 uint8 array, row 0 at the top."""
 
