@@ -272,9 +272,9 @@ class RobotAdapter(SensingThreads, abc.ABC):
         if not records:
             return
         # One dict keyed by the absolute keys, written straight to the board (what
-        # ``Namespace.put_many`` does after re-keying a second dict).
+        # ``Namespace.write_many`` does after re-keying a second dict).
         keys = self._keys
-        self.ns.board.put_many(
+        self.ns.board.write_many(
             {keys[s]: r for s, r in records.items()}, stamp=stamp, writer=self.name
         )
         if self._sensor_observers:  # no set to build on the usual, unobserved cycle

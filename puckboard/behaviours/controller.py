@@ -172,7 +172,7 @@ class Controller:
                 self.driven_ticks += 1
         self.active_layer = layer_name
         self.last_command = cmd
-        ns.put_many(
+        ns.write_many(
             {"command/wheels": cmd, "command/layer": layer_name},
             stamp=snapshot.now,
             writer=self.name,

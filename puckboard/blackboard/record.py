@@ -44,6 +44,5 @@ class Record:
 
 
 _set_key, _set_value, _set_stamp, _set_received, _set_seq, _set_writer = (
-    Record.__dict__[name].__set__
-    for name in ("key", "value", "stamp", "received", "seq", "writer")
+    Record.__dict__[name].__set__ for name in ("key", "value", "stamp", "received", "seq", "writer")
 )
