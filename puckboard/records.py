@@ -132,6 +132,15 @@ def _check_finite(cls_name: str, **values: float) -> None:
             raise NonFiniteError(f"{cls_name}.{name} must be a finite number, got {value!r}")
 
 
+def _store(record: object, fields: dict[str, Any]) -> None:
+    """Set a frozen record's fields, which its ``__init__`` has checked, in one step.
+
+    A frozen dataclass's own ``__init__`` sets them one at a time through
+    ``object.__setattr__``; for the records built for every robot on every control cycle
+    that cost more than checking them."""
+    object.__setattr__(record, "__dict__", fields)
+
+
 def _finite_floats(*values: float) -> bool:
     """Whether every value is a plain finite float: the usual case of a record built
     every cycle, cleared without :func:`_check_finite`'s keyword loop (anything else
@@ -162,7 +171,7 @@ class _Named:
         return {n: float(v) for n, v in zip(type(self)._names, values)}
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Proximity(_Named):
     """The 8 IR proximity sensors, in ps0..ps7 order.
 
@@ -178,19 +187,18 @@ class Proximity(_Named):
     _names = PROX_NAMES
     _field = "distance"
 
-    def __post_init__(self) -> None:
-        distance, distances = _frozen_array(self.distance, 8, "Proximity.distance")
-        object.__setattr__(self, "distance", distance)
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Proximity.raw")[0])
-        if not _finite_floats(self.range):
-            _check_finite("Proximity", range=self.range)
-        if self.range <= 0:
-            raise ValueError(f"Proximity.range must be positive (m), got {self.range}")
-        if min(distances) < 0 or max(distances) > self.range + 1e-9:
+    def __init__(self, distance: Any, raw: Any, range: float = 0.05) -> None:
+        distance, distances = _frozen_array(distance, 8, "Proximity.distance")
+        raw, _ = _frozen_array(raw, 8, "Proximity.raw")
+        if not _finite_floats(range):
+            _check_finite("Proximity", range=range)
+        if range <= 0:
+            raise ValueError(f"Proximity.range must be positive (m), got {range}")
+        if min(distances) < 0 or max(distances) > range + 1e-9:
             raise ValueError(
-                f"Proximity.distance must lie in [0, range={self.range}] m, got "
-                f"{self.distance.tolist()}"
+                f"Proximity.distance must lie in [0, range={range}] m, got {distances}"
             )
+        _store(self, {"distance": distance, "raw": raw, "range": range})
 
     def raw_of(self, name: str) -> float:
         """Raw e-puck value of one sensor by name."""
@@ -210,7 +218,7 @@ class Proximity(_Named):
         return cls(np.full(8, range), np.zeros(8), range)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Ground(_Named):
     """The 3 ground sensors gs0 (left), gs1 (centre), gs2 (right).
 
@@ -224,12 +232,12 @@ class Ground(_Named):
     _names = GROUND_NAMES
     _field = "value"
 
-    def __post_init__(self) -> None:
-        value, values = _frozen_array(self.value, 3, "Ground.value")
-        object.__setattr__(self, "value", value)
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 3, "Ground.raw")[0])
+    def __init__(self, value: Any, raw: Any) -> None:
+        value, values = _frozen_array(value, 3, "Ground.value")
+        raw, _ = _frozen_array(raw, 3, "Ground.raw")
         if min(values) < 0 or max(values) > 1:
             raise ValueError(f"Ground.value must lie in [0, 1], got {values}")
+        _store(self, {"value": value, "raw": raw})
 
     def dark(self, threshold: float = 0.5) -> npt.NDArray[np.bool_]:
         """Which sensors see the line (value below ``threshold``)."""
@@ -249,7 +257,7 @@ class Light(_Named):
         object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw")[0])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Acceleration:
     """Linear acceleration in the robot frame (m/s²), gravity included on z."""
 
@@ -257,12 +265,13 @@ class Acceleration:
     y: float
     z: float
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.x, self.y, self.z):
-            _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
+    def __init__(self, x: float, y: float, z: float) -> None:
+        if not _finite_floats(x, y, z):
+            _check_finite("Acceleration", x=x, y=y, z=z)
+        _store(self, {"x": x, "y": y, "z": z})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class AngularVelocity:
     """Angular velocity in the robot frame (rad/s), as a gyroscope measures it.
 
@@ -276,52 +285,56 @@ class AngularVelocity:
     y: float
     z: float
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.x, self.y, self.z):
-            _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
+    def __init__(self, x: float, y: float, z: float) -> None:
+        if not _finite_floats(x, y, z):
+            _check_finite("AngularVelocity", x=x, y=y, z=z)
+        _store(self, {"x": x, "y": y, "z": z})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelEncoders:
     """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.left, self.right):
-            _check_finite("WheelEncoders", left=self.left, right=self.right)
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
+            _check_finite("WheelEncoders", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelSpeeds:
     """Measured (or, where nothing measures them, commanded) wheel speeds (rad/s)."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.left, self.right):
-            _check_finite("WheelSpeeds", left=self.left, right=self.right)
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
+            _check_finite("WheelSpeeds", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelCommand:
     """A wheel speed command (rad/s), as produced by a behaviour layer."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.left, self.right):
-            _check_finite("WheelCommand", left=self.left, right=self.right)
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
+            _check_finite("WheelCommand", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
     @classmethod
     def stop(cls) -> WheelCommand:
         return cls(0.0, 0.0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Pose:
     """Planar pose: position (m) and heading (rad, counter-clockwise from world x).
 
@@ -334,9 +347,10 @@ class Pose:
     theta: float
     ground_truth: bool = False
 
-    def __post_init__(self) -> None:
-        if not _finite_floats(self.x, self.y, self.theta):
-            _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
+    def __init__(self, x: float, y: float, theta: float, ground_truth: bool = False) -> None:
+        if not _finite_floats(x, y, theta):
+            _check_finite("Pose", x=x, y=y, theta=theta)
+        _store(self, {"x": x, "y": y, "theta": theta, "ground_truth": ground_truth})
 
 
 @dataclass(frozen=True, eq=False)
