@@ -171,6 +171,8 @@ class _RobotState:
     obstacle_k0: list[int] = field(default_factory=list)
     obstacle_k: list[int] = field(default_factory=list)
     history: deque[tuple[float, float, float, float]] = field(default_factory=deque)
+    #: the positions (time, x, y) of the stuck test's window, oldest first
+    window: deque[tuple[float, float, float]] = field(default_factory=deque)
     contacts: set[str] = field(default_factory=set)
 
 
@@ -253,7 +255,10 @@ class Judge:
     ) -> None:
         """One observation: ``poses`` is N×3 (x, y, theta) in scene robot order;
         ``collisions`` (optional) the simulator's cumulative collision count per robot."""
-        p = np.asarray(poses, dtype=float).reshape(self.n, 3)
+        if type(poses) is np.ndarray and poses.shape == (self.n, 3) and poses.dtype == float:
+            p = poses  # a simulator's pose array, as it is every cycle
+        else:
+            p = np.asarray(poses, dtype=float).reshape(self.n, 3)
         self.time = float(time)
         if not self.started:
             self._start(p)
@@ -272,6 +277,7 @@ class Judge:
         for i, r in enumerate(self.robots):
             x, y, th = p[i]
             r.history.append((self.time, x, y, 0.0))
+            r.window.append((self.time, float(x), float(y)))
             if self.projector is None:
                 continue
             arc, dist, heading = self.projector.project(p[i : i + 1, :2])
@@ -307,16 +313,23 @@ class Judge:
         near_line, tolerance = self.rules.near_line, self.on_line_tolerance
         closed = self.projector.closed
         # the point between the ground sensors: numpy's cos and sin, as ever
-        cos = np.cos(p[:, 2]).tolist()
-        sin = np.sin(p[:, 2]).tolist()
+        theta = p[:, 2]
+        cos = np.cos(theta).tolist()
+        sin = np.sin(theta).tolist()
         for i, r in enumerate(self.robots):
             x, y, _ = rows[i]
             r.cycles += 1
             nearest = self._centres[i].query(x, y, near_line)
             r.near = nearest is not None
             offset = r.sensor_offset
-            sensor = self._sensors[i].query(x + cos[i] * offset, y + sin[i] * offset, tolerance)
-            r.on_line = sensor is not None
+            reach = abs(offset) + tolerance + 1e-6
+            if nearest[2] > reach * reach if nearest is not None else near_line > reach:
+                # the centre is farther than ``reach`` from the line, so the sensor point,
+                # ``offset`` from it, is farther than the tolerance
+                r.on_line = False
+            else:
+                sensor = (x + cos[i] * offset, y + sin[i] * offset)
+                r.on_line = self._sensors[i].query(*sensor, tolerance) is not None
             if r.on_line:
                 r.on_line_cycles += 1
             if nearest is not None:
@@ -370,17 +383,25 @@ class Judge:
 
     def _motion_update(self, p: list[list[float]]) -> None:
         horizon = self._horizon
+        window = self.rules.stuck_s + 1e-9
+        now = self.time
         for i, r in enumerate(self.robots):
             _, x0, y0, _ = r.history[-1]
             x, y = p[i][0], p[i][1]
             r.distance += math.hypot(x - x0, y - y0)
-            r.history.append((self.time, x, y, r.progress))
-            while r.history and self.time - r.history[0][0] > horizon:
+            r.history.append((now, x, y, r.progress))
+            while r.history and now - r.history[0][0] > horizon:
                 r.history.popleft()
+            r.window.append((now, x, y))
+            while now - r.window[0][0] > window:
+                r.window.popleft()
 
     def _collision_update(self, p: list[list[float]], collisions: npt.ArrayLike | None) -> None:
         if collisions is not None:
-            counts = np.asarray(collisions, dtype=int).reshape(self.n).tolist()
+            if type(collisions) is np.ndarray and collisions.shape == (self.n,):
+                counts = collisions.astype(int, copy=False).tolist()
+            else:
+                counts = np.asarray(collisions, dtype=int).reshape(self.n).tolist()
             if counts == self._sim_counts:
                 return  # nothing new touched anything (most steps)
             self._sim_counts = counts
@@ -534,12 +555,9 @@ class Judge:
         if t - r.history[0][0] < window - 1e-9:
             return False  # not enough history to cover the window yet
         # oldest first: a robot that moves is far from where it was a window ago, so the
-        # first position inside the window usually settles it
+        # first position of the window usually settles it
         stuck = self.rules.stuck_distance
-        for tw, xw, yw, _ in r.history:
-            if t - tw <= window + 1e-9 and math.hypot(x - xw, y - yw) >= stuck:
-                return False
-        return True
+        return all(math.hypot(x - xw, y - yw) < stuck for _, xw, yw in r.window)
 
     def _pass_complete(self) -> bool:
         if self.n >= 2 and not all(self._pair_passed(i, j) for (i, j) in self._pair_k):
