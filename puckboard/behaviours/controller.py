@@ -114,6 +114,7 @@ class Controller:
         self.asked_ticks = 0
         self.driven_ticks = 0
         self._checked: Namespace | None = None  # the namespace whose keys were checked
+        self._command_keys = ("command/wheels", "command/layer")  # as absolute keys there
         self._timing: LayerTiming | None = None  # attached while the layers are timed
         self.tree.setup(context=self.context)
         #: Each layer with the frame it reads through (made at setup, see LayerNode).
@@ -172,11 +173,8 @@ class Controller:
                 self.driven_ticks += 1
         self.active_layer = layer_name
         self.last_command = cmd
-        ns.write_many(
-            {"command/wheels": cmd, "command/layer": layer_name},
-            stamp=snapshot.now,
-            writer=self.name,
-        )
+        wheels, layer = self._command_keys
+        ns.board.write_many({wheels: cmd, layer: layer_name}, stamp=snapshot.now, writer=self.name)
         return cmd
 
     def _observe(self, snapshot: Snapshot, timing: LayerTiming | None) -> None:
@@ -231,6 +229,7 @@ class Controller:
                 unknown = _unknown_key(key, ns, known)
                 raise LayerError(f"controller {self.name!r} requires {unknown}")
         self._checked = ns
+        self._command_keys = (ns.key("command/wheels"), ns.key("command/layer"))
 
     def reset(self) -> None:
         """Start afresh: stop every behaviour of the tree, let every layer forget what it
