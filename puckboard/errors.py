@@ -6,6 +6,7 @@ __all__ = [
     "AdapterClosedError",
     "AdapterError",
     "CalibrationError",
+    "ChallengeError",
     "ConnectionLostError",
     "LayerError",
     "NonFiniteError",
@@ -39,6 +40,11 @@ class ConnectionLostError(AdapterError):
 class CalibrationError(PuckboardError):
     """A step of a robot's calibration cannot work (no wall in front of it, wheels that do
     not turn, a sensor that does not respond ...); the message says what to fix."""
+
+
+class ChallengeError(PuckboardError, ValueError):
+    """A challenge file, a submission folder or a grading's output folder is not usable;
+    the message names the file (and the table) and the fix."""
 
 
 class SceneError(PuckboardError, ValueError):

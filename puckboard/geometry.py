@@ -7,8 +7,8 @@ point closest to ``p``? With ``w = p - a``, the answer is ``a + t e`` for
 ``t = clamp((w · e) / |e|², 0, 1)``, and the point's offset from it is ``w - t e``.
 
 It is written here once, on the ground floor (this module imports nothing of puckboard),
-so :mod:`puckboard.sim` and :mod:`puckboard.scenario`, which must not import each other,
-both use it. Two forms, the same arithmetic in the same order:
+so the judge in :mod:`puckboard.scenario`, which sits below the engine and never imports
+it, and :mod:`puckboard.sim` share it. Two forms, the same arithmetic in the same order:
 
 * :func:`project_on_segment` for plain Python floats, where the engine loops over a few
   segments per robot and a numpy call would cost more than the arithmetic;

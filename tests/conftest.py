@@ -5,10 +5,11 @@ their own module names, never from a ``conftest`` (every folder's conftest share
 name, so two folders run together would collect one folder's helpers for the other's).
 
 The suite runs on every core, with one worker more than there are cores (pytest-xdist,
-``--dist worksteal`` in pyproject.toml): an idle worker takes tests queued for a busy one. Each worker is a process of its own, so a
-result cached in one is computed again in another: a result several tests use is kept with
-tests/support/session_cache.py (as tests/support/episodes.py keeps episodes), computed by
-the first worker that asks and read by the others.
+``--dist worksteal`` in pyproject.toml): an idle worker takes tests queued for a busy one.
+Each worker is a process of its own, so a result cached in one is computed again in
+another: a result several tests use is kept with tests/support/session_cache.py (as
+tests/support/episodes.py keeps episodes), computed by the first worker that asks and read
+by the others.
 """
 
 import dataclasses

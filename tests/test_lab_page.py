@@ -269,8 +269,10 @@ def test_the_sensitivity_s_best_value_is_what_the_episodes_give():
 
 
 # -- the tuning study ---------------------------------------------------------------------
-TRIAL = re.compile(r"^\| (\d+) \| ([\d.]+) \| ([\d.]+) \| (\d+) of (\d+) \| (\d+) of (\d+) \| ([^|]*)\|$",
-                   re.MULTILINE)  # fmt: skip
+TRIAL = re.compile(
+    r"^\| (\d+) \| ([\d.]+) \| ([\d.]+) \| (\d+) of (\d+) \| (\d+) of (\d+) \| ([^|]*)\|$",
+    re.MULTILINE,
+)
 
 
 def tune_in(folder: Path, *extra: str) -> str:
@@ -314,8 +316,12 @@ def test_the_tuning_output_and_trials_are_the_stored_study_s(student_folder, tmp
     from puckboard.behaviours import load_controller
 
     shipped = load_controller(f"{folder / 'my_controller.py'}:guarded_controller")
-    own = {f"layer.{layer.name}.{attr}": getattr(layer, attr)
-           for layer in shipped.layers for attr in ("clearance", "ratio") if hasattr(layer, attr)}  # fmt: skip
+    own = {
+        f"layer.{layer.name}.{attr}": getattr(layer, attr)
+        for layer in shipped.layers
+        for attr in ("clearance", "ratio")
+        if hasattr(layer, attr)
+    }
     assert report["trials"][0]["params"] == own
     # "trial 1's robots got further (0.86 laps against 0.81)"
     m = stated(r"trials (\d+) and (\d+) passed every\s+design episode, and trial \d+'s robots "
@@ -344,7 +350,8 @@ def test_the_validation_intervals_the_page_reads_are_wilson_s():
     )
     assert validation == [(str(low), str(high), str(count), str(n))] * 2, validation
     stated(
-        rf"seeds {first}–{last - 1}, which no trial saw:\s+{count} of {n} on both cells, and no warning"
+        rf"seeds {first}–{last - 1}, which no trial saw:\s+{count} of {n} on both cells, "
+        "and no warning"
     )
     assert "warning" not in shown
     m = stated(r"a controller must pass (\d+) seeds of (\d+), without one\s+failure")
@@ -363,7 +370,10 @@ def test_the_trials_bends_end_as_the_page_says(student_folder):
     assert circling.failure == "lost_line"
     assert next(e for e in circling.events if e.kind == "lost_line").robot == "right"
     (best,) = [r for r in TRIAL.findall(page()) if r[7].strip() == "best"]
-    tuned = {"layer.KeepClear.clearance": float(best[1]), "layer.FindLineOnTheRight.ratio": float(best[2])}  # fmt: skip
+    tuned = {
+        "layer.KeepClear.clearance": float(best[1]),
+        "layer.FindLineOnTheRight.ratio": float(best[2]),
+    }
     assert episode("two-robot-pass-bend", spec, seed, "epuck", {**PLAUSIBLE, **tuned}).success
 
 
@@ -501,7 +511,7 @@ def test_the_transfer_prints_what_the_page_shows_and_its_run_that_breaks_fails(s
 def test_the_transfer_judges_the_tuned_numbers_on_seeds_no_step_used():
     """The tuning's "use it" line, on the transfer's default seeds (none of the lab's),
     with every link the page's table names and the family of its radius."""
-    from puckboard.cli.transfer import DEFAULT_SEEDS
+    from puckboard.sweep.defaults import TRANSFER_SEEDS as DEFAULT_SEEDS
     from puckboard.sweep.plan import parse_seeds
 
     argv, shown = transfer_shown()
@@ -542,8 +552,10 @@ def test_the_words_around_the_transfer_are_its_output():
     assert four[4:] == (str(n), str(n), *(str(round(100 * x)) for x in wilson_interval(n, n)))
     # the two slow links share one loop; USB's slow end is the design loop
     dt = load_scene("two-robot-pass").dt
-    m = stated(r"a period of (\d+) ms and a latency of (\d+) ms, so the two rows are one\s+set "
-               r"of episodes: (\d+) of (\d+)\. Over USB the slow end \((\d+) ms, (\d+) ms\)")  # fmt: skip
+    m = stated(
+        r"a period of (\d+) ms and a latency of (\d+) ms, so the two rows are one\s+set "
+        r"of episodes: (\d+) of (\d+)\. Over USB the slow end \((\d+) ms, (\d+) ms\)"
+    )
     for link in ("epuck2-wifi", "bluetooth-sercom"):
         timing = link_timing(link, dt)
         ms = (round(1000 * timing["control.period"]), round(1000 * timing["control.latency"]))
@@ -568,7 +580,9 @@ def test_the_words_around_the_transfer_are_its_output():
                    r"\((\d+) of (\d+)\)").groups()  # fmt: skip
     assert words == read.groups()
     (latency,) = [f for f in FAMILIES if f.name == "latency"]
-    m = stated(r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)")  # fmt: skip
+    m = stated(
+        r"delays\s+every command by (\d+), (\d+) and (\d+) steps \((\d+), (\d+) and (\d+) ms\)"
+    )
     assert [float(x) for x in m.groups()[:3]] == list(latency.grid)
     assert [int(x) for x in m.groups()[3:]] == [round(1000 * s * dt) for s in latency.grid]
     assert f"grid {', '.join(f'{x} ms' for x in m.groups()[3:])}; " in shown

@@ -88,9 +88,10 @@ class FrontObstacleLeftTurn(FrontBraitenbergAvoid):
 
     ``turn_speed`` is the right wheel's speed during the turn (the left wheel runs at
     ``-reverse_factor * turn_speed``: ``reverse_factor`` 0.5, the thesis's half speed,
-    carries the robot forward while it turns; 1 turns on the spot); ``close_fraction`` is the fraction of the range below which both
-    front sensors must be to fall back to Braitenberg; ``braitenberg_fallback=False``
-    never falls back: the turn is always left (the ``robust`` controller's choice).
+    carries the robot forward while it turns; 1 turns on the spot); ``close_fraction``
+    is the fraction of the range below which both front sensors must be to fall back
+    to Braitenberg; ``braitenberg_fallback=False`` never falls back: the turn is
+    always left (the ``robust`` controller's choice).
     """
 
     def __init__(

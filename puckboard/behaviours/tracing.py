@@ -65,9 +65,10 @@ def _preorder(root: py_trees.behaviour.Behaviour) -> list[py_trees.behaviour.Beh
 def tree_nodes(root: py_trees.behaviour.Behaviour) -> list[dict[str, Any]]:
     """The tree under ``root`` as plain data, parents before children in priority order.
 
-    Each node: ``name``, ``type`` (its class; a layer's node gives its layer's), ``kind`` (``selector``, ``sequence``,
-    ``parallel``, ``decorator``, ``layer`` or ``behaviour``), ``parent`` (index, -1 for
-    the root) and ``depth``; composites also say whether they have ``memory``.
+    Each node: ``name``, ``type`` (its class; a layer's node gives its layer's),
+    ``kind`` (``selector``, ``sequence``, ``parallel``, ``decorator``, ``layer`` or
+    ``behaviour``), ``parent`` (index, -1 for the root) and ``depth``; composites also
+    say whether they have ``memory``.
     """
     nodes = _preorder(root)
     index = {id(node): k for k, node in enumerate(nodes)}

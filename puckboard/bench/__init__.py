@@ -44,6 +44,7 @@ SUITES: dict[str, str] = {
     "compare": "puckboard.bench.compare:run_suite",
     "sensitivity": "puckboard.bench.sensitivity:run_suite",
     "transfer": "puckboard.bench.transfer:run_suite",
+    "challenge": "puckboard.bench.challenge:run_suite",
 }
 
 #: Suites run when none is named.

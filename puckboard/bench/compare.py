@@ -5,13 +5,13 @@ twice: two differential-drive robots of the e-puck's size, each with eight range
 readings, two round obstacles inside a 1.0 m × 0.8 m walled arena, a 50 ms step, and a
 trivial controller that reads each robot's ranges every step and turns when something is
 within 5 cm of its body (the suite reports how often that happened on each side). On
-IR-SIM (``pip install 'puckboard[compare]'``, i.e. ir-sim; its 2-D LiDAR with 8 beams reaching 7 cm beyond the
-body, contact collisions, no rendering) and on puckboard's engine (:class:`~puckboard.sim.world.World` with the
-physical e-puck's profile, whose 8 IR sensors cast 5 rays each through the response
-table, plus ground sensors, IMU and encoders it computes whether read or not; each
-step's ``Proximity`` records built from the world's arrays, as the embedded adapter
-builds them). Neither side runs a blackboard or
-a behaviour tree: the sim suite measures puckboard's full stack.
+IR-SIM (``pip install 'puckboard[compare]'``, i.e. ir-sim; its 2-D LiDAR with 8 beams
+reaching 7 cm beyond the body, contact collisions, no rendering) and on puckboard's
+engine (:class:`~puckboard.sim.world.World` with the physical e-puck's profile, whose 8
+IR sensors cast 5 rays each through the response table, plus ground sensors, IMU and
+encoders it computes whether read or not; each step's ``Proximity`` records built from
+the world's arrays, as the embedded adapter builds them). Neither side runs a blackboard
+or a behaviour tree: the sim suite measures puckboard's full stack.
 
 IR-SIM is not a dependency of puckboard: without it the suite is skipped with a note
 saying how to install it. Both simulators are timed the same way (median of
@@ -93,7 +93,8 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
             import irsim
     except ImportError as exc:
         return {
-            "skipped": f"IR-SIM is not installed (pip install 'puckboard[compare]') to compare with: {exc}"
+            "skipped": "IR-SIM is not installed (pip install 'puckboard[compare]') to compare "
+            f"with: {exc}"
         }
     out: dict[str, Any] = {
         "world": "2 robots, 8 ranges each, 2 posts in a 1.0 m x 0.8 m walled arena, dt 50 ms",

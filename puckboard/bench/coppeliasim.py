@@ -194,7 +194,8 @@ def run_suite(steps: int | None = None, *, server: str = "thread") -> dict[str, 
     port, stop = _start_server(server)
     results: dict[str, Any] = {
         "setup": (
-            f"EPuckVRep → puckboard serve line-follow ({'in-process thread' if server == 'thread' else 'separate process'}), "
+            "EPuckVRep → puckboard serve line-follow "
+            f"({'in-process thread' if server == 'thread' else 'separate process'}), "
             f"loopback, {cycles} cycles per test, medians; every loop sets both wheels and "
             "takes one synchronous step"
         ),
@@ -277,7 +278,8 @@ def format_table(results: dict[str, Any]) -> str:
             return "" if value is None else f"{value:.3f}" if value < 10 else f"{value:.1f}"
 
         lines.append(
-            f"| {name} | {cell('loop_ms')} | {cell('loop_p10_ms')} | {cell('sense_ms')} | {cell('camera_ms')} | "
+            f"| {name} | {cell('loop_ms')} | {cell('loop_p10_ms')} | {cell('sense_ms')} | "
+            f"{cell('camera_ms')} | "
             f"{cell('wheels_ms')} | {cell('step_ms')} | {cell('thesis_loop_ms')} | "
             f"{row.get('speedup', '')} |"
         )

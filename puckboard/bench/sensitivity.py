@@ -22,6 +22,7 @@ import time
 from typing import Any
 
 from ..sweep.executors import LocalExecutor
+from ..sweep.options import RunOptions
 from ..sweep.run import run_sweep
 from ..sweep.signals import stop_on_terminate
 
@@ -64,7 +65,7 @@ def _run_suite(n: int) -> dict[str, Any]:
     executor = LocalExecutor(WORKERS)
     try:
         executor.start()
-        sweep = run_sweep(plan.sweep, scene, executor=executor)
+        sweep = run_sweep(plan.sweep, scene, RunOptions(executor=executor))
     finally:
         executor.close()
     t0 = time.perf_counter()

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..sweep.cluster import DaskExecutor
 from ..sweep.executors import InlineExecutor, LocalExecutor, SweepExecutor
+from ..sweep.options import RunOptions
 from ..sweep.plan import EpisodeSpec, SweepPlan
 from ..sweep.run import SweepResult, run_sweep
 from ..sweep.signals import Terminated, stop_on_terminate
@@ -65,7 +66,7 @@ def _plan(scenario: str, duration: float, episodes: int) -> SweepPlan:
 def _sweep(executor: SweepExecutor, scene: Scene, plan: SweepPlan, **options: Any) -> SweepResult:
     """:func:`run_sweep`, except that Ctrl-C (or SIGTERM) ends the benchmark after the
     sweep has stopped its workers, rather than leaving it to time a partial sweep."""
-    result = run_sweep(plan, scene, executor=executor, **options)
+    result = run_sweep(plan, scene, RunOptions(executor=executor, **options))
     if result.interrupted:
         raise Terminated if result.terminated else KeyboardInterrupt
     return result

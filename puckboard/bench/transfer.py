@@ -7,8 +7,7 @@ and a student's (the tutorial's ``my_controller.py:my_controller``), with both p
 ``puckboard bench --suite transfer [--steps N]`` runs exactly that on two local worker
 processes (``N``: seeds per model, default the command's) and times it from the start of
 the workers to the last row. The student's controller is the tutorial's
-``# my_controller.py`` block, read from ``docs/tutorial.md`` of a source checkout; where
-that page is not installed the suite runs the other two and says so.
+``# my_controller.py`` block (:mod:`.tutorial_controller`), saved as a student saves it.
 
 Reported: the wall time, episodes per second, the load average before and after (the
 machine may be shared) and, where the platform tells it, the workers' CPU seconds: on a
@@ -19,20 +18,25 @@ them is what two idle cores would take.
 from __future__ import annotations
 
 import os
-import re
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
+from ..sweep.defaults import TRANSFER_SEEDS
 from ..sweep.executors import LocalExecutor
+from ..sweep.plan import parse_seeds
 from ..sweep.signals import stop_on_terminate
 
 __all__ = [
     "FLAGSHIP_CONTROLLERS",
     "FLAGSHIP_PROFILES",
     "FLAGSHIP_SCENES",
+    "children_cpu_s",
     "flagship_plan",
+    "load_average",
+    "on_local_workers",
     "run_suite",
     "student_controller",
 ]
@@ -40,20 +44,21 @@ __all__ = [
 FLAGSHIP_SCENES = ("two-robot-pass", "two-robot-pass-bend")
 FLAGSHIP_PROFILES = ("epuck", "epuck-vrep")
 FLAGSHIP_CONTROLLERS = ("robust", "improved")
-#: The flagship's seeds: the command's default (puckboard.cli.transfer.DEFAULT_SEEDS).
-FLAGSHIP_SEEDS = (400, 404)
+_SEEDS = parse_seeds(TRANSFER_SEEDS)
+#: The flagship's seeds: a transfer report's default (puckboard.sweep.defaults).
+FLAGSHIP_SEEDS = (_SEEDS.start, _SEEDS.stop)
 WORKERS = 2
+T = TypeVar("T")
 #: What the flagship report should take on two cores (the issue's target).
 TARGET_S = 300.0
 
-_TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 
-
-def _load() -> float | None:
+def load_average() -> float | None:
+    """The machine's load average over the last minute (None where not told)."""
     return round(os.getloadavg()[0], 2) if hasattr(os, "getloadavg") else None
 
 
-def _children_cpu_s() -> float | None:
+def children_cpu_s() -> float | None:
     """CPU seconds of this process's ended children (the workers, once closed)."""
     try:
         import resource
@@ -63,18 +68,14 @@ def _children_cpu_s() -> float | None:
     return usage.ru_utime + usage.ru_stime
 
 
-def student_controller(folder: Path) -> str | None:
+def student_controller(folder: Path) -> str:
     """The tutorial's ``my_controller.py`` saved in ``folder``, as its spec
-    (``…/my_controller.py:my_controller``); ``None`` without the tutorial page."""
-    if not _TUTORIAL.is_file():
-        return None
-    text = _TUTORIAL.read_text(encoding="utf-8")
-    blocks = re.findall(r"^```python\n(# my_controller\.py\n.*?)^```", text, re.M | re.S)
-    if len(blocks) != 1:
-        return None
-    path = folder / "my_controller.py"
-    path.write_text(blocks[0], encoding="utf-8")
-    return f"{path}:my_controller"
+    (``…/my_controller.py:my_controller``): run as a student's file is."""
+    from .tutorial_controller import FILE_NAME, SOURCE
+
+    path = folder / FILE_NAME
+    path.write_text(SOURCE, encoding="utf-8")
+    return f"{path}:{path.stem}"
 
 
 def run_suite(steps: int | None = None) -> dict[str, Any]:
@@ -84,14 +85,13 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
         return _run_suite(steps or FLAGSHIP_SEEDS[1] - FLAGSHIP_SEEDS[0], Path(folder))
 
 
-def flagship_plan(n: int, folder: Path) -> tuple[Any, dict[str, Any], bool]:
-    """The flagship report at ``n`` seeds per model: its plan, every scene it runs on (by
-    name) and whether the student's controller (saved in ``folder``) is in it."""
+def flagship_plan(n: int, folder: Path) -> tuple[Any, dict[str, Any]]:
+    """The flagship report at ``n`` seeds per model: its plan and every scene it runs on
+    (by name); the student's controller is saved in ``folder``."""
     from ..scenario.scenefile import load_scene
     from ..transfer import FAMILIES, transfer_plan
 
-    student = student_controller(folder)
-    controllers = [*FLAGSHIP_CONTROLLERS, *([student] if student else [])]
+    controllers = [*FLAGSHIP_CONTROLLERS, student_controller(folder)]
     scenes = [load_scene(name) for name in FLAGSHIP_SCENES]
     replacements = {f.scene: load_scene(f.scene) for f in FAMILIES if f.scene is not None}
     plan = transfer_plan(
@@ -102,44 +102,61 @@ def flagship_plan(n: int, folder: Path) -> tuple[Any, dict[str, Any], bool]:
         families=FAMILIES,
         replacements=replacements,
     )
-    return plan, {**replacements, **{s.name: s for s in scenes}}, student is not None
+    return plan, {**replacements, **{s.name: s for s in scenes}}
 
 
 def _run_suite(n: int, folder: Path) -> dict[str, Any]:
-    from ..transfer import run_transfer
+    from ..sweep.options import RunOptions
+    from ..transfer import run_transfer_plan
 
-    plan, scenes, student = flagship_plan(n, folder)
+    plan, scenes = flagship_plan(n, folder)
     out: dict[str, Any] = {
         "scenes": list(FLAGSHIP_SCENES),
         "profiles": list(FLAGSHIP_PROFILES),
-        "controllers": [*FLAGSHIP_CONTROLLERS, *(["my_controller"] if student else [])],
-        "student_controller": "tutorial's my_controller.py"
-        if student
-        else "not found (docs/tutorial.md is not installed)",
+        "controllers": [*FLAGSHIP_CONTROLLERS, "my_controller"],
+        "student_controller": "tutorial's my_controller.py",
         "families": [f.name for f in plan.families],
         "seeds_per_model": n,
         "episodes": len(plan),
         "workers": WORKERS,
-        "load_average_before": _load(),
+        "load_average_before": load_average(),
     }
-    cpu_before = _children_cpu_s()
+    result, measured = on_local_workers(
+        lambda executor: run_transfer_plan(plan, scenes, RunOptions(executor=executor))
+    )
+    wall = measured["wall_s"]
+    out.update(
+        wall_s=wall,
+        episodes_per_s=round(result.ran / wall, 2) if wall else None,
+        errors=len(result.errors),
+        workers_cpu_s=measured["workers_cpu_s"],
+        idle_two_cores_estimate_s=measured["idle_two_cores_estimate_s"],
+        target_s=TARGET_S,
+        load_average_after=load_average(),
+    )
+    return out
+
+
+def on_local_workers(
+    work: Callable[[LocalExecutor], T], workers: int = WORKERS
+) -> tuple[T, dict[str, Any]]:
+    """``work(executor)`` on ``workers`` local workers started for it, and what it took:
+    ``wall_s`` from the workers' start to the end, and where the platform tells it the
+    workers' CPU seconds (``workers_cpu_s``) and half of them
+    (``idle_two_cores_estimate_s``, what two idle cores would take)."""
+    cpu_before = children_cpu_s()
     t0 = time.perf_counter()
-    executor = LocalExecutor(WORKERS)
+    executor = LocalExecutor(workers)
     try:
         executor.start()
-        result = run_transfer(plan, scenes, executor=executor)
+        result = work(executor)
     finally:
         executor.close()
     wall = time.perf_counter() - t0
-    cpu_after = _children_cpu_s()
+    cpu_after = children_cpu_s()
     cpu = None if cpu_before is None or cpu_after is None else cpu_after - cpu_before
-    out.update(
-        wall_s=round(wall, 1),
-        episodes_per_s=round(result.ran / wall, 2) if wall else None,
-        errors=len(result.errors),
-        workers_cpu_s=None if cpu is None else round(cpu, 1),
-        idle_two_cores_estimate_s=None if cpu is None else round(cpu / WORKERS, 1),
-        target_s=TARGET_S,
-        load_average_after=_load(),
-    )
-    return out
+    return result, {
+        "wall_s": round(wall, 1),
+        "workers_cpu_s": None if cpu is None else round(cpu, 1),
+        "idle_two_cores_estimate_s": None if cpu is None else round(cpu / 2, 1),
+    }

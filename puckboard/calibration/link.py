@@ -35,7 +35,15 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on 3.10 only
     import tomli as tomllib
 
-__all__ = ["LinkMeasurement", "Spread", "link_table_text", "measure_link", "write_link_table"]
+__all__ = [
+    "LinkInterrupted",
+    "LinkMeasurement",
+    "Spread",
+    "check_link_target",
+    "link_table_text",
+    "measure_link",
+    "write_link_table",
+]
 
 #: A link table in a profile file: its header up to the next table or the end.
 _LINK_TABLE = re.compile(r"(?ms)^\[link\][^\n]*\n.*?(?=^\[|\Z)")
@@ -108,6 +116,17 @@ class _TimedAdapter(Protocol):
     def stop_wheels(self) -> None: ...
 
 
+class LinkInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a measurement, carrying the ``cycles`` timed until then and what they
+    measured (``measured``; ``None`` when fewer than two, too few for a spread): the
+    minutes a long measurement took are kept, as ``calibrate ir`` keeps its stops."""
+
+    def __init__(self, measured: LinkMeasurement | None, cycles: int) -> None:
+        super().__init__("interrupted")
+        self.measured = measured
+        self.cycles = cycles
+
+
 def measure_link(
     adapter: _TimedAdapter,
     rounds: int,
@@ -119,7 +138,7 @@ def measure_link(
     :class:`~puckboard.backends.epuck.EPuckReal`): each reads every sensor and commands
     the wheels to zero, so the robot stays where it is. ``clock`` times the cycles; the
     link times its own round trips with its ``clock``. The wheels are zero at the end,
-    whatever happens."""
+    whatever happens; Ctrl-C raises :class:`LinkInterrupted` with the cycles timed."""
     if rounds < 2:
         raise ValueError(f"rounds must be at least 2 to give a spread, got {rounds}")
     link = adapter.link
@@ -133,6 +152,11 @@ def measure_link(
             cycles.append(clock() - start)
             if progress is not None:
                 progress(k + 1, rounds)
+    except KeyboardInterrupt as exc:
+        kept = None
+        if len(cycles) >= 2:
+            kept = LinkMeasurement(Spread.of(list(link.round_trips)), Spread.of(cycles))
+        raise LinkInterrupted(kept, len(cycles)) from exc
     finally:
         adapter.stop_wheels()
     return LinkMeasurement(Spread.of(list(link.round_trips)[-rounds:]), Spread.of(cycles))
@@ -156,6 +180,24 @@ def link_table_text(measured: LinkMeasurement, source: str) -> str:
         f"round_trip = {inline(rt)}\n"
         f"cycle = {inline(cy)}\n"
     )
+
+
+def check_link_target(path: Path) -> None:
+    """Refuse, before anything is measured, a file ``path`` the ``[link]`` table cannot
+    go into: one that is no TOML, or no profile file; a one-line
+    :class:`~puckboard.errors.ProfileError`. A file that is not there yet is fine."""
+    from ..errors import ProfileError
+    from ..profile import profile_from_data
+
+    if not path.exists():
+        return
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ProfileError(f"{path}: not a TOML file ({exc})") from None
+    except OSError as exc:
+        raise ProfileError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    profile_from_data(data, source=str(path), default_name=path.stem)
 
 
 def write_link_table(
@@ -182,6 +224,12 @@ def write_link_table(
             f"# Use it: puckboard run two-robot-pass --profile {path.name}\n"
             f'base = "{base}"\nname = "{name}"\n\n' + table
         )
-    profile_from_data(tomllib.loads(text), source=str(path), default_name=path.stem)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:  # the file's own text, not the table
+        from ..errors import ProfileError
+
+        raise ProfileError(f"{path}: not a TOML file ({exc})") from None
+    profile_from_data(data, source=str(path), default_name=path.stem)
     path.write_text(text, encoding="utf-8")
     return text

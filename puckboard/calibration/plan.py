@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 from ..profile import RobotProfile
 from ..records import PROX_NAMES
+from ..sim.ir_models import ir_model
 
 __all__ = [
     "DEFAULT_DISTANCE",
@@ -221,10 +222,11 @@ def make_plan(
     """The plan for ``profile``: back ``distance`` (m) in steps of ``step`` (m), reading
     ``samples`` times, ``sample_period`` s apart, at each pose. A ``ValueError`` (one
     line naming the number) for a plan that cannot work."""
-    if profile.prox_model != "rays":
+    model = ir_model(profile.prox_model)
+    if not model.has_response:
         raise ValueError(
-            f"profile {profile.name!r} senses with exact cones (V-REP's model): it has no IR "
-            "response to calibrate; calibrate a physical e-puck (epuck, e-puck1)"
+            f"profile {profile.name!r} senses with {model.summary}: it has no IR response "
+            "to calibrate; calibrate a physical e-puck (epuck, e-puck1)"
         )
     if not (math.isfinite(distance) and 0 < distance <= MAX_DISTANCE):
         raise ValueError(

@@ -17,7 +17,8 @@ import sys
 from collections.abc import Sequence
 
 from .._version import __version__
-from .common import CliError, _ArgumentError, _SubcommandParser
+from .errors import CliError
+from .parsing import _ArgumentError, _SubcommandParser
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -31,6 +32,7 @@ COMMANDS: tuple[str, ...] = (
     "sensitivity",
     "tune",
     "transfer",
+    "challenge",
     "plot",
     "replay",
     "monitor",

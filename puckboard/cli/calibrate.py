@@ -30,13 +30,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import re
 import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, check_port, check_writable, help_text, missing_extra
+from .checks import check_host, check_port, check_writable
+from .errors import CliError, missing_extra
+from .parsing import help_text
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
@@ -47,20 +48,19 @@ if TYPE_CHECKING:
     from ..calibration.readings import Measurements, PoseReading, Progress
     from ..calibration.response import WallModel
 
-#: The backends that reach a real (or emulated) e-puck.
-ROBOT_BACKENDS = ("epuck2-wifi", "sercom")
-_LENGTH = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(mm|cm|m)?\s*$")
-_METRES = {"mm": 0.001, "cm": 0.01, "m": 1.0, None: 1.0}
 
 
 def length(text: str) -> float:
-    """argparse type of a distance: metres, or a number with mm, cm or m."""
-    match = _LENGTH.match(text)
-    if match is None:
+    """argparse type of a distance: metres, or a number with mm, cm or m (read as every
+    quantity is, :func:`puckboard.units.read_quantity`)."""
+    from ..units import read_quantity
+
+    try:
+        return read_quantity("distance", text, "m")
+    except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected a distance in metres or with a unit (60mm, 6cm, 0.06), got {text!r}"
-        )
-    return float(match.group(1)) * _METRES[match.group(2)]
+        ) from None
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -75,7 +75,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "  puckboard calibrate ir --backend epuck2-wifi --host 192.168.1.42 "
             "--out my-epuck.toml\n"
             "  puckboard calibrate ir --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
-            "  puckboard calibrate link --backend sercom --device /dev/rfcomm0 --out my-epuck.toml\n"
+            "  puckboard calibrate link --backend sercom --device /dev/rfcomm0 "
+            "--out my-epuck.toml\n"
             "  puckboard run two-robot-pass --profile my-epuck.toml\n"
         ),
     )
@@ -185,14 +186,24 @@ def _check_name(name: str) -> None:
 
 
 def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
-    if args.backend not in ROBOT_BACKENDS:
+    from ..backends.registry import abilities_of
+
+    try:
+        calibratable = bool(args.backend) and abilities_of(args.backend).calibratable
+    except ValueError as exc:
+        raise CliError(f"--backend {args.backend}: {exc}") from None
+    except ImportError as exc:
+        raise missing_extra(exc, f"--backend {args.backend}") from None
+    if not calibratable:
         given = f"--backend {args.backend}" if args.backend else "no --backend"
         raise CliError(
-            f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi --host IP or "
+            f"{given}: calibrate {args.what} drives a real e-puck, --backend epuck2-wifi "
+            "--host IP or "
             "--backend sercom --device DEVICE (no robot? 'puckboard emulate calibration-wall' "
             "serves an emulated one)"
         )
     check_port(args.port)
+    check_host(args.host)
     return {
         key: value
         for key, value in (("host", args.host), ("port", args.port), ("device", args.device))

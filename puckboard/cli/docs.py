@@ -11,7 +11,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .common import CliError, check_port, check_writable
+from .checks import check_port, check_writable
+from .errors import CliError
 
 #: Python modules the build needs, with the distribution that provides each.
 REQUIRED_MODULES: dict[str, str] = {

@@ -16,7 +16,10 @@ import json
 import math
 import sys
 
-from .common import CliError, bind_error_message, check_port, check_seconds, help_text, seed_type
+from .bind import bind_error_message
+from .checks import check_port, check_seconds, seed_type
+from .errors import CliError
+from .parsing import help_text
 
 #: The robot uses 1000, which needs administrator rights to bind; kept equal to
 #: backends.epuck.factories.EMULATOR_WIFI_PORT (tested), not imported, so --help stays fast.
@@ -166,11 +169,7 @@ def main(args: argparse.Namespace) -> int:
         )
         print(f"connect with: {info.command_line(args.scenario)}", file=banner)
         if emulation.link is not None:
-            low, high = (round(v * 1000, 1) for v in emulation.link.latency)
-            print(
-                f"every reply is held back {low:g}-{high:g} ms, as on {emulation.link.name}",
-                file=banner,
-            )
+            print(held_back_text(emulation.link.name, emulation.link.latency), file=banner)
         print(
             "the clock starts with the first command; the run ends when the client is done, "
             "or on Ctrl-C",
@@ -203,3 +202,14 @@ def main(args: argparse.Namespace) -> int:
                 f"on line {100 * r['on_line_fraction']:.0f}%, {r['collisions']} collisions"
             )
     return 130 if interrupted else 0
+
+
+def held_back_text(link: str, latency: tuple[float, float]) -> str:
+    """How long the emulator holds each reply back on ``link`` (its latency range, s):
+    a range, one number, or none at all (a synchronous simulator's loop)."""
+    low, high = (round(v * 1000, 1) for v in latency)
+    if high == 0:
+        return f"no reply is held back: {link} has no latency"
+    if low == high:
+        return f"every reply is held back {low:g} ms, as on {link}"
+    return f"every reply is held back {low:g}-{high:g} ms, as on {link}"

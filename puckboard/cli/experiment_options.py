@@ -19,16 +19,18 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .common import CliError, check_seconds, check_writable
+from ..sweep.defaults import DEFAULT_SCENARIO
+from .checks import check_seconds, check_writable
+from .errors import CliError
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
     from ..sweep.executors import SweepExecutor
-    from ..sweep.run import SweepResult
+    from ..sweep.experiment import ExperimentRun
+    from ..sweep.options import RunOptions
     from ..sweep.store import ResultStore
 
 __all__ = [
-    "DEFAULT_SCENARIO",
     "add_controllers",
     "add_duration",
     "add_fixed_sets",
@@ -42,13 +44,12 @@ __all__ = [
     "exit_status",
     "fixed_sets",
     "open_out",
+    "run_options",
     "scene_or_error",
     "wall_time",
     "with_executor",
 ]
 
-#: The scene an experiment runs when none is named.
-DEFAULT_SCENARIO = "two-robot-pass"
 T = TypeVar("T")
 
 
@@ -71,8 +72,8 @@ def add_controllers(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY "
-        "(repeatable; default: each robot's controller from the scene)",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY (repeatable; default: each robot's controller from the scene)",
     )
 
 
@@ -147,7 +148,11 @@ def add_where_to_run(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="wall-clock seconds after which an episode is stopped and counted as 'error' "
-        "(guards against controllers that never return; default: no limit)",
+        "of kind 'timeout': the process running it is killed and replaced, which stops any "
+        "layer (a busy loop, time.sleep, a call blocked in C); only on a Dask cluster whose "
+        "workers may not start processes (docs/sweeps.md) is the episode interrupted from "
+        "within instead, which stops a layer running Python code but not one blocked in C "
+        "(default: no limit)",
     )
     parser.add_argument(
         "--batch-size",
@@ -164,8 +169,8 @@ def add_out(parser: argparse.ArgumentParser) -> None:
         "--out",
         type=Path,
         metavar="FILE",
-        help="append one row per episode to FILE (.csv or .parquet); re-runs skip rows already "
-        "there",
+        help="append one row per episode to FILE (.csv, or .parquet with puckboard[dask]); "
+        "re-runs skip rows already there",
     )
 
 
@@ -209,7 +214,7 @@ def open_out(args: argparse.Namespace) -> ResultStore | None:
     except ValueError as exc:  # the file's name or contents: the flag that named it
         raise CliError(f"--out {exc}") from exc
     except (ImportError, OSError) as exc:
-        raise CliError(str(exc)) from exc
+        raise CliError(f"--out {str(args.out)!r}: {exc}") from exc
 
 
 def with_executor(
@@ -289,7 +294,25 @@ def execute(
             store.close()
 
 
-def wall_time(args: argparse.Namespace, result: SweepResult) -> float:
+def run_options(
+    args: argparse.Namespace, executor: SweepExecutor, store: ResultStore | None, label: str
+) -> RunOptions:
+    """The run's options as every experiment command takes them: on ``executor``,
+    appending to ``store`` (``--out``), in ``--batch-size`` batches, ``--episode-timeout``
+    each, progress labelled ``label`` unless ``-q``."""
+    from ..sweep.options import RunOptions
+    from ..sweep.progress import make_progress
+
+    return RunOptions(
+        executor=executor,
+        store=store,
+        batch_size=args.batch_size,
+        progress=make_progress(enabled=not args.quiet, label=label),
+        episode_timeout=args.episode_timeout,
+    )
+
+
+def wall_time(args: argparse.Namespace, result: ExperimentRun) -> float:
     """Seconds since the command began (workers' start-up and the plan included), which
     is what the user waited; the sweep's own ``wall_s`` where no start was noted."""
     started = getattr(args, "started", None)
@@ -297,16 +320,17 @@ def wall_time(args: argparse.Namespace, result: SweepResult) -> float:
 
 
 def exit_status(
-    args: argparse.Namespace, result: SweepResult, *, stored: bool, command: str = "sweep"
+    args: argparse.Namespace, result: ExperimentRun, *, stored: bool, command: str = "sweep"
 ) -> int:
     """0; 130 after Ctrl-C, 143 after SIGTERM; 1 when every episode raised (a broken setup).
     Warnings name ``command`` (``sensitivity`` runs on this machinery too)."""
     errors = result.errors
     if errors:
+        kinds = ", ".join(f"{n} {kind}" for kind, n in result.error_kinds().items())
         print(
-            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes raised an "
-            f"exception (counted as failure 'error'; see the error column of --out). "
-            f"First: {errors[0]}",
+            f"puckboard {command}: warning: {len(errors)} of {result.ran} episodes ended in "
+            f"error ({kinds}; counted as failure 'error'; see the error and error_kind columns "
+            f"of --out). First: {errors[0]}",
             file=sys.stderr,
         )
     if result.interrupted:

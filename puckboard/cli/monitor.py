@@ -4,16 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from .common import (
-    CliError,
-    OneController,
-    check_seconds,
-    check_speed,
-    connection_loss_in_one_line,
-    controller_error,
-    require,
-    seed_type,
-)
+from .checks import check_seconds, check_speed, require, seed_type
+from .errors import CliError, connection_loss_in_one_line, controller_error
+from .parsing import OneController
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -30,7 +23,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "scenario", nargs="?", default="two-robot-pass", help="scene name or .toml/.json file"
     )
     p.add_argument(
-        "--backend", default="embedded", help="embedded (default), coppeliasim, epuck2-wifi, sercom"
+        "--backend",
+        default=None,
+        help="the backend to watch, as puckboard run takes it (default: $PUCKBOARD_BACKEND, "
+        "else embedded)",
     )
     p.add_argument(
         "--controller",

@@ -6,7 +6,8 @@ import argparse
 import math
 from pathlib import Path
 
-from .common import CliError, check_writable
+from .checks import check_writable
+from .errors import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

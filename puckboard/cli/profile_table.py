@@ -130,6 +130,12 @@ def path_table_markdown(profile: RobotProfile) -> str:
         if base is not None:
             cells.insert(1, _value_text(base, path))
         lines.append("| " + " | ".join(cells) + " |")
+    if profile.link is not None:
+        period, latency = profile.link
+        lines.append(
+            f"\n`[link]`: period {period * 1000:g} ms, latency {latency * 1000:g} ms "
+            f"({profile.sources.get('link', '')})"
+        )
     return "\n".join(lines)
 
 
@@ -146,7 +152,23 @@ def path_table_text(profile: RobotProfile) -> str:
         lines.append((row + (was if changed else "")).rstrip())
         if source:
             lines.append(f"      {source}")
-    return "\n".join(lines)
+    return "\n".join(lines + _link_lines(profile))
+
+
+def _link_lines(profile: RobotProfile) -> list[str]:
+    """The profile's measured link (a ``[link]`` table), which every run with the file
+    takes as its loop's timing."""
+    if profile.link is None:
+        return []
+    period, latency = profile.link
+    source = profile.sources.get("link", "")
+    return [
+        "  [link]: the loop's timing every run takes from this profile (rounded to whole "
+        "steps of dt; a --set control.* replaces it)",
+        f"  {'link.period':<24}{period * 1000:g} ms",
+        f"  {'link.latency':<24}{latency * 1000:g} ms",
+        *([f"      source: {source}"] if source else []),
+    ]
 
 
 def path_table_json(profile: RobotProfile) -> dict[str, Any]:
@@ -183,6 +205,12 @@ def path_table_json(profile: RobotProfile) -> dict[str, Any]:
             row["set_source"] = set_by[single]
         rows.append(row)
     out: dict[str, Any] = {"name": profile.name, "paths": rows}
+    if profile.link is not None:
+        out["link"] = {
+            "period": profile.link[0],
+            "latency": profile.link[1],
+            "source": profile.sources.get("link", ""),
+        }
     if base is not None:
         out["base"] = base.name
         out["set"] = [

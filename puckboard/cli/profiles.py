@@ -7,7 +7,7 @@ import json
 import math
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError
+from .errors import CliError
 
 if TYPE_CHECKING:
     from ..profile import RobotProfile

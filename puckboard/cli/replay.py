@@ -13,16 +13,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import (
-    CliError,
-    add_web_arguments,
-    check_port,
-    check_writable,
-    help_text,
-    serve_until_interrupted,
-    start_web_view,
-    web_url,
-)
+from .checks import check_port, check_writable
+from .errors import CliError
+from .parsing import help_text
+from .web_view import add_web_arguments, serve_until_interrupted, start_web_view, web_url
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -19,25 +19,24 @@ import json
 import sys
 from typing import TYPE_CHECKING, Any
 
-from .common import (
-    CliError,
-    OneController,
-    add_variation_argument,
-    add_web_arguments,
+from .checks import (
+    check_host,
     check_port,
     check_seconds,
     check_speed,
     check_writable,
+    require,
+    seed_type,
+)
+from .errors import (
+    CliError,
     connection_loss_in_one_line,
     controller_error,
     first_line,
     missing_extra,
-    require,
-    seed_type,
-    serve_until_interrupted,
-    start_web_view,
-    web_url,
 )
+from .parsing import OneController, add_variation_argument
+from .web_view import add_web_arguments, serve_until_interrupted, start_web_view, web_url
 
 if TYPE_CHECKING:
     from ..control.episode import Episode
@@ -107,8 +106,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
         "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
         "surface.line_contrast (0..1), surface.line_width (m), obstacle.ir_reflectance (0..1), "
-        "start.offset (m), start.heading (rad), "
-        "layer.<LayerName>.<attribute>, profile.<path> (every robot's, e.g. "
+        "start.offset (m), start.heading (rad), control.period and control.latency (s, whole "
+        "steps of dt: 100ms), layer.<LayerName>.<attribute>, profile.<path> (every robot's, e.g. "
         "profile.prox_max_distance=0.045 or profile.prox_radius.side=31mm; paths: "
         "puckboard profiles show) or robot.<name>.profile.<path> (repeatable)",
     )
@@ -141,12 +140,18 @@ def main(args: argparse.Namespace) -> int:
         overrides = parse_overrides(args.overrides)
     except ValueError as exc:
         raise CliError(str(exc)) from None
+    if "variation" in overrides and getattr(args, "variation_given", False):
+        raise CliError(
+            f"--variation {args.variation} and --set variation={overrides['variation']}: the "
+            "variation is given twice; give it once"
+        )
     if args.profile is not None:
         overrides["robot.profile"] = args.profile
     if args.json and args.monitor:
         raise CliError("--monitor draws on stdout; it cannot be combined with --json")
     check_seconds(args.duration)
     check_port(args.port)  # a client port: refused now, not after its connection timeout
+    check_host(args.host)
     check_port(args.web_port, "--web-port", listen_on=args.web_host if args.web else None)
     if args.speed is not None and not args.web:
         raise CliError("--speed paces the run for the web view; use it with --web")
@@ -159,18 +164,22 @@ def main(args: argparse.Namespace) -> int:
         if value is not None
     }
     try:
-        from ..backends.registry import default_backend
+        from ..backends.registry import abilities_of, backend_names, default_backend
 
         args.backend = args.backend or default_backend()
+        remote = abilities_of(args.backend).remote
     except ValueError as exc:
         raise CliError(str(exc)) from None
-    if args.backend in ("embedded", "fake") and backend_options:
+    except ImportError:
+        remote = True  # opening the backend names the extra to install
+    if not remote and backend_options:
         names = [f"--{k}" for k in backend_options]
         flags = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
         verb, them = ("does", "it") if len(names) == 1 else ("do", "them")
+        reaching = backend_names(lambda able: able.remote)
         raise CliError(
             f"{flags} {verb} not apply to the {args.backend} backend; use {them} with "
-            "--backend coppeliasim, epuck2-wifi or sercom"
+            f"--backend {', '.join(reaching[:-1])} or {reaching[-1]}"
         )
     if args.record is not None:
         check_writable(args.record, "--record")  # not found out after a long run
@@ -289,7 +298,7 @@ def _keep_web_view(web: Any) -> None:
 
 def _build_error(exc: Exception, controller: str | None) -> BaseException:
     """What to raise when building the episode failed: the controller's problem as every
-    command says it (:func:`~puckboard.cli.common.controller_error`), one line for other
+    command says it (:func:`~puckboard.cli.errors.controller_error`), one line for other
     bad input (a backend's), else the error itself (a bug: its traceback)."""
     shown = controller_error(exc, controller)
     if shown is not None:

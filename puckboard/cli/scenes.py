@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError
+from .checks import seed_type
+from .errors import CliError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -20,7 +21,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument("action", nargs="?", choices=("list", "show"), default="list")
     parser.add_argument("name", nargs="?", help="scene to print (with 'show')")
     parser.add_argument(
-        "--seed", type=int, default=None,
+        "--seed", type=seed_type, default=None,
         help="with 'show' and a generated scene (generated-pass): print the scene that "
         "seed draws, as a file 'puckboard run' runs to the same result as "
         "'puckboard run NAME --seed N'",
@@ -52,7 +53,8 @@ def main(args: argparse.Namespace) -> int:
         first = " ".join(scene.description.split())
         robots = len(scene.robots)
         print(
-            f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, goal {scene.goal.resolve(scene)}: {first}"
+            f"{name:<{width}}  {robots} robot{'s' if robots != 1 else ''}, "
+            f"goal {scene.goal.resolve(scene)}: {first}"
         )
     return 0
 

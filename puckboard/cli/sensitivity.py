@@ -19,7 +19,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .common import CliError, check_plot_file
+from ..sweep.defaults import JOINT_SEEDS, SENSITIVITY_SEEDS
+from .checks import check_plot_file
+from .errors import CliError
 from .experiment_options import (
     add_duration,
     add_fixed_sets,
@@ -32,9 +34,11 @@ from .experiment_options import (
     exit_status,
     fixed_sets,
     open_out,
+    run_options,
     scene_or_error,
     with_executor,
 )
+from .parsing import VariationName
 
 if TYPE_CHECKING:
     from ..profile import RobotProfile
@@ -46,14 +50,7 @@ if TYPE_CHECKING:
 
 R = TypeVar("R")  # what an analysis returns
 
-#: Seeds per value unless asked otherwise: a whole profile (the physical e-puck's 16
-#: fields × 7 values, about 2,000 episodes) of one controller in about six minutes on two
-#: cores, at the two-robot pass's measured 6 episodes/s (docs/simulator.md).
-DEFAULT_SEEDS = "0:20"
-#: Seeds (plausible robots) per controller and profile for ``--method joint``: enough that
-#: a number moving the tutorial controller's rate is clear (docs/sweeps.md says what N
-#: buys), the whole flagship analysis in about five minutes on two cores.
-JOINT_SEEDS = "0:300"
+DEFAULT_SEEDS = SENSITIVITY_SEEDS
 METHODS = ("one-at-a-time", "joint")
 
 
@@ -148,8 +145,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     parser.add_argument(
         "--variation",
-        choices=("none", "plausible", "reality-gap"),
+        action=VariationName,
         default=None,
+        metavar="NAME",
         help="plausible: at each value draw every other number of each robot within its range "
         "(the field's effect on robots that differ in everything else); reality-gap: the same, "
         "in conditions drawn within sourced ranges too; default none: the "
@@ -277,22 +275,13 @@ def _execute(
 ) -> R | None:
     """Run ``analysis`` (one-at-a-time's or the joint one) on the executor with the
     options both methods share; ``None`` when it was stopped (see ``execute``)."""
-    from ..sweep import make_progress
 
     return execute(
         args,
         executor,
         store,
         "sensitivity",
-        lambda on: analysis(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet, label="sensitivity"),
-            episode_timeout=args.episode_timeout,
-        ),
+        lambda on: analysis(plan, scene, run_options(args, on, store, "sensitivity")),
     )
 
 

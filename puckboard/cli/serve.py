@@ -21,19 +21,11 @@ import argparse
 import sys
 from typing import Any
 
-from .common import (
-    CliError,
-    add_variation_argument,
-    add_web_arguments,
-    bind_error_message,
-    check_port,
-    check_seconds,
-    help_text,
-    missing_extra,
-    seed_type,
-    start_web_view,
-    web_url,
-)
+from .bind import bind_error_message
+from .checks import check_port, check_seconds, seed_type
+from .errors import CliError, missing_extra
+from .parsing import add_variation_argument, help_text
+from .web_view import add_web_arguments, start_web_view, web_url
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -46,7 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "examples:\n"
             "  puckboard serve two-robot-pass\n"
             "  puckboard run two-robot-pass --backend coppeliasim --port 23000\n"
-            "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   # a whole class\n"
+            "  puckboard serve my-scene.toml --host 0.0.0.0 --stepping-timeout 10   "
+            "# a whole class\n"
             "  puckboard serve arena --web                   # and watch it at http://127.0.0.1:8080/\n"
         ),
     )
@@ -155,7 +148,7 @@ def main(args: argparse.Namespace) -> int:
         file=out,
     )
     profiles = sorted({get_profile(r.profile).name for r in server.api.world.scene.robots})
-    varied = "; each robot drawn within plausible ranges" if args.variation != "none" else ""
+    varied = f"; robots drawn by --variation {args.variation}" if args.variation != "none" else ""
     print(f"  robot profile: {', '.join(profiles)} (--profile to change){varied}", file=out)
     for line in server.describe():
         print(f"  {line}", file=out)

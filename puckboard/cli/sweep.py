@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, add_variation_argument
+from .errors import CliError
 from .experiment_options import (
     add_duration,
     add_out,
@@ -23,10 +23,12 @@ from .experiment_options import (
     execute,
     exit_status,
     open_out,
+    run_options,
     scene_or_error,
     wall_time,
     with_executor,
 )
+from .parsing import add_variation_argument
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -50,7 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
             "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, variation, "
             "surface.line_contrast, surface.line_width, obstacle.ir_reflectance, "
-            "start.offset, start.heading, "
+            "start.offset, start.heading, control.period, control.latency, "
             "layer.<LayerName>.<attribute>, profile.<path> (every robot's, SI or with a unit: "
             "profile.prox_radius.side=30mm,33mm; paths: puckboard profiles show), "
             "robot.<name>.profile.<path>. Example: "
@@ -148,7 +150,7 @@ def _episode_count(args: argparse.Namespace) -> int | None:
 
 
 def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
-    from ..sweep import make_progress, run_sweep
+    from ..sweep import run_sweep
     from ..sweep.signals import interrupts_deferred
 
     # Ctrl-C here waits the moment the preparation takes and is raised after it: raised
@@ -165,15 +167,7 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         executor,
         store,
         "sweep",
-        lambda on: run_sweep(
-            plan,
-            scene,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet),
-            episode_timeout=args.episode_timeout,
-        ),
+        lambda on: run_sweep(plan, scene, run_options(args, on, store, "sweep")),
     )
     if result is None:
         return 1
@@ -199,7 +193,7 @@ def _plan(args: argparse.Namespace, scene: Scene) -> SweepPlan:
         if any(s.partition("=")[0].strip() == "robot.profile" for s in args.sets):
             raise CliError("give either --profile or --set robot.profile=..., not both")
         fixed.update(_profile_parameters(args.profile))
-    if args.variation != "none":
+    if getattr(args, "variation_given", False):
         fixed["variation"] = args.variation
     try:
         plan = SweepPlan.from_specs(

@@ -13,9 +13,11 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
-from .common import CliError, check_plot_file
+from ..sweep.defaults import TRANSFER_SEEDS
+from .checks import check_plot_file
+from .errors import CliError
 from .experiment_options import (
     add_controllers,
     add_duration,
@@ -28,20 +30,13 @@ from .experiment_options import (
     exit_status,
     fixed_sets,
     open_out,
-    scene_or_error,
+    run_options,
     wall_time,
     with_executor,
 )
 
 if TYPE_CHECKING:
-    from ..profile import RobotProfile
-    from ..scenario.scene import Scene
     from ..sweep.executors import SweepExecutor
-
-#: Seeds per model unless asked otherwise: seeds none of the shipped controllers was
-#: designed or validated on (robust: 0-199 design, 200-399 the published bands), as
-#: many as keep the flagship report (docs/transfer.md) within five minutes on two cores.
-DEFAULT_SEEDS = "400:404"
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -78,9 +73,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_controllers(parser)
     parser.add_argument(
         "--seeds",
-        default=DEFAULT_SEEDS,
+        default=TRANSFER_SEEDS,
         metavar="A:B",
-        help=f"seeds run on every model, a Python range (default: {DEFAULT_SEEDS})",
+        help=f"seeds run on every model, a Python range (default: {TRANSFER_SEEDS})",
     )
     parser.add_argument(
         "--profile",
@@ -127,9 +122,8 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
-    from ..sweep import make_progress
     from ..sweep.signals import interrupts_deferred
-    from ..transfer import format_result, run_transfer
+    from ..transfer import format_result, run_transfer_plan
 
     with interrupts_deferred():  # see cli/sweep.py: a Ctrl-C while importing waits
         plan, scenes = _plan(args)
@@ -139,21 +133,12 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         executor,
         store,
         "transfer",
-        lambda on: run_transfer(
-            plan,
-            scenes,
-            executor=on,
-            store=store,
-            batch_size=args.batch_size,
-            progress=make_progress(enabled=not args.quiet, label="transfer"),
-            episode_timeout=args.episode_timeout,
-        ),
+        lambda on: run_transfer_plan(plan, scenes, run_options(args, on, store, "transfer")),
     )
     if result is None:
         return 1
-    # a report counts, times and ends as the sweeps it ran do (TransferResult has their
-    # fields, summed)
-    result.wall_s = wall_time(args, cast(Any, result))
+    # a report counts, times and ends as the sweeps it ran do (both are ExperimentRuns)
+    result.wall_s = wall_time(args, result)
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:
@@ -164,81 +149,33 @@ def _run(args: argparse.Namespace, executor: SweepExecutor | None) -> int:
         plot_transfer(result, args.plot)
         if not args.json:
             print(f"\nplot written to {args.plot}")
-    return exit_status(args, cast(Any, result), stored=store is not None, command="transfer")
+    return exit_status(args, result, stored=store is not None, command="transfer")
 
 
-def _families(args: argparse.Namespace) -> Any:
-    from ..transfer import choose_families
+def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
+    """The report's points and every scene they run on, checked before anything runs
+    (:func:`puckboard.transfer.plan_from_names`, as the Python API makes them)."""
+    from ..errors import PuckboardError
+    from ..transfer import plan_from_names
 
     names = None
     if args.families is not None:
         names = [n.strip() for n in args.families.split(",") if n.strip()]
         if not names:
             raise CliError("--families: name at least one family, e.g. --families noise")
-    try:
-        return choose_families(names)
-    except ValueError as exc:
-        raise CliError(str(exc)) from None
-
-
-def _profiles(args: argparse.Namespace, scenes: list[Scene]) -> dict[str, list[str | RobotProfile]]:
-    """``--profile`` each as a shipped name or a profile, for every scene; else each
-    scene's one profile."""
-    from ..errors import PuckboardError
-    from ..scenario.robot_profiles import scene_profile
-
-    if args.profile:
-        try:
-            chosen = [scene_profile(ref) for ref in args.profile]
-        except PuckboardError as exc:
-            raise CliError(str(exc)) from None
-        return {scene.name: chosen for scene in scenes}
-    out = {}
-    for scene in scenes:
-        own = {json.dumps(_profile_id(r.profile)) for r in scene.robots}
-        if len(own) != 1:
-            raise CliError(
-                f"the robots of {scene.name} have different profiles; name the one to run "
-                "with --profile NAME (repeatable)"
-            )
-        out[scene.name] = [scene.robots[0].profile]
-    return out
-
-
-def _profile_id(profile: str | RobotProfile) -> str | list[Any]:
-    return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]
-
-
-def _plan(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
-    """The report's points and every scene they run on, checked before anything runs."""
-    from ..errors import PuckboardError
-    from ..sweep import SCENE_CONTROLLERS, PlanError, check_plan
-    from ..sweep.plan import parse_seeds
-    from ..transfer import transfer_plan
-
-    if len(set(args.scenario)) != len(args.scenario):
-        raise CliError(f"scene listed twice in {args.scenario}; give each once")
-    families = _families(args)
-    scenes = [scene_or_error(ref) for ref in args.scenario]
-    replacements = {f.scene: scene_or_error(f.scene) for f in families if f.scene is not None}
     fixed = fixed_sets(
         args,
         why_one="a report judges one set of numbers; sweep --set compares them",
         robots="--profile's and each family's",
     )
     try:
-        plan = transfer_plan(
-            scenes,
-            controllers=args.controller or [SCENE_CONTROLLERS],
-            profiles=_profiles(args, scenes),
-            seeds=parse_seeds(args.seeds),
-            families=families,
-            replacements=replacements,
+        return plan_from_names(
+            args.scenario,
+            controllers=args.controller,
+            profiles=args.profile,
+            seeds=args.seeds,
+            families=names,
             fixed=fixed,
         )
-        loaded = {**replacements, **{s.name: s for s in scenes}}
-        for sweep in plan.sweeps:
-            check_plan(sweep, loaded[sweep.scenario])
-    except (PlanError, PuckboardError) as exc:
-        raise CliError(str(exc)) from exc
-    return plan, loaded
+    except (PuckboardError, ValueError, OSError) as exc:
+        raise CliError(str(exc)) from None

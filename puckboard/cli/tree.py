@@ -6,7 +6,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from .common import CliError, OneController, check_writable, controller_error
+from .checks import check_writable
+from .errors import CliError, controller_error
+from .parsing import OneController
 
 FORMATS = ("ascii", "unicode", "dot", "png", "svg")
 

@@ -1,11 +1,12 @@
 """``puckboard tune``: search a controller's numbers for the worst robot, not the average.
 
 Each ``--param PATH=LOW:HIGH[:int][:log]`` is a range Optuna's seeded TPE sampler draws
-from (``PATH=A,B,...``: a choice, for a setting that is true/false or a word); each trial runs the design seeds (``--seeds``) on every scene × profile and is
-scored by its worst cell, then the mean, then progress; hopeless trials are pruned
-after the first rounds. ``--study FILE`` keeps every finished trial (Ctrl-C keeps them,
-the same command resumes). The best parameters are run again on ``--validate`` seeds no
-trial saw. See ``docs/sweeps.md`` (tuning).
+from (``PATH=A,B,...``: a choice, for a setting that is true/false or a word); each
+trial runs the design seeds (``--seeds``) on every scene × profile and is scored by its
+worst cell, then the mean, then progress; hopeless trials are pruned after the first
+rounds. ``--study FILE`` keeps every finished trial (Ctrl-C keeps them, the same
+command resumes). The best parameters are run again on ``--validate`` seeds no trial
+saw. See ``docs/sweeps.md`` (tuning).
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .common import CliError, add_variation_argument, missing_extra, user_code_error
+from ..sweep.defaults import TUNE_TRIALS
+from .errors import CliError, missing_extra, user_code_error
 from .experiment_options import (
     add_duration,
     add_where_to_run,
@@ -25,6 +27,7 @@ from .experiment_options import (
     scene_or_error,
     with_executor,
 )
+from .parsing import add_variation_argument
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -34,7 +37,7 @@ if TYPE_CHECKING:
     from ..tune.run import TrialEvent
     from ..tune.space import Choice, Param
 
-DEFAULT_TRIALS = 20
+DEFAULT_TRIALS = TUNE_TRIALS
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -54,7 +57,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "(layer.<LayerName>.<attribute>, as for sweep --set). Ranges: LOW:HIGH (a real "
             "number), LOW:HIGH:int (a whole number), LOW:HIGH:log (drawn on a log scale), "
             "LOW:HIGH:int:log; a setting that is true/false or a word takes its choices instead: "
-            "layer.LineFollow.recovery=true,false. Example: puckboard tune two-robot-pass --controller improved "
+            "layer.LineFollow.recovery=true,false. Example: puckboard tune two-robot-pass "
+            "--controller improved "
             "--param layer.LineFollow.inner_factor=0.1:0.9 --set robot.profile=epuck,epuck-vrep "
             "--variation plausible --seeds 0:40 --validate 40:140 --study tune.journal"
         ),
@@ -63,9 +67,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "scenes", nargs="+", metavar="SCENE", help="shipped scene names or scene files"
     )
     parser.add_argument(
-        "--controller", required=True, metavar="SPEC",
-        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or FILE.py:FACTORY",
-    )  # fmt: skip
+        "--controller",
+        required=True,
+        metavar="SPEC",
+        help="controller for every robot: stock, improved, robust, MODULE:FACTORY or "
+        "FILE.py:FACTORY",
+    )
     parser.add_argument(
         "--param", dest="params", action="append", required=True,
         metavar="PATH=LOW:HIGH[:int][:log]",
@@ -137,11 +144,11 @@ def _tune(args: argparse.Namespace) -> int:
     except ImportError as exc:
         raise missing_extra(exc, "puckboard tune") from None
     if args.plot is not None:
-        from .common import check_plot_file
+        from .checks import check_plot_file
 
         check_plot_file(args.plot)
     if args.study is not None:
-        from .common import check_writable
+        from .checks import check_writable
 
         check_writable(args.study, "--study")
     return with_executor(args, _run)
@@ -163,7 +170,7 @@ def _spec(args: argparse.Namespace) -> TuneSpec:
         params = tuple(parse_param(text) for text in args.params)
         _check_space(params, args.controller)
         fixed: dict[str, Any] = {} if args.duration is None else {"duration": args.duration}
-        if args.variation != "none":
+        if getattr(args, "variation_given", False):
             fixed["variation"] = args.variation
         profiles = tuple(args.profiles)
         for text in args.sets:

@@ -2,21 +2,23 @@
 
 The wire itself (the emulated robot, its protocols, the servers) is the e-puck backend's
 (:mod:`puckboard.backends.epuck.emulator`); this module is the episode around it, which
-needs controllers and a judge and so belongs with the control loop. :class:`Emulation` builds a :class:`~puckboard.sim.world.World` for a scene, serves its
-first robot over the e-puck2 Wi-Fi protocol (TCP) or advanced sercom (a pseudo-terminal
-on POSIX, or TCP for pyserial's ``socket://`` URLs), and steps the world in real time
-like a robot: one step of ``dt`` per ``dt`` of wall-clock time, the wheels turning at the
-last commanded speeds. The judge watches the ground-truth poses, and :meth:`run` returns
-its verdict as an :class:`~puckboard.scenario.result.EpisodeResult`, the same fields as
-``puckboard run --json``.
+needs controllers and a judge and so belongs with the control loop. :class:`Emulation`
+builds a :class:`~puckboard.sim.world.World` for a scene, serves its first robot over the
+e-puck2 Wi-Fi protocol (TCP) or advanced sercom (a pseudo-terminal on POSIX, or TCP for
+pyserial's ``socket://`` URLs), and steps the world in real time like a robot: one step
+of ``dt`` per ``dt`` of wall-clock time, the wheels turning at the last commanded speeds.
+The judge watches the ground-truth poses, and :meth:`run` returns its verdict as an
+:class:`~puckboard.scenario.result.EpisodeResult`, the same fields as ``puckboard run
+--json``.
 
 The clock starts with the first command a client sends (the moment a real robot would
 start moving), so a slow connect does not count against the controller. The run ends
 when the client is done: it disconnects (TCP), or sends nothing for ``idle_timeout``
 seconds (a pseudo-terminal cannot tell a closed client from a silent one), or at the
 latest after ``duration``. When the client disconnects the wheels stop. The scene's
-other robots (the oncoming robot of the two-robot pass, say) are driven by their own scene controllers inside the emulator,
-synchronously with the world, unless ``others="still"`` leaves them standing.
+other robots (the oncoming robot of the two-robot pass, say) are driven by their own
+scene controllers inside the emulator, synchronously with the world, unless
+``others="still"`` leaves them standing.
 
 With ``link`` (a link of :mod:`puckboard.profile.links`, e.g. ``"bluetooth-sercom"``)
 every reply is held back by a latency drawn within that link's range, so a client on

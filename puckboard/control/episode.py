@@ -21,8 +21,9 @@ run is the same with or without them.
 the dialect and every name are in :mod:`puckboard.scenario.overrides`): the scene's are
 applied before the backend opens, the layers' (:mod:`puckboard.behaviours.overrides`) on
 each robot's controller, and ``controller.<keyword>`` is handed to every robot's
-controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` = ``plausible`` (also the ``variation`` argument)
-builds each robot from numbers drawn within its profile's plausible ranges.
+controller factory (``controller.speed`` builds ``improved(speed=...)``); ``variation`` =
+``plausible`` (also the ``variation`` argument) builds each robot from numbers drawn
+within its profile's plausible ranges.
 """
 
 from __future__ import annotations
@@ -40,22 +41,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..backends.registry import default_backend, open_backend, resolve_backend
+from ..backends.registry import abilities_of, default_backend, open_backend, resolve_backend
 from ..behaviours.controller import Controller
 from ..behaviours.overrides import apply_layer_overrides, factory_keywords
 from ..behaviours.presets import ControllerFactory, load_controller
 from ..behaviours.tracing import TreeTrace, trace
 from ..errors import SceneError
 from ..profile import RobotProfile, get_profile
-from ..scenario.conditions import CONDITIONS
-from ..scenario.conversion import for_seed
 from ..scenario.judge import Judge
-from ..scenario.overrides import apply_scene_overrides
-from ..scenario.reality_gap import REALITY_GAP, draw_conditions
+from ..scenario.preparation import RunRequest, prepare_scene
 from ..scenario.result import EpisodeResult
-from ..scenario.robot_profiles import link_control
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.variation import vary_scene
+from ..scenario.settings import check_scene
+from ..scenario.variation import NONE
 from .loop import ControlLoop
 
 if TYPE_CHECKING:
@@ -134,23 +132,26 @@ class Episode:
         self.backend = backend if backend is not None else default_backend()
         _check_call(seed, self.backend, backend_options)
         overrides = dict(overrides or {})
-        variation = str(overrides.pop("variation", variation))
-        # a generated scene (generated-pass) draws its track from the episode's seed
-        self.scene = apply_scene_overrides(for_seed(_resolve_scene(scene), int(seed)), overrides)
-        # conditions the run sets itself are its definition: reality-gap keeps them
-        fixed = [n for n in overrides if n in CONDITIONS or n.startswith(("noise.", "control."))]
-        if any(get_profile(r.profile).link is not None for r in self.scene.robots):
-            fixed += ["control.period", "control.latency"]  # the robot's own, measured link
-        #: what ``reality-gap`` drew, as the result reports it (None for other variations)
-        self.conditions = (
-            draw_conditions(self.scene, int(seed), fixed).to_dict()
-            if variation == REALITY_GAP
-            else None
-        )
-        self.scene = vary_scene(self.scene, int(seed), variation, fixed)
+        variation = _one_variation(variation, overrides.pop("variation", None))
         self.seed = int(seed)
-        if self.backend == "embedded":  # elsewhere the link is real, or another simulator's
-            self.scene = link_control(self.scene)  # a profile file's measured link timing
+        # the scene this run plays: the scene as given through named steps, each condition
+        # drawn once (scenario.preparation); then what the backend drives (below)
+        able = abilities_of(self.backend)
+        run = RunRequest(
+            self.seed, overrides, variation, simulates_link=able.link_timing,
+            drives_robot=not able.simulated,
+        )  # fmt: skip
+        prepared = prepare_scene(_resolve_scene(scene), run)
+        self.scene = prepared.scene
+        try:
+            check_scene(self.scene)  # every setting in bounds, however the scene was built
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        #: what the variation drew besides the robots, as the result reports it (None when
+        #: nothing: every variation but reality-gap)
+        self.conditions = (
+            None if prepared.conditions is None else prepared.conditions.to_dict()
+        )
         specs = {
             r.name: (controller if controller is not None else r.controller)
             for r in self.scene.robots
@@ -167,24 +168,7 @@ class Episode:
         try:
             self.world = self.connection.world
             self.blackboard = self.connection.blackboard
-            missing = [n for n in specs if n not in self.connection.adapters]
-            if missing and self.world is None and self.connection.adapters:
-                # a real robot (or a remote simulator holding fewer robots) drives only the
-                # robots it has: the episode, and the judge, shrink to those
-                log.warning(
-                    "backend %r drives only %s; leaving out %s",
-                    self.backend, ", ".join(self.connection.adapters), ", ".join(missing),
-                )  # fmt: skip
-                kept = tuple(r for r in self.scene.robots if r.name in self.connection.adapters)
-                self.scene = dataclasses.replace(self.scene, robots=kept)
-                specs = {n: specs[n] for n in specs if n in self.connection.adapters}
-                self.controllers = {n: self.controllers[n] for n in specs}
-                missing = []
-            if missing:
-                raise SceneError(
-                    f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
-                    f"{', '.join(self.connection.adapters)}"
-                )
+            specs = self._keep_the_robots_driven(specs)
             self.scene = _driven_profiles(self.scene, self.connection.adapters)
             bindings = [(self.connection.adapters[n], self.controllers[n]) for n in specs]
             self.loop = ControlLoop(bindings, period=_loop_period(self.scene, self.world))
@@ -210,6 +194,31 @@ class Episode:
                 _show_tree(trace(ctrl), show)
         if self.world is not None:
             self._feed_judge()  # the start poses (after any start jitter)
+
+    def _keep_the_robots_driven(
+        self, specs: dict[str, str | ControllerFactory]
+    ) -> dict[str, str | ControllerFactory]:
+        """``specs`` of the robots the opened backend drives: a real robot (or a remote
+        simulator holding fewer robots) drives only the robots it has, and the episode,
+        and the judge, shrink to those; a simulator missing one is an error."""
+        adapters = self.connection.adapters
+        missing = [n for n in specs if n not in adapters]
+        if not missing:
+            return specs
+        if self.world is not None or not adapters:
+            raise SceneError(
+                f"backend {self.backend!r} has no robot called {', '.join(missing)}; it has "
+                f"{', '.join(adapters)}"
+            )
+        log.warning(
+            "backend %r drives only %s; leaving out %s",
+            self.backend, ", ".join(adapters), ", ".join(missing),
+        )  # fmt: skip
+        kept = tuple(r for r in self.scene.robots if r.name in adapters)
+        self.scene = dataclasses.replace(self.scene, robots=kept)
+        specs = {n: specs[n] for n in specs if n in adapters}
+        self.controllers = {n: self.controllers[n] for n in specs}
+        return specs
 
     # -- observation -----------------------------------------------------------------------
     @property
@@ -351,7 +360,8 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
     """The control period the scene asks for (None: the loop's default, one step or a real
     robot's 0.05 s). A latency is simulated by the embedded world, which delays each
     wheel command itself; on any other backend the delay is the link's own, so a scene
-    asking for one there is refused rather than silently run without it."""
+    asking for one there is refused rather than silently run without it (a drawn or a
+    measured one already was, naming where it came from: scenario.preparation)."""
     control = scene.control
     if control.latency > 0 and world is None:
         raise SceneError(
@@ -360,6 +370,18 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
             "so leave control.latency at 0 on this backend"
         )
     return control.period
+
+
+def _one_variation(argument: str, setting: Any) -> str:
+    """The variation of a run given ``variation=`` and perhaps an overrides' ``variation``
+    too: two different ones are refused (which was meant, only the caller knows)."""
+    if setting is None:
+        return str(argument)
+    if str(argument) not in (NONE.name, str(setting)):
+        raise ValueError(
+            f"variation given twice: {argument!r} and, in the overrides, {setting!r}; give it once"
+        )
+    return str(setting)
 
 
 #: The keywords of :func:`run_episode` itself; the rest go to the backend.

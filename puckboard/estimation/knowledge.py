@@ -55,8 +55,9 @@ layer reading them sees them go stale, as it would if a sensor stopped. A bad
 estimator must not stop the robot's reflexes. Pass ``strict=True`` to make errors
 propagate instead (useful in tests).
 
-This module imports only the blackboard and the records: knowledge sources belong to
-the layers' side of the architecture and know no adapter and no simulator.
+This module imports only the blackboard (and names the adapter contract as a type, for
+:meth:`KnowledgeSource.configure`): knowledge sources read and write keys, and know no
+simulator and no particular backend.
 """
 
 from __future__ import annotations

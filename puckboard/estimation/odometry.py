@@ -56,8 +56,9 @@ robot. It is used for what it is good at: noticing that the body did not do what
 wheels claim. When the measured horizontal acceleration disagrees with the one implied
 by the encoders (a bump, a push, slipping wheels), the filter flags *slip* for a short
 hold time and adds the wheel travel itself to the wheel noise ("this travel may not
-have happened"), so the covariance says honestly that the estimate just got worse. Odometry cannot tell *how* the body moved during a collision;
-no amount of filtering recovers that without an absolute measurement.
+have happened"), so the covariance says honestly that the estimate just got worse.
+Odometry cannot tell *how* the body moved during a collision; no amount of filtering
+recovers that without an absolute measurement.
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ from .files import load_profile_file, profile_from_data, profile_to_data, resolv
 from .model import NO_DETECTION_DISTANCE, RobotProfile, SensorPose
 from .setting_names import PROX_GROUPS, apply_overrides, check_setting, check_value
 from .shipped import EPUCK, EPUCK1, EPUCK2, EPUCK_VREP, PROFILES, get_profile, profile_names
-from .uncertainty import VARIATIONS, Range, draw, profile_values, uncertainty, variation_rng
+from .uncertainty import Range, draw, profile_values, uncertainty, variation_rng
 
 __all__ = [
     "EPUCK",
@@ -28,7 +28,6 @@ __all__ = [
     "NO_DETECTION_DISTANCE",
     "PROFILES",
     "PROX_GROUPS",
-    "VARIATIONS",
     "Range",
     "RobotProfile",
     "SensorPose",

@@ -32,6 +32,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ProfileError
+from ..units import read_quantity
+from .links import LONGEST_LINK_S
 from .model import RobotProfile
 from .setting_names import apply_overrides, check_setting
 from .shipped import PROFILES, get_profile, profile_names
@@ -44,6 +46,7 @@ else:  # pragma: no cover - exercised on 3.10 only
 __all__ = [
     "PROFILE_SUFFIX",
     "is_profile_file",
+    "link_seconds",
     "load_profile_file",
     "profile_from_data",
     "profile_to_data",
@@ -56,9 +59,6 @@ PROFILE_SUFFIX = ".toml"
 _TOP_KEYS = ("base", "name", "source", "set", "link")
 _ENTRY_KEYS = ("value", "source")
 _LINK_KEYS = ("period", "latency", "source", "round_trip", "cycle")
-#: The longest period or latency (s) a [link] table may give: a loop slower than a second
-#: drives no e-puck anywhere sensible, so a bigger number is a unit mistake (ms for s).
-_LINK_MAX_S = 1.0
 _TOML_WHERE = re.compile(r"\s*\(at line (\d+), column (\d+)\)\s*$")
 
 
@@ -144,6 +144,23 @@ def profile_from_data(
     return profile
 
 
+def link_seconds(key: str, value: Any) -> float:
+    """A link's ``period`` (> 0) or ``latency`` (>= 0) in seconds, at most
+    :data:`~puckboard.profile.links.LONGEST_LINK_S`: a ``[link]`` table's, or one set as
+    ``profile.link.<key>``. A number, or a text with its unit (``34ms``); else a
+    one-line :class:`ProfileError` naming ``key``."""
+    bound = "> 0" if key == "period" else ">= 0"
+    words = f"{key}: expected seconds {bound} and <= {LONGEST_LINK_S:g}, got {value!r}"
+    try:
+        number = read_quantity(key, value, "s")
+    except ValueError:
+        raise ProfileError(words) from None
+    ok = math.isfinite(number) and (number > 0 if key == "period" else number >= 0)
+    if not ok or number > LONGEST_LINK_S:
+        raise ProfileError(words)
+    return number
+
+
 def _link(table: Any, source: str, default_source: str) -> tuple[tuple[float, float], str]:
     """The ``[link]`` table as ((period, latency) in s, its source), checked."""
     if not isinstance(table, Mapping):
@@ -154,17 +171,11 @@ def _link(table: Any, source: str, default_source: str) -> tuple[tuple[float, fl
             f"{source}: [link] unknown key {unknown[0]!r}; known: {', '.join(_LINK_KEYS)}"
         )
     numbers = []
-    for key, low_open in (("period", True), ("latency", False)):
-        value: Any = table.get(key)
-        number = isinstance(value, (int, float)) and not isinstance(value, bool)
-        ok = number and math.isfinite(value) and (value > 0 if low_open else value >= 0)
-        if not ok or value > _LINK_MAX_S:
-            bound = "> 0" if low_open else ">= 0"
-            raise ProfileError(
-                f"{source}: [link] {key}: expected seconds {bound} and <= {_LINK_MAX_S:g}, "
-                f"got {value!r}"
-            )
-        numbers.append(float(value))
+    for key in ("period", "latency"):
+        try:
+            numbers.append(link_seconds(key, table.get(key)))
+        except ProfileError as exc:
+            raise ProfileError(f"{source}: [link] {exc}") from None
     for key in ("round_trip", "cycle"):
         spread = table.get(key, {})
         if not isinstance(spread, Mapping) or not all(

@@ -11,21 +11,20 @@ that bound it; where no source gives a number the range is marked ``assumed``, a
 profiles' ``ir_gain`` is. The latency is one number, the sum of the sensing's age and
 the command's way to the wheels: the host shares no clock with the robot, so only the
 whole round trip can be timed, and that is all the sources report.
-:func:`draw_timing` draws one (period, latency) from a link, quantised to whole physics
-steps; ``puckboard calibrate link`` measures your own robot's (:mod:`.link_measure`).
+:func:`draw_timing` draws one (period, latency) from a link (a simulation rounds it to
+its whole steps); ``puckboard calibrate link`` measures your own robot's (:mod:`.link_measure`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..errors import ProfileError
 
-__all__ = ["LINKS", "LinkTiming", "draw_timing", "get_link", "link_names", "timing_overrides"]
+__all__ = ["LINKS", "LONGEST_LINK_S", "LinkTiming", "draw_timing", "get_link", "link_names"]
 
 #: Bits a serial line sends per byte: start bit, 8 data bits, stop bit (8N1).
 _BITS_PER_BYTE = 10
@@ -43,6 +42,12 @@ _EPUCK2_CYCLE_BYTES = 22 + 103
 def _serial_seconds(n_bytes: int, baud: int = _EPUCK1_BAUD) -> float:
     """The time ``n_bytes`` take on a serial line at ``baud`` (8N1): a lower bound."""
     return n_bytes * _BITS_PER_BYTE / baud
+
+
+#: The longest control period or latency (s) a link may have: a loop slower than a second
+#: drives no e-puck anywhere sensible, so a bigger number is a unit mistake (ms for s).
+#: A profile's ``[link]`` and the run's ``control.*`` settings are bounded by it.
+LONGEST_LINK_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -194,28 +199,17 @@ def get_link(name: str) -> LinkTiming:
         ) from None
 
 
-def _quantise(seconds: float, dt: float, minimum: int) -> float:
-    """``seconds`` rounded to whole steps of ``dt`` (at least ``minimum`` steps)."""
-    return max(minimum, round(seconds / dt)) * dt
-
-
-def draw_timing(link: LinkTiming | str, rng: np.random.Generator, dt: float) -> tuple[float, float]:
-    """One (period, latency) in seconds drawn uniformly within ``link``'s ranges, each
-    rounded to whole physics steps of ``dt`` (a period of at least one step).
+def draw_timing(link: LinkTiming | str, rng: np.random.Generator) -> tuple[float, float]:
+    """One (period, latency) in seconds drawn uniformly within ``link``'s ranges, as the
+    link has them; a simulation rounds them to its whole steps
+    (:meth:`puckboard.scenario.scene.Control.rounded`).
 
     Always two draws from ``rng`` (none skipped for a fixed range), so what is drawn
     after stays the same whichever link was drawn from.
     """
     if isinstance(link, str):
         link = get_link(link)
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
     u_period, u_latency = rng.random(2)
     period = link.period[0] + float(u_period) * (link.period[1] - link.period[0])
     latency = link.latency[0] + float(u_latency) * (link.latency[1] - link.latency[0])
-    return _quantise(period, dt, 1), _quantise(latency, dt, 0)
-
-
-def timing_overrides(period: float, latency: float) -> dict[str, Any]:
-    """The overrides that run a scene at this timing (``run_episode(overrides=...)``)."""
-    return {"control.period": float(period), "control.latency": float(latency)}
+    return period, latency

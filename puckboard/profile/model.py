@@ -74,12 +74,14 @@ class RobotProfile:
     Attributes are SI. ``max_wheel_speed`` is the wheel's angular speed limit in rad/s;
     commands beyond it are clamped (with a warning) by every adapter.
 
-    The proximity sensors follow ``prox_model``: ``"rays"`` (the physical robot: a fan of
-    rays over ``prox_aperture`` through the calibrated response table, with noise) or
-    ``"cone"`` (V-REP's proximity sensor: the exact distance to the nearest point of any
-    object inside a cone of ``prox_aperture``, detected only between
-    ``prox_min_distance`` and ``prox_max_distance``, no noise). Either way a reading of
-    nothing is ``prox_range``, the controllers' no-detection distance.
+    The proximity sensors follow ``prox_model``, the name of an IR sensor model of the
+    engine's registry (:mod:`puckboard.sim.ir_models`, which refuses a name it does not
+    know when a world is built): ``"rays"`` (the physical robot: a fan of rays over
+    ``prox_aperture`` through the calibrated response table, with noise) or ``"cone"``
+    (V-REP's proximity sensor: the exact distance to the nearest point of any object
+    inside a cone of ``prox_aperture``, detected only between ``prox_min_distance`` and
+    ``prox_max_distance``, no noise). Either way a reading of nothing is ``prox_range``,
+    the controllers' no-detection distance.
 
     Per robot, as built: ``ir_gain`` multiplies each IR sensor's response above its
     ambient baseline and ``ir_offset`` (raw units) is what its start-up calibration left
@@ -130,8 +132,8 @@ class RobotProfile:
     extra: dict[str, float] = field(default_factory=dict, compare=False, hash=False)
 
     def __post_init__(self) -> None:
-        if self.prox_model not in ("rays", "cone"):
-            raise ValueError(f"prox_model must be 'rays' or 'cone', got {self.prox_model!r}")
+        if not self.prox_model:
+            raise ValueError("prox_model must name an IR sensor model (puckboard.sim.ir_models)")
         if not 0.0 <= self.prox_min_distance < self.prox_max_distance <= self.prox_range:
             raise ValueError(
                 "need 0 <= prox_min_distance < prox_max_distance <= prox_range, got "

@@ -30,15 +30,14 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
-import re
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
-from decimal import Decimal
 from types import SimpleNamespace
 from typing import Any
 
 from ..errors import ProfileError
 from ..records import PROX_NAMES
+from ..units import read_quantity
 from .model import RobotProfile
 
 __all__ = [
@@ -89,7 +88,11 @@ class _Field:
 #: Every setting head, in the order reports list them.
 SETTING_FIELDS: dict[str, _Field] = {
     "wheel_radius": _Field(
-        "m", 0.005, 0.05, False, False,
+        "m",
+        0.005,
+        0.05,
+        False,
+        False,
         "wheel radius: the nominal one (conversions, odometry) and both wheels; "
         ".left/.right: one wheel's true radius only",
         sensors="wheel",
@@ -99,30 +102,61 @@ SETTING_FIELDS: dict[str, _Field] = {
     "max_wheel_speed": _Field("rad/s", 0.0, 100.0, True, False, "wheel speed limit"),
     "prox_aperture": _Field("rad", 0.0, math.pi, True, True, "opening angle of each IR sensor"),
     "prox_max_distance": _Field(
-        "m", 0.0, 0.1, True, False,
+        "m",
+        0.0,
+        0.1,
+        True,
+        False,
         "detection cut-off: farther readings report nothing (prox_range)",
     ),
-    "prox_min_distance": _Field("m", 0.0, 0.1, False, True, "nearest distance an IR sensor detects"),
+    "prox_min_distance": _Field(
+        "m", 0.0, 0.1, False, True, "nearest distance an IR sensor detects"
+    ),
     "prox_radius": _Field(
-        "m", 0.0, 0.1, True, True,
+        "m",
+        0.0,
+        0.1,
+        True,
+        True,
         "distance of an IR sensor from the robot's centre, moved along its bearing",
-        sensors="ir", bare=False,
+        sensors="ir",
+        bare=False,
     ),
     "prox_heading": _Field(
-        "rad", -math.pi, math.pi, False, False,
+        "rad",
+        -math.pi,
+        math.pi,
+        False,
+        False,
         "look direction of an IR sensor; for a pair the left sensor's, mirrored on the right",
-        sensors="ir", bare=False, pairs_mirror=True,
+        sensors="ir",
+        bare=False,
+        pairs_mirror=True,
     ),
     "ir_gain": _Field(
-        "1", 0.0, 10.0, True, False,
-        "multiplier of an IR sensor's response above its ambient baseline", sensors="ir",
+        "1",
+        0.0,
+        10.0,
+        True,
+        False,
+        "multiplier of an IR sensor's response above its ambient baseline",
+        sensors="ir",
     ),
     "ir_offset": _Field(
-        "raw", -4095.0, 4095.0, False, False,
-        "raw units added to an IR sensor's calibrated value", sensors="ir",
+        "raw",
+        -4095.0,
+        4095.0,
+        False,
+        False,
+        "raw units added to an IR sensor's calibrated value",
+        sensors="ir",
     ),
     "ground_spacing": _Field(
-        "m", 0.0, 0.05, True, False,
+        "m",
+        0.0,
+        0.05,
+        True,
+        False,
         "lateral distance between adjacent ground sensors (the centre one stays)",
     ),
     "ground_forward": _Field(
@@ -131,25 +165,7 @@ SETTING_FIELDS: dict[str, _Field] = {
     "ground_footprint": _Field(
         "m", 0.0, 0.02, False, False, "half-width of a ground sensor's light spot"
     ),
-}  # fmt: skip
-
-# a unit's conversion of the written number: decimal, so "20.3mm" is exactly 0.0203
-_UNITS: dict[str, dict[str, Callable[[str], float]]] = {
-    "m": {
-        "m": float,
-        "cm": lambda x: float(Decimal(x) / 100),
-        "mm": lambda x: float(Decimal(x) / 1000),
-    },
-    "rad": {
-        "rad": float,
-        "deg": lambda x: math.radians(float(x)),
-        "°": lambda x: math.radians(float(x)),
-    },
-    "rad/s": {"rad/s": float},
-    "1": {},
-    "raw": {},
 }
-_NUMBER_WITH_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([a-z°/]*)\s*$")
 
 
 def _show(value: float, unit: str) -> str:
@@ -293,34 +309,10 @@ def _given(value: Any) -> str:
 
 
 def _number(setting: str, value: Any, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
-    if not isinstance(value, str):
-        return float(value)
-    match = _NUMBER_WITH_UNIT.match(value)
-    if match is None:
-        raise ProfileError(f"{setting} = {value!r}: expected a number ({_unit_words(unit)})")
-    number, suffix = match.group(1), match.group(2)
-    if not suffix:
-        return float(number)
-    factors = _UNITS[unit]
-    if suffix not in factors:
-        raise ProfileError(
-            f"{setting} = {value!r}: unit {suffix!r} does not fit; {_unit_words(unit)}"
-        )
-    return factors[suffix](number)
-
-
-def _unit_words(unit: str) -> str:
-    if unit == "m":
-        return "metres, or with a unit: 31mm, 3.1cm"
-    if unit == "rad":
-        return "radians, or with a unit: 17deg"
-    if unit == "1":
-        return "a plain factor, no unit"
-    if unit == "raw":
-        return "raw sensor units, no unit"
-    return unit
+    try:
+        return read_quantity(setting, value, unit)
+    except ValueError as exc:
+        raise ProfileError(str(exc)) from None
 
 
 def expand_setting(setting: str) -> tuple[str, ...]:
@@ -484,6 +476,7 @@ def apply_overrides(
         overrides=tuple(record),
         sources=sources,
         extra=dict(profile.extra),
+        link=profile.link,  # its measured link is not a number these settings change
     )
 
 

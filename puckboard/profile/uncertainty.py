@@ -36,7 +36,6 @@ from .setting_names import (
 
 __all__ = [
     "RANGE_KINDS",
-    "VARIATIONS",
     "VARIATION_STREAM",
     "Range",
     "certainty_note",
@@ -49,11 +48,6 @@ __all__ = [
 #: Why a number is uncertain: the sources give different values, real robots differ from
 #: each other, or the decoded variants of a simulator model differ.
 RANGE_KINDS = ("sources disagree", "per robot", "decoded variants")
-
-#: What ``--variation`` accepts: ``none`` (every robot as its profile says),
-#: ``plausible`` (each robot drawn from the ranges) or ``reality-gap`` (robots drawn as
-#: ``plausible`` draws them, in conditions drawn by :mod:`puckboard.scenario.reality_gap`).
-VARIATIONS = ("none", "plausible", "reality-gap")
 
 #: The third word of every variation generator's seed, ``[seed, robot_index, STREAM]``:
 #: it names the stream (the ASCII of "PROF"), so drawing robots touches neither the

@@ -93,19 +93,27 @@ RECORDED_KEYS: tuple[str, ...] = ("pose", "proximity", "ground", "command/wheels
 _PROX_RANGE_DEFAULT = 0.05
 
 
+class RecordedRobots(Protocol):
+    """What a recorder reads of a run's connection: the names of the robots it drives."""
+
+    @property
+    def adapters(self) -> Mapping[str, object]: ...
+
+
 class RecordedRun(Protocol):
     """What a recorder needs of a run: a :class:`~puckboard.control.episode.Episode`, or
-    anything with its blackboard, connection and observers. (The recording sits below
-    the control loop, so it names what it reads instead of importing the class;
-    :meth:`Recorder.for_episode` reads the rest, the controllers, scene, loop, seed,
-    backend and judge, where the run has them.)"""
+    anything with its blackboard, connection and observers. A recording is backend-neutral
+    and records any run, so it names what it reads instead of importing the loop or a
+    backend; :meth:`Recorder.for_episode` reads the rest, the controllers, scene, loop,
+    seed, backend and judge, where the run has them."""
 
     @property
     def blackboard(self) -> Blackboard: ...
 
     @property
-    def connection(self) -> Any: ...  # a backends.base.Connection: backends sit above
+    def connection(self) -> RecordedRobots: ...
 
+    # Any: the observer is handed the run itself, whatever class it is
     def add_observer(self, observer: Callable[[Any], None]) -> None: ...
 
     def add_close_observer(self, observer: Callable[[Any], Any]) -> None: ...
@@ -181,7 +189,8 @@ class Recording:
         self.decisions = decisions
         if decisions is not None:
             decisions.check(t, n)
-        self._scene: Any = _UNSET
+        self._scene: Scene | None = None
+        self._scene_read = False  # meta["scene"] is read once, when first asked for
 
     # -- convenient access -----------------------------------------------------------------
     def __len__(self) -> int:
@@ -235,11 +244,12 @@ class Recording:
         return self.decisions.node_status(name, self.robot_names.index(name), tick)
 
     @property
-    def scene(self) -> Any:
+    def scene(self) -> Scene | None:
         """The recorded :class:`~puckboard.scenario.scene.Scene` (``None`` if none was recorded)."""
-        if self._scene is _UNSET:
+        if not self._scene_read:
             data = self.meta.get("scene")
             self._scene = None if data is None else scene_from_json(data)
+            self._scene_read = True
         return self._scene
 
     @property
@@ -584,8 +594,6 @@ def controller_layers(controller: Controller) -> tuple[str, ...]:
 
 
 # -- scenes as JSON ------------------------------------------------------------------------
-_UNSET = object()
-
 
 def _json_default(value: Any) -> Any:
     if isinstance(value, np.ndarray):
@@ -602,7 +610,7 @@ def scene_to_json(scene: Scene) -> dict[str, Any]:
     return scene_to_dict(scene)
 
 
-def scene_from_json(data: Mapping[str, Any]) -> Any:
+def scene_from_json(data: Mapping[str, Any]) -> Scene:
     """Rebuild the recorded :class:`~puckboard.scenario.scene.Scene` from the scene file's
     own form, read (and validated) by :func:`~puckboard.scenario.conversion.scene_from_dict`."""
     from ..scenario.conversion import scene_from_dict

@@ -32,68 +32,53 @@ from collections.abc import Mapping
 from typing import Any
 
 from .scene import CircleObstacle, PolygonObstacle, RobotSpec, Scene
+from .settings import (
+    LINE_CONTRAST,
+    LINE_WIDTH,
+    OBSTACLE_REFLECTANCE,
+    SETTINGS,
+    START_HEADING,
+    START_OFFSET,
+)
 
 __all__ = ["CONDITIONS", "apply_conditions", "hand_placed", "with_reflectance"]
 
-#: Every condition setting with its unit and meaning.
-CONDITIONS: dict[str, str] = {
-    "surface.line_contrast": "share (0..1) of the line's contrast with the floor that the "
-    "ground sensors see (1: as its colour says)",
-    "surface.line_width": "the line's width (m)",
-    "obstacle.ir_reflectance": "every obstacle's IR reflectance (0..1; 1: the IR response "
-    "curve's surface, about 0.1 or less: black)",
-    "start.offset": "every robot's start moved sideways to its left (m), as placed by hand",
-    "start.heading": "every robot's start heading turned counter-clockwise (rad)",
-}
-
-#: The bounds of each setting (inclusive): contrast and reflectance are shares; a line
-#: must have a width; a robot put down more than 10 cm or 90° off is not placed on the line.
-_BOUNDS: dict[str, tuple[float, float]] = {
-    "surface.line_contrast": (0.0, 1.0),
-    "surface.line_width": (0.001, 0.2),
-    "obstacle.ir_reflectance": (0.0, 1.0),
-    "start.offset": (-0.1, 0.1),
-    "start.heading": (-math.pi / 2, math.pi / 2),
-}
-
-
-def _value(name: str, value: Any) -> float:
-    """``value`` as a float within the setting's bounds, else a one-line ``ValueError``."""
-    low, high = _BOUNDS[name]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"override {name} needs a number from {low:g} to {high:g}, got {value!r}")
-    if not low <= value <= high:
-        raise ValueError(
-            f"override {name} must lie from {low:g} to {high:g} ({CONDITIONS[name]}), got {value!r}"
-        )
-    return float(value)
+#: Every condition setting with its meaning and unit (the settings table's conditions).
+CONDITIONS: dict[str, str] = {s.name: s.help for s in SETTINGS.values() if s.group == "condition"}
 
 
 def apply_conditions(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the condition settings among ``overrides`` applied (others are left
-    alone). A line setting on a scene without a track is refused: there is no line."""
-    values = {name: _value(name, v) for name, v in overrides.items() if name in CONDITIONS}
+    alone), each checked against its bounds (a one-line ``ValueError``). A line setting on
+    a scene without a track is refused: there is no line."""
+    values = {}
+    for name, value in overrides.items():
+        if name in CONDITIONS:
+            try:
+                values[name] = SETTINGS[name].check(value)
+            except ValueError as exc:
+                raise ValueError(f"override {exc}") from None
     if not values:
         return scene
     changes: dict[str, Any] = {}
-    line = {k: v for k, v in values.items() if k.startswith("surface.")}
+    line = {k: v for k, v in values.items() if k in (LINE_WIDTH.name, LINE_CONTRAST.name)}
     if line:
         if scene.track is None:
             raise ValueError(
                 f"override {next(iter(line))}: scene {scene.name!r} has no line ([track])"
             )
         track = scene.track
-        if "surface.line_width" in line:
-            track = dataclasses.replace(track, width=line["surface.line_width"])
-        if "surface.line_contrast" in line:
-            track = dataclasses.replace(track, contrast=line["surface.line_contrast"])
+        if LINE_WIDTH.name in line:
+            track = dataclasses.replace(track, width=line[LINE_WIDTH.name])
+        if LINE_CONTRAST.name in line:
+            track = dataclasses.replace(track, contrast=line[LINE_CONTRAST.name])
         changes["track"] = track
-    if "obstacle.ir_reflectance" in values:
-        rho = values["obstacle.ir_reflectance"]
+    if OBSTACLE_REFLECTANCE.name in values:
+        rho = values[OBSTACLE_REFLECTANCE.name]
         changes["obstacles"] = tuple(with_reflectance(ob, rho) for ob in scene.obstacles)
-    offset = values.get("start.offset", 0.0)
-    heading = values.get("start.heading", 0.0)
-    if "start.offset" in values or "start.heading" in values:
+    offset = values.get(START_OFFSET.name, 0.0)
+    heading = values.get(START_HEADING.name, 0.0)
+    if START_OFFSET.name in values or START_HEADING.name in values:
         changes["robots"] = tuple(hand_placed(r, offset, heading) for r in scene.robots)
     return dataclasses.replace(scene, **changes)
 

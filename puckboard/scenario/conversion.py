@@ -41,6 +41,7 @@ from .scene import (
     Scene,
     Track,
 )
+from .settings import CONTROL_LATENCY, CONTROL_PERIOD, SETTINGS
 from .tracks import TRACK_KEYS, read_track
 
 __all__ = ["for_seed", "realise", "scene_from_dict", "scene_to_dict"]
@@ -73,8 +74,8 @@ def scene_from_dict(
     top = TableReader(data, "", source, TOP_KEYS)
     name = top.string("name", default_name)
     description = top.string("description", "")
-    dt = top.number("dt", 0.05, unit="s", low=0.0, high=1.0, low_open=True)
-    duration = top.number("duration", 120.0, unit="s", low=0.0, high=1e6, low_open=True)
+    dt = _setting(top, "dt", 0.05, "dt", "s")
+    duration = _setting(top, "duration", 120.0, "duration", "s")
     floor = top.colour("floor_colour", (235, 235, 225))
     camera_size = _camera_size(top)
     track, frame = _track(top)
@@ -199,16 +200,28 @@ def _noise(top: TableReader) -> Noise:
     reader = top.sub("noise", NOISE_KEYS)
     if reader is None:
         return Noise()
+    words = {
+        "wheel_speed": "relative σ",
+        "proximity": "relative σ",
+        "ground": "σ on the 0..1 scale",
+        "start_jitter": "m and rad",
+        "gyro": "rad/s σ",
+        "gyro_bias": "rad/s",
+    }
     noise = Noise(
-        wheel_speed=reader.number("wheel_speed", 0.0, unit="relative σ", low=0, high=1),
-        proximity=reader.number("proximity", 0.0, unit="relative σ", low=0, high=1),
-        ground=reader.number("ground", 0.0, unit="σ on the 0..1 scale", low=0, high=1),
-        start_jitter=reader.number("start_jitter", 0.0, unit="m and rad", low=0, high=0.5),
-        gyro=reader.number("gyro", 0.0, unit="rad/s σ", low=0, high=1),
-        gyro_bias=reader.number("gyro_bias", 0.0, unit="rad/s", low=-1, high=1),
+        **{key: _setting(reader, key, 0.0, f"noise.{key}", unit) for key, unit in words.items()}
     )
     reader.finish()
     return noise
+
+
+def _setting(reader: TableReader, key: str, default: float | None, name: str, unit: str) -> float:
+    """``key`` of a scene file's table, within the bounds of setting ``name``
+    (:mod:`.settings`: the same bounds as ``--set name=...``)."""
+    setting = SETTINGS[name]
+    return reader.number(
+        key, default, unit=unit, low=setting.low, high=setting.high, low_open=setting.low_open
+    )
 
 
 def _goal(top: TableReader, track: Track | None) -> Goal:
@@ -233,11 +246,9 @@ def _control(top: TableReader, dt: float) -> Control:
     if reader is None:
         return Control()
     period = (
-        reader.number("period", unit="s", low=0.0, high=1e3, low_open=True)
-        if reader.has("period")
-        else None
+        _setting(reader, "period", None, CONTROL_PERIOD.name, "s") if reader.has("period") else None
     )
-    latency = reader.number("latency", 0.0, unit="s", low=0.0, high=1e3)
+    latency = _setting(reader, "latency", 0.0, CONTROL_LATENCY.name, "s")
     reader.finish()
     control = Control(period=period, latency=latency)
     try:

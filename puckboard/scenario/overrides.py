@@ -33,40 +33,34 @@ import re
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-import numpy as np
-
 from ..errors import ProfileError, SceneError
-from ..profile import RobotProfile, apply_overrides, check_setting, get_profile
-from .conditions import CONDITIONS, apply_conditions
+from ..profile import RobotProfile, apply_overrides, check_setting, check_value, get_profile
+from ..profile.files import link_seconds
+from .conditions import apply_conditions
 from .robot_profiles import scene_profile
 from .scene import RobotSpec, Scene
+from .settings import CONTROL_PERIOD, SETTINGS
 from .variation import check_variation
 
 __all__ = [
+    "LINK_PATHS",
     "OVERRIDE_NAMES",
     "SET_SOURCE",
     "apply_profile_overrides",
     "apply_scene_overrides",
     "check_control_step",
+    "check_profile_path",
+    "link_overrides",
     "parse_override",
     "parse_overrides",
     "parse_value",
     "profile_target",
+    "profile_value",
 ]
 
 OVERRIDE_NAMES = (
     "robot.profile",
-    "noise.wheel_speed",
-    "noise.proximity",
-    "noise.ground",
-    "noise.start_jitter",
-    "noise.gyro",
-    "noise.gyro_bias",
-    "dt",
-    "duration",
-    *CONDITIONS,
-    "control.period",
-    "control.latency",
+    *SETTINGS,
     "layer.<LayerName>.<attribute>",
     "controller.<keyword>",
     "profile.<path>",
@@ -79,8 +73,6 @@ OVERRIDE_NAMES = (
 SET_SOURCE = "set on the command line (--set profile.PATH=VALUE)"
 
 _PER_ROBOT = re.compile(r"^robot\.(.+)\.profile\.(.+)$")
-#: Noise fields that are offsets rather than spreads, so either sign means something.
-_SIGNED_NOISE = frozenset({"gyro_bias"})
 
 
 # -- text --------------------------------------------------------------------------------
@@ -121,8 +113,43 @@ def parse_override(item: str) -> tuple[str, Any]:
 
 def parse_overrides(items: Iterable[str]) -> dict[str, Any]:
     """``NAME=VALUE`` strings (each as :func:`parse_override`) as one dict; a name given
-    twice keeps its last value."""
-    return dict(parse_override(item) for item in items)
+    twice is refused (``ValueError``): which of the two was meant, only the user knows."""
+    out: dict[str, Any] = {}
+    for item in items:
+        name, value = parse_override(item)
+        if name in out:
+            raise ValueError(
+                f"--set {name} given twice ({name}={out[name]!r}, then {name}={value!r}); "
+                "give it once"
+            )
+        out[name] = value
+    return out
+
+
+#: The paths of ``profile.link.<key>``: a profile's measured link (its ``[link]`` table),
+#: so a sweep's episodes carry the link a profile file gives, as its numbers.
+LINK_PATHS = ("link.period", "link.latency")
+
+
+def link_overrides(link: tuple[float, float]) -> dict[str, float]:
+    """The overrides that give every robot's profile the measured ``link`` (period,
+    latency in s): what a profile file's ``[link]`` is among a sweep's parameters."""
+    return {f"profile.{path}": float(value) for path, value in zip(LINK_PATHS, link)}
+
+
+def check_profile_path(path: str) -> str:
+    """``path`` of a ``profile.<path>`` override if it names something (a setting of
+    :mod:`puckboard.profile.setting_names`, or the profile's ``link.period`` or
+    ``link.latency``); else a one-line :class:`~puckboard.errors.ProfileError`."""
+    return path.strip() if path.strip() in LINK_PATHS else check_setting(path)
+
+
+def profile_value(path: str, value: Any) -> float:
+    """A ``profile.<path>`` value in SI, checked: a setting's within its hard bounds, a
+    link's within a link's."""
+    if path.strip() in LINK_PATHS:
+        return link_seconds(path.strip().partition(".")[2], value)
+    return check_value(path, value)
 
 
 def profile_target(name: str) -> tuple[str | None, str] | None:
@@ -137,60 +164,51 @@ def profile_target(name: str) -> tuple[str | None, str] | None:
 # -- the scene ---------------------------------------------------------------------------
 def apply_scene_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene:
     """``scene`` with the scene-level overrides applied (``robot.profile`` for every robot,
-    ``noise.*``, ``dt``, ``duration``, ``profile.*``); ``layer.*`` and ``controller.*`` names
-    are left for the controllers and ``variation`` (checked here) for the episode, which knows the seed.
-    Unknown names raise ``ValueError``."""
-    noise_changes: dict[str, float] = {}
-    control_changes: dict[str, float] = {}
-    scene_changes: dict[str, Any] = {}
-    noise_fields = {f.name for f in dataclasses.fields(scene.noise)}
+    the settings of :mod:`.settings`, ``profile.*``); ``layer.*`` and ``controller.*`` names
+    are left for the controllers and ``variation`` (checked here) for the episode, which
+    knows the seed. Every value is checked against its setting's bounds; unknown names and
+    bad values raise a one-line ``ValueError``."""
+    parts: dict[str, dict[str, Any]] = {"noise": {}, "scene": {}, "control": {}}
     for name, value in overrides.items():
         if name.startswith(("layer.", "controller.")):
             continue
-        if name.startswith("noise."):
-            key = name.split(".", 1)[1]
-            if key not in noise_fields:
-                raise ValueError(
-                    f"unknown override {name!r}; noise fields: {', '.join(sorted(noise_fields))}"
-                )
-            noise_changes[key] = _number(name, value, signed=key in _SIGNED_NOISE)
+        setting = SETTINGS.get(name)
+        if setting is not None:
+            try:
+                number = setting.check(value)
+            except ValueError as exc:
+                raise ValueError(f"override {exc}") from None
+            if setting.group in parts:  # conditions: applied below, on the scene the rest give
+                parts[setting.group][setting.field] = number
         elif name == "robot.profile":
             profile = scene_profile(value)  # a clear error names the known profiles
-            scene_changes["robots"] = scene.with_profile(profile).robots
-        elif name in ("dt", "duration"):
-            number = _number(name, value)
-            if number <= 0:
-                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
-            scene_changes[name] = number
-        elif name in ("control.period", "control.latency"):
-            number = _number(name, value)
-            if name == "control.period" and number <= 0:
-                raise ValueError(f"override {name} must be positive seconds, got {value!r}")
-            control_changes[name.split(".", 1)[1]] = number
+            parts["scene"]["robots"] = scene.with_profile(profile).robots
         elif name == "variation":
             check_variation(str(value))  # drawn by the episode, which knows the seed
-        elif name in CONDITIONS:
-            continue  # applied below, on the scene the other settings give
+        elif name.startswith("noise."):
+            noise = [n.partition(".")[2] for n in SETTINGS if n.startswith("noise.")]
+            raise ValueError(f"unknown override {name!r}; noise fields: {', '.join(sorted(noise))}")
         elif profile_target(name) is None:
             raise ValueError(f"unknown override {name!r}; known: {', '.join(OVERRIDE_NAMES)}")
-    if noise_changes:
-        scene_changes["noise"] = dataclasses.replace(scene.noise, **noise_changes)  # type: ignore[assignment]
-    if control_changes:
-        scene_changes["control"] = dataclasses.replace(scene.control, **control_changes)  # type: ignore[arg-type]
-    scene = dataclasses.replace(scene, **scene_changes) if scene_changes else scene  # type: ignore[arg-type]
+    changes = dict(parts["scene"])
+    if parts["noise"]:
+        changes["noise"] = dataclasses.replace(scene.noise, **parts["noise"])
+    if parts["control"]:
+        changes["control"] = dataclasses.replace(scene.control, **parts["control"])
+    scene = dataclasses.replace(scene, **changes) if changes else scene
     scene = apply_profile_overrides(scene, overrides)  # after robot.profile: they change it
     scene = apply_conditions(scene, overrides)
-    if "dt" in overrides or control_changes:
+    if "dt" in overrides or parts["control"]:
         try:  # the loop's timing against the step it ends with, whichever was set
             scene.control.steps(scene.dt)
         except ValueError as exc:
             raise SceneError(f"override {exc}") from None
-    if "dt" in overrides or "control.period" in overrides:
+    if "dt" in overrides or "period" in parts["control"]:
         # against the profiles the robots end with
         if scene.control.period is None:
             check_control_step(scene, scene.dt)
         else:
-            check_control_step(scene, scene.control.period, name="control.period")
+            check_control_step(scene, scene.control.period, name=CONTROL_PERIOD.name)
     return scene
 
 
@@ -223,16 +241,6 @@ def check_control_step(scene: Scene, dt: float, *, name: str = "dt") -> None:
             f"and be hit between two ticks; use {name} ≤ {shown:.2f} s (the shipped scenes "
             "use 0.05)"
         )
-
-
-def _number(name: str, value: Any, *, signed: bool = False) -> float:
-    """``value`` as a float: a finite number, and unless ``signed`` not negative."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"override {name} needs a number, got {value!r}")
-    if not np.isfinite(value) or (value < 0 and not signed):
-        bound = "" if signed else " >= 0"
-        raise ValueError(f"override {name} must be a finite number{bound}, got {value!r}")
-    return float(value)
 
 
 # -- the robots' profiles ----------------------------------------------------------------
@@ -268,19 +276,42 @@ def apply_profile_overrides(scene: Scene, overrides: Mapping[str, Any]) -> Scene
 
 def _checked(name: str, path: str) -> str:
     try:
-        return check_setting(path)
+        return check_profile_path(path)
     except ProfileError as exc:
         raise ProfileError(f"override {name!r}: {exc}") from None
 
 
 def _changed(spec: RobotSpec, changes: Mapping[str, Any]) -> RobotSpec:
+    numbers = {k: v for k, v in changes.items() if k not in LINK_PATHS}
+    link = {k: v for k, v in changes.items() if k in LINK_PATHS}
     try:
-        profile = apply_overrides(get_profile(spec.profile), changes, source=SET_SOURCE)
-        actual = (
-            None
-            if spec.actual is None
-            else apply_overrides(spec.actual, changes, source=SET_SOURCE)
-        )
+        profile = _with_link(get_profile(spec.profile), link)
+        actual = None if spec.actual is None else _with_link(spec.actual, link)
+        if numbers:
+            profile = apply_overrides(profile, numbers, source=SET_SOURCE)
+            if actual is not None:
+                actual = apply_overrides(actual, numbers, source=SET_SOURCE)
     except ProfileError as exc:
         raise ProfileError(f"profile.{exc} (robot {spec.name!r})") from None
     return dataclasses.replace(spec, profile=profile, actual=actual)
+
+
+def _with_link(profile: RobotProfile, given: Mapping[str, Any]) -> RobotProfile:
+    """``profile`` with its link's period and latency as ``given`` (``link.<key>``: s);
+    a profile without a link needs both."""
+    if not given:
+        return profile
+    old = dict(zip(LINK_PATHS, profile.link)) if profile.link is not None else {}
+    both = {**old, **given}
+    missing = [p for p in LINK_PATHS if p not in both]
+    if missing:
+        raise ProfileError(
+            f"{missing[0]}: a link has a period and a latency, and {profile.name!r} has no "
+            f"[link]; give profile.{missing[0]} too"
+        )
+    link = tuple(link_seconds(p.partition(".")[2], both[p]) for p in LINK_PATHS)
+    return dataclasses.replace(
+        profile,
+        link=(link[0], link[1]),
+        sources={**profile.sources, "link": SET_SOURCE},
+    )

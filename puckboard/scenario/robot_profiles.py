@@ -130,7 +130,7 @@ def link_control(scene: Scene) -> Scene:
         )
     ((period, latency),) = links
     dt = scene.dt
-    control = Control(period=max(1, round(period / dt)) * dt, latency=round(latency / dt) * dt)
+    control = Control.rounded(period, latency, dt)
     log.info(
         "running at the profile's link timing: period %.3g s, latency %.3g s (measured "
         "%.3g s and %.3g s, rounded to whole steps of %.3g s)",

@@ -29,6 +29,7 @@ __all__ = [
     "RobotSpec",
     "Scene",
     "Track",
+    "whole_steps",
 ]
 
 Colour = tuple[int, int, int]
@@ -248,23 +249,39 @@ class Control:
         """The control period (s) with physics step ``dt``."""
         return dt if self.period is None else self.period
 
+    @classmethod
+    def rounded(cls, period: float, latency: float, dt: float) -> Control:
+        """The loop at ``period`` and ``latency`` (s) as the simulator can run it: each
+        rounded to the nearest whole number of physics steps of ``dt`` (the period to
+        one step at least), by :func:`whole_steps`."""
+        return cls(period=whole_steps(period, dt, minimum=1), latency=whole_steps(latency, dt))
+
     def steps(self, dt: float) -> tuple[int, int]:
         """(steps per tick, steps of latency) with physics step ``dt``; ``ValueError``
         (one line, saying how to fix it) for a period or latency that is negative, not
         finite, or not a whole number of steps."""
-        period = self.period_for(dt)
+        # the settings that set them are named control.<field> (scenario.settings)
         return (
-            _whole_steps("control.period", period, dt, minimum=1),
-            _whole_steps("control.latency", self.latency, dt, minimum=0),
+            _whole_steps("period", self.period_for(dt), dt, minimum=1),
+            _whole_steps("latency", self.latency, dt, minimum=0),
         )
+
+
+def whole_steps(seconds: float, dt: float, *, minimum: int = 0) -> float:
+    """``seconds`` rounded to the nearest whole number of physics steps of ``dt`` (at least
+    ``minimum`` steps), in seconds: the one rounding of a time the simulator takes in
+    whole steps (a link's drawn or measured timing, a family's slow end)."""
+    return max(minimum, round(seconds / dt)) * dt
 
 
 def _same(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-12)
 
 
-def _whole_steps(name: str, value: float, dt: float, *, minimum: int) -> int:
-    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``."""
+def _whole_steps(field: str, value: float, dt: float, *, minimum: int) -> int:
+    """``value`` (s) as a whole number of physics steps of ``dt``, at least ``minimum``;
+    ``field`` names the setting (``control.<field>``) in the one-line error."""
+    name = f"control.{field}"
     if not math.isfinite(value) or value < 0 or (minimum and value <= 0):
         bound = "positive" if minimum else "zero or positive"
         raise ValueError(f"{name} must be a finite, {bound} number of seconds, got {value!r}")

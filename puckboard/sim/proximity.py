@@ -86,12 +86,12 @@ class ProximitySensors:
 
     ``robots`` (world indices) are those that sense with rays; the others (V-REP's cone
     model, :mod:`.cone`) read what their own sensors give, and this class only keeps their
-    rows of the N×8 arrays. ``seg_start``/``seg_vector`` are every static segment
-    (polygon edges, walls); circles are the static round obstacles followed by one circle
-    per robot (their centres are the poses passed to :meth:`sense` each step).
-    ``polygons`` and ``walls`` say which segments belong to what, for the broad phase. ``circle_reflectance`` (one per static
-    circle) and ``seg_reflectance`` (one per segment) are the objects' IR reflectance
-    (:mod:`.reflectance`); None: every one 1.
+    rows of the N×8 arrays. ``seg_start``/``seg_vector`` are every static segment (polygon
+    edges, walls); circles are the static round obstacles followed by one circle per robot
+    (their centres are the poses passed to :meth:`sense` each step). ``polygons`` and
+    ``walls`` say which segments belong to what, for the broad phase.
+    ``circle_reflectance`` (one per static circle) and ``seg_reflectance`` (one per
+    segment) are the objects' IR reflectance (:mod:`.reflectance`); None: every one 1.
     """
 
     def __init__(

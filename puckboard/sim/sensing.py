@@ -3,10 +3,10 @@
 A world senses after every step, for every robot, whether or not anyone reads: the
 readings must describe the state at the end of the step, and the random numbers drawn
 for their noise must not depend on who is watching. So the pass is built for all robots
-together: the IR rays of every robot near something in one cast (:mod:`.proximity`), then
-what each robot's firmware makes of them (:mod:`.ir_calibration`), the exact cones of
-robots with V-REP's sensing model after them (:mod:`.cone`), and all ground sensors in
-one query of the nearby track segments (:mod:`.floor`).
+together: each IR sensor model the robots' profiles name (:mod:`.ir_models`: the physical
+e-puck's rays cast for every ray robot near something in one pass, V-REP's exact cones)
+senses its robots, then all ground sensors in one query of the nearby track segments
+(:mod:`.floor`).
 
 :class:`Sensing` holds where each sensor sits (from the robots' profiles, as built) and
 writes the readings into four N×k arrays, in place, so that a view of a row stays live.
@@ -21,10 +21,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..profile import RobotProfile
-from .cone import ConeSensors
 from .floor import Floor
-from .ir_calibration import IrCalibration
-from .proximity import ProximitySensors
+from .ir_models import IrSensors, ir_model
 from .surfaces import Surfaces
 
 __all__ = ["Sensing"]
@@ -56,34 +54,17 @@ class Sensing:
                 raise ValueError(f"profile {p.name!r} must have 3 ground sensor poses")
         n = len(profiles)
         self.floor = floor
-        self._proximity_noise = proximity_noise
         self._ground_noise = ground_noise
-        # each robot's profile names its IR model: Webots' rays or V-REP's exact cones
-        ray_robots = [i for i, p in enumerate(profiles) if p.prox_model == "rays"]
-        cone_robots = [i for i, p in enumerate(profiles) if p.prox_model == "cone"]
-        self.proximity = ProximitySensors(
-            profiles,
-            robots=ray_robots,
-            rays=rays,
-            seg_start=surfaces.seg_start,
-            seg_vector=surfaces.seg_vector,
-            static_circles=surfaces.static_circles,
-            polygons=surfaces.polygons,
-            walls=surfaces.walls,
-            circle_reflectance=surfaces.circle_reflectance,
-            seg_reflectance=surfaces.seg_reflectance,
-        )
-        self.calibration = IrCalibration(profiles, self.proximity.baseline_raw)
-        # the cones are computed after the rays: they overwrite their robots' rows
-        self.cones = ConeSensors(
-            profiles,
-            cone_robots,
-            static_circles=surfaces.static_circles,
-            seg_start=surfaces.seg_start,
-            seg_vector=surfaces.seg_vector,
-            polygons=surfaces.polygons,
-            walls=surfaces.walls,
-        )
+        # each robot's profile names its IR model; each model is built once, for its robots
+        users: dict[str, list[int]] = {}
+        for i, p in enumerate(profiles):
+            users.setdefault(p.prox_model, []).append(i)
+        #: the IR sensors of each model the robots use, by the model's name
+        self.ir: dict[str, IrSensors] = {
+            name: ir_model(name).build(profiles, robots, surfaces, rays, proximity_noise)
+            for name, robots in users.items()
+        }
+        self._ir_of = {i: model for model in self.ir.values() for i in model.robots}
         # ground sensors: local positions, and their centroid for the segment grid
         self._ground_local = [[(q.x, q.y) for q in p.ground_poses] for p in profiles]
         self._ground_mid = [
@@ -124,15 +105,8 @@ class Sensing:
         for the sensors' noise, or None for a noise-free reading (the start pose, a pose
         set by hand).
         """
-        # -- IR: the rays of every robot near something, in one cast ----------------------
-        noise = self._proximity_noise
-        if self.proximity.sense(poses, self.prox_raw, noise=noise, z=ir_normals):
-            self.calibration.apply(self.prox_raw, self.prox_distance)
-        elif self.proximity.any_rays:
-            # nobody near anything: every response is its baseline, with its noise
-            far = self.proximity.far_noise(noise, ir_normals)
-            self.calibration.apply_to_nothing(self.prox_raw, self.prox_distance, far)
-        self.cones.sense(poses, self.prox_distance, self.prox_raw)
+        for model in self.ir.values():  # each writes its own robots' rows
+            model.sense(poses, ir_normals, self.prox_distance, self.prox_raw)
         self._sense_ground(poses, ground_normals)
 
     def _sense_ground(self, poses: list[list[float]], normals: FloatArray | None) -> None:
@@ -165,8 +139,6 @@ class Sensing:
 
     def recalibrate_ir(self, i: int, poses: list[list[float]]) -> None:
         """Robot ``i`` re-measures its IR baselines at ``poses``, as the e-puck2 firmware
-        does on request (:meth:`.ir_calibration.IrCalibration.recalibrate`); a robot with
-        V-REP's cone sensors has no baselines and is left as it is."""
-        if i in self.proximity.robots:
-            response = self.proximity.response(poses)[i]
-            self.calibration.recalibrate(i, response, self.prox_raw, self.prox_distance)
+        does on request (its model's :meth:`~.ir_models.IrSensors.recalibrate`: a model
+        with exact distances has no baselines, and the robot is left as it is)."""
+        self._ir_of[i].recalibrate(i, poses, self.prox_distance, self.prox_raw)

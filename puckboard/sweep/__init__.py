@@ -7,25 +7,57 @@ or on a Dask cluster (:class:`DaskExecutor`), writes one row per episode to a re
 CSV/Parquet file (:func:`open_store`) and summarises success rates with 95 % Wilson
 intervals (:func:`wilson_interval`, :class:`SweepResult`).
 
-Nothing heavy is imported here: Dask, pyarrow, rich and matplotlib load only when used.
+Nothing is imported here until it is used (Dask, pyarrow, rich and matplotlib not even
+then): the command line reads the experiments' defaults (:mod:`.defaults`) while it
+builds its parser, and its help stays quick.
 """
 
 from __future__ import annotations
 
-from .check import check_plan
-from .cluster import DaskExecutor
-from .discover import FACTORY_NAME, controllers_in_dir
-from .executors import InlineExecutor, LocalExecutor, SweepExecutor, WorkerLostError
-from .plan import PARAMETERS, SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
-from .progress import make_progress
-from .run import SweepResult, run_sweep
-from .stats import wilson_interval
-from .store import open_store
-from .summary import GroupSummary, rank_controllers, summarise
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_names
+
+_LAZY = {
+    "check_plan": ".check",
+    "DaskExecutor": ".cluster",
+    "FACTORY_NAME": ".discover",
+    "controllers_in_dir": ".discover",
+    "InlineExecutor": ".executors",
+    "LocalExecutor": ".executors",
+    "SweepExecutor": ".executors",
+    "WorkerLostError": ".executors",
+    "RunOptions": ".options",
+    "SCENE_CONTROLLERS": ".plan",
+    "EpisodeSpec": ".plan",
+    "PlanError": ".plan",
+    "SweepPlan": ".plan",
+    "episode_key": ".plan",
+    "make_progress": ".progress",
+    "SweepResult": ".run",
+    "run_sweep": ".run",
+    "wilson_interval": ".stats",
+    "open_store": ".store",
+    "GroupSummary": ".summary",
+    "rank_controllers": ".summary",
+    "summarise": ".summary",
+}
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .check import check_plan
+    from .cluster import DaskExecutor
+    from .discover import FACTORY_NAME, controllers_in_dir
+    from .executors import InlineExecutor, LocalExecutor, SweepExecutor, WorkerLostError
+    from .options import RunOptions
+    from .plan import SCENE_CONTROLLERS, EpisodeSpec, PlanError, SweepPlan, episode_key
+    from .progress import make_progress
+    from .run import SweepResult, run_sweep
+    from .stats import wilson_interval
+    from .store import open_store
+    from .summary import GroupSummary, rank_controllers, summarise
 
 __all__ = [
     "FACTORY_NAME",
-    "PARAMETERS",
     "SCENE_CONTROLLERS",
     "DaskExecutor",
     "EpisodeSpec",
@@ -33,6 +65,7 @@ __all__ = [
     "InlineExecutor",
     "LocalExecutor",
     "PlanError",
+    "RunOptions",
     "SweepExecutor",
     "SweepPlan",
     "SweepResult",
@@ -47,3 +80,6 @@ __all__ = [
     "summarise",
     "wilson_interval",
 ]
+
+
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, __all__)

@@ -23,7 +23,7 @@ Neither changes a result: every episode is seeded by its own spec alone.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Hashable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from .plan import EpisodeSpec
@@ -41,13 +41,17 @@ TASKS_PER_WORKER = 4
 
 
 def make_batches(
-    specs: Sequence[EpisodeSpec], workers: int, batch_size: int | None = None
+    specs: Sequence[EpisodeSpec],
+    workers: int,
+    batch_size: int | None = None,
+    bounds: Sequence[Hashable] | None = None,
 ) -> list[list[EpisodeSpec]]:
     """Split ``specs`` into consecutive batches, in order.
 
     Automatic sizes shrink with what remains — ``ceil(remaining / (TASKS_PER_WORKER ×
     workers))``, at most :data:`MAX_BATCH` — down to one episode per task; ``batch_size``
-    fixes the size instead.
+    fixes the size instead. ``bounds`` (one value per spec) keeps apart specs whose
+    values differ: no batch holds two (each scene's episodes, each submission's).
     """
     if batch_size is not None and batch_size < 1:
         raise ValueError(f"batch size must be at least 1, got {batch_size}")
@@ -57,8 +61,11 @@ def make_batches(
         size = batch_size or min(
             MAX_BATCH, max(1, math.ceil((len(specs) - start) / (TASKS_PER_WORKER * workers)))
         )
-        batches.append(list(specs[start : start + size]))
-        start += size
+        end = min(len(specs), start + size)
+        if bounds is not None:
+            end = next((i for i in range(start + 1, end) if bounds[i] != bounds[start]), end)
+        batches.append(list(specs[start:end]))
+        start = end
     return batches
 
 

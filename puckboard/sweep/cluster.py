@@ -10,20 +10,55 @@ and workers inherit that, so a Ctrl-C in the terminal reaches only the sweep, wh
 the cluster itself. Created in the sweep's own process, the cluster's worker processes
 would each die of the Ctrl-C with a traceback and leave their nannies waiting for them.
 The host closes the cluster when told to, or when the sweep's process is gone.
+
+Dask cannot kill a task either. Where a run asks for an episode's wall-clock limit to be
+kept on the process, or for tasks kept apart (:class:`~puckboard.sweep.host.Isolation`),
+each task runs instead in a host process of the Dask worker's own
+(:func:`run_hosted`: a one-worker :class:`~puckboard.sweep.executors.LocalExecutor` per
+worker thread), which the worker kills and replaces as a local sweep does. That needs
+workers allowed to start processes, which Dask's nanny forbids by default (its workers
+are daemon processes): start them with ``DASK_DISTRIBUTED__WORKER__DAEMON=False``, or
+with ``--no-nanny``. :attr:`DaskExecutor.stops_processes` says whether they can; the
+local cluster of our own is started so that they can.
 """
 
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import logging
+import re
+import shutil
 import signal
+import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
-from .executors import SweepExecutor, WorkerLostError, available_cpus, worker_context
+from .executors import (
+    LocalExecutor,
+    SweepExecutor,
+    WorkerLostError,
+    available_cpus,
+    worker_context,
+)
+from .host import Isolation
+from .worker import LocalStopFlag
 
-__all__ = ["DaskExecutor", "DaskStopFlag"]
+__all__ = ["ClusterSetupError", "DaskExecutor", "DaskStopFlag", "run_hosted"]
+
+#: What to tell a user whose Dask workers may not start processes.
+DAEMON_FIX = (
+    "start the workers so that they may: DASK_DISTRIBUTED__WORKER__DAEMON=False dask worker "
+    "ADDRESS (or dask worker ADDRESS --no-nanny)"
+)
+
+
+class ClusterSetupError(RuntimeError):
+    """The Dask cluster cannot do what the run needs; the message says how to start it."""
+
 
 log = logging.getLogger(__name__)
 
@@ -43,8 +78,12 @@ class DaskStopFlag:
 
     def __call__(self) -> bool:
         if self._event is None:
-            from distributed import Event
+            from distributed import Event, get_worker
 
+            try:
+                get_worker()
+            except ValueError:  # in a host a worker started (run_hosted): its pool's flag
+                return LocalStopFlag()()
             self._event = Event(self.name)  # on a worker: the worker's own client
         return bool(self._event.is_set())
 
@@ -110,6 +149,9 @@ class DaskExecutor(SweepExecutor):
             self._shutdown()
             raise
         self.workers = max(1, sum(self.client.nthreads().values()))
+        #: whether every worker may start processes, as an episode's limit on the process
+        #: and isolation need (see the module docstring)
+        self.stops_processes = all(self.client.run(_may_start_processes).values())
         self._uploaded: dict[str, str] = {}
         self._stop_name = _new_stop_name()
 
@@ -124,23 +166,42 @@ class DaskExecutor(SweepExecutor):
             return spec
         if spec not in self._uploaded:
             path, attr = found
-            module = path.stem
-            clash = [s for s, m in self._uploaded.items() if m.split(":")[0] == module]
-            if clash:
-                raise ValueError(
-                    f"controller files {clash[0]!r} and {spec!r} share the module name "
-                    f"{module!r}; rename one to run both on a remote cluster"
-                )
-            self.client.upload_file(str(path))
+            # a module name of its own (two students' controller.py, two versions of one)
+            digest = hashlib.sha256(path.read_bytes()).hexdigest()[:10]
+            module = f"{re.sub(r'[^0-9A-Za-z_]', '_', path.stem)}_{digest}"
+            with tempfile.TemporaryDirectory() as folder:
+                copy = Path(folder) / f"{module}.py"
+                shutil.copyfile(path, copy)
+                self.client.upload_file(str(copy))
             self._uploaded[spec] = f"{module}:{attr}"
         return self._uploaded[spec]
 
-    def run(self, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]]) -> Iterator[Any]:
+    def run(
+        self,
+        fn: Callable[..., Any],
+        tasks: Sequence[tuple[Any, ...]],
+        *,
+        isolation: Sequence[Isolation | None] | None = None,
+        unit_limit: float | None = None,
+    ) -> Iterator[Any]:
+        hosted = isolation is not None or unit_limit is not None
+        if hosted and not self.stops_processes:
+            raise ClusterSetupError(
+                "this run keeps each episode's wall-clock limit on its process and "
+                "submissions apart, which needs Dask workers that may start processes: "
+                f"{DAEMON_FIX}"
+            )
         futures: dict[str, Any] = {}
         self._futures = futures
         with self.cancelled_on_error():
-            for task in tasks:
-                future = self.client.submit(fn, *task, pure=False)
+            for index, task in enumerate(tasks):
+                if hosted:
+                    apart = None if isolation is None else isolation[index]
+                    future = self.client.submit(
+                        run_hosted, fn, task, apart, unit_limit, self.stop_flag(), pure=False
+                    )
+                else:
+                    future = self.client.submit(fn, *task, pure=False)
                 futures[future.key] = future
         return self._results(futures)
 
@@ -208,6 +269,55 @@ class DaskExecutor(SweepExecutor):
         self._dask_log.setLevel(self._dask_log_level)
 
 
+def _may_start_processes() -> bool:
+    """On a worker: whether it may start processes (a daemon process may not)."""
+    import multiprocessing
+
+    return not multiprocessing.current_process().daemon
+
+
+#: Each worker thread's host pool (run_hosted).
+_hosts = threading.local()
+
+
+def run_hosted(
+    fn: Callable[..., Any],
+    args: tuple[Any, ...],
+    isolation: Isolation | None,
+    unit_limit: float | None,
+    stop: Callable[[], bool],
+) -> Any:
+    """On a Dask worker: ``fn(*args)`` in a host process of this worker thread's own, which
+    is killed and replaced when a unit runs past ``unit_limit`` and keeps ``isolation``.
+
+    ``stop`` (the run's :class:`DaskStopFlag`) is watched meanwhile and passed on to the
+    host's pool, so a stopped run ends the task after its current episode, as elsewhere.
+    """
+    pool: LocalExecutor | None = getattr(_hosts, "pool", None)
+    if pool is None:
+        pool = _hosts.pool = LocalExecutor(1)
+    finished = threading.Event()
+    stopped = threading.Event()
+
+    def watch() -> None:
+        while not finished.wait(0.2):
+            if stop():
+                stopped.set()
+                pool.request_stop()
+                return
+
+    watcher = threading.Thread(target=watch, name="puckboard-dask-stop", daemon=True)
+    watcher.start()
+    try:
+        (value,) = pool.run(fn, [args], isolation=[isolation], unit_limit=unit_limit)
+    finally:
+        finished.set()
+        watcher.join()
+        if stopped.is_set():
+            pool.cancel()  # the next task starts unstopped, in a fresh host
+    return value
+
+
 def _new_stop_name() -> str:
     """A name no other sweep on the same Dask cluster uses."""
     import uuid
@@ -231,7 +341,8 @@ class _ClusterHost:
             while not self._conn.poll(0.1):
                 if not self._process.is_alive():
                     raise ConnectionError(
-                        f"the local Dask cluster's process ended (exit code {self._process.exitcode})"
+                        "the local Dask cluster's process ended "
+                        f"(exit code {self._process.exitcode})"
                     )
                 if time.monotonic() > deadline:
                     raise TimeoutError(f"no local Dask cluster after {timeout:g} s")
@@ -263,8 +374,10 @@ def serve_local_cluster(workers: int, conn: Any) -> None:
     """Body of the cluster's host process: start the cluster, send its address, serve
     until told to close or until the sweep's process is gone (end-of-file)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # where it was not inherited (Windows)
+    import dask
     from dask.distributed import LocalCluster
 
+    dask.config.set({"distributed.worker.daemon": False})  # workers may start hosts
     try:
         cluster = LocalCluster(
             n_workers=workers,

@@ -9,6 +9,7 @@ resumable, so it must not depend on the order in which episodes ran or where.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import json
 import math
@@ -22,7 +23,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LABEL_PREFIX",
-    "PARAMETERS",
     "SCENE_CONTROLLERS",
     "EpisodeSpec",
     "PlanError",
@@ -30,6 +30,7 @@ __all__ = [
     "check_parameter",
     "episode_key",
     "episode_overrides",
+    "parameters",
     "params_key",
     "parse_seeds",
     "parse_set",
@@ -40,29 +41,25 @@ __all__ = [
 #: Controller spec meaning "each robot keeps the controller its scene names".
 SCENE_CONTROLLERS = "scene"
 
-#: Parameters ``run_episode(overrides=...)`` understands, besides ``layer.<Layer>.<attr>``.
-PARAMETERS: dict[str, str] = {
-    "robot.profile": "every robot's profile (epuck, epuck-vrep, e-puck1; see puckboard profiles)",
-    "noise.wheel_speed": "relative σ of each wheel's actual speed",
-    "noise.proximity": "relative σ of the raw IR proximity values",
-    "noise.ground": "absolute σ of the 0..1 ground sensor values",
-    "noise.start_jitter": "σ of the start position (m) and heading (rad)",
-    "noise.gyro": "σ of the gyro's yaw rate (rad/s)",
-    "noise.gyro_bias": "constant offset of the gyro's yaw rate (rad/s)",
-    "dt": "simulation step (s)",
-    "duration": "episode length in simulated seconds",
-    "surface.line_contrast": "share (0..1) of the line's contrast the ground sensors see",
-    "surface.line_width": "the line's width (m)",
-    "obstacle.ir_reflectance": "every obstacle's IR reflectance (0..1; black: about 0.1)",
-    "start.offset": "every robot's start moved to its left (m), as placed by hand",
-    "start.heading": "every robot's start heading turned counter-clockwise (rad)",
-    "control.period": "how often the controllers tick (s; a whole number of dt)",
-    "control.latency": "sensing to wheels delay of the control loop (s; a whole number of dt)",
-    "variation": "none, plausible (each robot drawn within its profile's plausible ranges) "
-    "or reality-gap (plausible robots in conditions drawn within sourced ranges)",
-    "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
-    "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
-}
+
+@functools.cache
+def parameters() -> dict[str, str]:
+    """Parameters ``run_episode(overrides=...)`` understands, besides
+    ``layer.<Layer>.<attr>``, each with its meaning: the scene's settings
+    (:mod:`puckboard.scenario.settings`) and the robots'. Read on first use: this module
+    is imported before numpy may be (:mod:`puckboard.sweep.signals`)."""
+    from ..scenario.settings import SETTINGS
+    from ..scenario.variation import variations_help
+
+    return {
+        "robot.profile": "every robot's profile (epuck, epuck-vrep, e-puck1; see puckboard "
+        "profiles)",
+        **{s.name: s.help for s in SETTINGS.values()},
+        "variation": variations_help(),
+        "controller.<keyword>": "a keyword of the controller's factory (e.g. controller.speed)",
+        "profile.<path>": "a number of every robot's profile (SI; see puckboard profiles show)",
+    }
+
 
 #: Names of *labels*: text that an episode's identity (its key, its row's ``params``)
 #: carries and the episode itself is never given, so a study can say which of its points
@@ -71,7 +68,6 @@ PARAMETERS: dict[str, str] = {
 LABEL_PREFIX = "label."
 
 _CONTROLLER_PARAM = re.compile(r"^controller\.[A-Za-z_]\w*$")
-_POSITIVE = {"dt", "duration", "control.period"}
 
 
 class PlanError(ValueError):
@@ -130,14 +126,20 @@ def params_key(params: Mapping[str, Any]) -> str:
 
 def profile_parameters(profile: str | RobotProfile) -> dict[str, Any]:
     """The episode parameters that give every robot ``profile``: a shipped profile by its
-    name; a changed one (a profile file) as its base plus each value it sets, so that every
-    episode's identity holds the numbers it ran with and no worker needs the file."""
+    name; a changed one (a profile file) as its base plus each value it sets and the link
+    it measured (``profile.link.*``, which the episode runs at as ``run --profile`` does),
+    so that every episode's identity holds the numbers it ran with and no worker needs
+    the file."""
     from ..profile import get_profile
+    from ..scenario.overrides import link_overrides
 
     if isinstance(profile, str):
         return {"robot.profile": get_profile(profile).name}
     base = profile.base or get_profile(profile).name
-    return {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
+    out = {"robot.profile": base, **{f"profile.{p}": v for p, v in profile.overrides}}
+    if profile.link is not None:
+        out.update(link_overrides(profile.link))
+    return out
 
 
 def episode_overrides(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -152,18 +154,18 @@ def check_parameter(name: str) -> str:
     if name.startswith(LABEL_PREFIX) and len(name) > len(LABEL_PREFIX):
         return name
     if _is_profile_param(name):
-        from ..profile import check_setting
+        from ..scenario.overrides import check_profile_path
 
         try:
-            check_setting(_profile_path(name))
+            check_profile_path(_profile_path(name))
         except ValueError as exc:
             raise PlanError(f"parameter {name}: {exc}") from None
         return name
-    if (name in PARAMETERS and "<" not in name) or _is_layer_param(name):
+    if (name in parameters() and "<" not in name) or _is_layer_param(name):
         return name
     if _CONTROLLER_PARAM.match(name):
         return name
-    known = ", ".join(PARAMETERS)
+    known = ", ".join(parameters())
     raise PlanError(
         f"unknown parameter {name!r}; use one of {known}, or layer.<LayerName>.<attribute> "
         "(e.g. layer.LineFollow.inner_factor)"
@@ -198,26 +200,29 @@ def _profile_value(name: str, value: Any) -> Any:
     bounds; other parameters' values as they are."""
     if not _is_profile_param(name):
         return value
-    from ..profile import check_value
+    from ..scenario.overrides import profile_value
 
     try:
-        return check_value(_profile_path(name), value)
+        return profile_value(_profile_path(name), value)
     except ValueError as exc:
         raise PlanError(f"parameter {name}: {exc}") from None
 
 
-def _check_value(name: str, value: Any) -> None:
+def _check_value(name: str, value: Any) -> Any:
+    """``value`` as an episode of parameter ``name`` takes it (a setting in SI: ``100ms``
+    → 0.1), checked; :class:`PlanError` naming the parameter otherwise."""
     if name.startswith(("layer.", "controller.", LABEL_PREFIX)):
-        return
+        return value
     if _is_profile_param(name):
-        _profile_value(name, value)
-        return
+        return _profile_value(name, value)
     if name == "variation":
-        from ..profile import VARIATIONS
+        from ..scenario.variation import check_variation
 
-        if value not in VARIATIONS:
-            raise PlanError(f"parameter variation: {value!r} is not one of {', '.join(VARIATIONS)}")
-        return
+        try:
+            check_variation(value)
+        except ValueError as exc:
+            raise PlanError(f"parameter variation: {exc}") from None
+        return value
     if name == "robot.profile":
         from ..profile import profile_names
 
@@ -226,17 +231,14 @@ def _check_value(name: str, value: Any) -> None:
                 f"parameter robot.profile: unknown profile {value!r}; "
                 f"profiles: {', '.join(profile_names())}"
             )
-        return
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise PlanError(f"parameter {name} needs numbers, got {value!r}")
-    if not math.isfinite(value):
-        raise PlanError(f"parameter {name} needs finite numbers, got {value!r}")
-    if name in _POSITIVE and value <= 0:
-        raise PlanError(f"parameter {name} must be positive (s), got {value!r}")
-    if name.startswith("noise.") and value < 0:
-        raise PlanError(f"parameter {name} is a standard deviation and cannot be negative")
-    if name == "control.latency" and value < 0:
-        raise PlanError(f"parameter {name} is a delay (s) and cannot be negative")
+        return value
+    from ..scenario.settings import SETTINGS
+
+    try:
+        number = SETTINGS[name].check(value)
+    except ValueError as exc:
+        raise PlanError(f"parameter {exc}") from None
+    return value if isinstance(value, (int, float)) and number == value else number
 
 
 def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
@@ -253,9 +255,7 @@ def parse_set(spec: str) -> tuple[str, tuple[Any, ...]]:
         raise PlanError(f"--set {spec!r}: no values after '='; give one or more, comma-separated")
     from ..scenario.overrides import parse_value
 
-    values = tuple(_profile_value(name, parse_value(p)) for p in parts)
-    for value in values:
-        _check_value(name, value)
+    values = tuple(_check_value(name, parse_value(p)) for p in parts)
     seen: set[str] = set()
     for value in values:
         canon = json.dumps(_canonical(value))
@@ -334,7 +334,8 @@ class SweepPlan:
 
     scenario: str
     controllers: tuple[str, ...] = (SCENE_CONTROLLERS,)
-    seeds: range = range(10)
+    #: a range (``--seeds A:B``), or any seeds (a challenge's, drawn from its secret)
+    seeds: Sequence[int] = range(10)
     grid: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
     fixed: Mapping[str, Any] = field(default_factory=dict)
     points: tuple[Mapping[str, Any], ...] = ()

@@ -4,15 +4,19 @@ On a terminal with ``rich`` installed this is a live bar; otherwise (a pipe, a C
 no rich) a plain line every few seconds, so logs stay readable. Both write to ``stderr``
 so ``--json`` output on ``stdout`` stays one clean object.
 
-The estimate is the simplest honest one: remaining episodes × elapsed time per finished
-episode of *this* run (episodes skipped because they were already in ``--out`` do not
-count towards the speed).
+The estimate is the pace since the first result came back: remaining episodes × the
+seconds per episode finished after it (episodes skipped because they were already in
+``--out`` do not count). Until then the workers start (an interpreter and the imports
+each) and run their first batch side by side, so the time to the first result says
+nothing of the pace: counted in, it made an 80-seed sweep's estimate at 10 % 2.7 times
+what was left.
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable
 from typing import Any, Protocol, TextIO
 
 __all__ = ["NullProgress", "PlainProgress", "Progress", "RichProgress", "make_progress"]
@@ -53,31 +57,44 @@ class PlainProgress:
         every: float = 5.0,
         label: str = "sweep",
         unit: str = "episodes",
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.stream = stream or sys.stderr
         self.every = every
         self.label = label
         self.unit = unit
+        self.clock = clock
         self.total = self.done = self.skipped = 0
         self._t0 = self._last = 0.0
+        self._first: tuple[float, int] | None = None  # (when, done) at the first result
 
     def start(self, total: int, done: int = 0) -> None:
         self.total, self.done, self.skipped = total, done, done
-        self._t0 = self._last = time.monotonic()
+        self._t0 = self._last = self.clock()
+        self._first = None
         if done:
-            self.stream.write(f"{self.label}: {done}/{total} episodes already in the output file\n")
+            self.stream.write(
+                f"{self.label}: {done}/{total} {self.unit} already in the output file\n"
+            )
             self.stream.flush()
 
     def eta(self) -> float | None:
-        ran = self.done - self.skipped
-        if ran <= 0:
+        """Seconds left at the pace since the first result (``None`` before a second)."""
+        if self.done >= self.total:
+            return 0.0
+        if self._first is None:
             return None
-        elapsed = time.monotonic() - self._t0
-        return elapsed / ran * (self.total - self.done)
+        when, done = self._first
+        since = self.clock() - when
+        if self.done <= done or since <= 0:
+            return None
+        return since / (self.done - done) * (self.total - self.done)
 
     def advance(self, n: int) -> None:
         self.done += n
-        now = time.monotonic()
+        now = self.clock()
+        if self._first is None:
+            self._first = (now, self.done)
         if now - self._last >= self.every or self.done >= self.total:
             self._last = now
             self._write()
@@ -88,7 +105,7 @@ class PlainProgress:
         percent = 100.0 * self.done / self.total if self.total else 100.0
         self.stream.write(
             f"{self.label}: {self.done}/{self.total} {self.unit} ({percent:.0f} %), "
-            f"elapsed {_clock(time.monotonic() - self._t0)}, left ~{left}\n"
+            f"elapsed {_clock(self.clock() - self._t0)}, left ~{left}\n"
         )
         self.stream.flush()
 

@@ -7,7 +7,9 @@ robots, ``collisions`` and ``obstacles_passed`` the sums), spreads each robot's 
 into ``robot.<name>.<metric>`` columns (with its ``profile`` and, as JSON, its
 ``profile_values``), stores the event list as a JSON string, and
 adds the sweep's own columns: ``key`` (the episode's identity), ``controller`` (the spec
-as given), ``params`` (JSON) and one ``param.<name>`` column per parameter.
+as given), ``params`` (JSON) and one ``param.<name>`` column per parameter. An episode
+that ended without a result is an *error row*: failure ``error``, the message in
+``error`` and how it ended in ``error_kind`` (:data:`ERROR_KINDS`).
 
 Rows read back from a CSV file are all strings; :class:`Outcome` parses the few fields
 summaries need, so a resumed sweep summarises old and new episodes alike.
@@ -23,10 +25,19 @@ from typing import Any
 
 from .plan import EpisodeSpec
 
-__all__ = ["ERROR_FAILURE", "Outcome", "error_row", "result_row"]
+__all__ = ["ERROR_FAILURE", "ERROR_KINDS", "Outcome", "error_kind", "error_row", "result_row"]
 
-#: ``failure`` of an episode whose controller or simulation raised an exception.
+#: ``failure`` of an episode that ended without a result (see :data:`ERROR_KINDS`).
 ERROR_FAILURE = "error"
+
+#: ``error_kind`` of an error row → what happened.
+ERROR_KINDS: dict[str, str] = {
+    "exception": "the controller or the simulation raised an exception",
+    "timeout": "the episode ran past its wall-clock limit and was stopped",
+    "exited": "the controller ended its process (sys.exit, os._exit)",
+    "crashed": "the process running the episode was killed or crashed",
+    "memory": "the process ran out of the memory it may use",
+}
 
 _SCALARS = ("dt_s", "steps", "sim_time_s", "wall_s", "realtime_factor")
 _ROBOT_METRICS = (
@@ -60,6 +71,7 @@ def result_row(scenario: str, spec: EpisodeSpec, result: Mapping[str, Any]) -> d
     row["success"] = bool(result.get("success"))
     row["failure"] = result.get("failure") or ""
     row["error"] = ""
+    row["error_kind"] = ""
     for name in _SCALARS:
         row[name] = result.get(name)
     robots = list(result.get("robots") or [])
@@ -83,17 +95,34 @@ def result_row(scenario: str, spec: EpisodeSpec, result: Mapping[str, Any]) -> d
     return row
 
 
+def error_kind(exc: BaseException) -> str:
+    """The :data:`ERROR_KINDS` name of how an episode that raised ``exc`` ended."""
+    kind = getattr(exc, "kind", None)  # an EpisodeLost says how itself
+    if isinstance(kind, str) and kind in ERROR_KINDS:
+        return kind
+    if type(exc).__name__ == "WallTimeExceeded":
+        return "timeout"
+    if isinstance(exc, MemoryError):
+        return "memory"
+    if isinstance(exc, SystemExit):
+        return "exited"
+    return "exception"
+
+
 def error_row(scenario: str, spec: EpisodeSpec, exc: BaseException) -> dict[str, Any]:
-    """A row for an episode that raised: it counts as a failure named ``error``.
+    """A row for an episode that ended without a result: a failure named ``error``, of
+    the kind :func:`error_kind` gives.
 
     When grading a class, one student's controller crashing must cost that student the
     episode, not stop everyone else's sweep.
     """
     row = _identity(scenario, spec)
+    message = str(exc) if getattr(exc, "kind", None) else f"{type(exc).__name__}: {exc}"
     row.update(
         success=False,
         failure=ERROR_FAILURE,
-        error=f"{type(exc).__name__}: {exc}",
+        error=message,
+        error_kind=error_kind(exc),
         progress_laps=0.0,
         distance_m=0.0,
         collisions=0,
@@ -129,6 +158,8 @@ class Outcome:
     failure: str
     progress_laps: float
     collisions: float
+    #: how an ``error`` episode ended (:data:`ERROR_KINDS`); empty for the others
+    error_kind: str = ""
 
     @classmethod
     def from_row(cls, row: Mapping[str, Any]) -> Outcome:
@@ -145,4 +176,5 @@ class Outcome:
             failure="" if success or failure is None else str(failure),
             progress_laps=_as_float(row.get("progress_laps")),
             collisions=_as_float(row.get("collisions")),
+            error_kind=str(row.get("error_kind") or ("exception" if row.get("error") else "")),
         )

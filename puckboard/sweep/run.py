@@ -16,25 +16,36 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Callable, Iterator
+from collections import Counter
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from . import experiment
 from .batches import MAX_BATCH, balance_order, make_batches
 from .executors import LocalExecutor, SweepExecutor
-from .plan import PlanError, SweepPlan, seeds_text
-from .progress import NullProgress, Progress
+from .host import Isolation
+from .options import DEFAULT_RUN, RunOptions
+from .plan import EpisodeSpec, PlanError, SweepPlan, seeds_text
+from .progress import NullProgress
 from .rows import Outcome
 from .signals import Terminated
-from .store import ResultStore
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
 
-__all__ = ["MAX_BATCH", "STOP_GRACE", "SweepResult", "make_batches", "run_sweep"]
+__all__ = [
+    "MAX_BATCH",
+    "STOP_GRACE",
+    "SweepResult",
+    "drain",
+    "make_batches",
+    "run_sweep",
+    "run_sweeps",
+]
 
 log = logging.getLogger(__name__)
 
@@ -61,6 +72,13 @@ class SweepResult:
         """``error`` messages of this run's episodes that raised (one per episode)."""
         return [str(r["error"]) for r in self.rows if r.get("error")]
 
+    def error_kinds(self) -> dict[str, int]:
+        """How this run's error episodes ended (``error_kind`` → count), most first."""
+        kinds = Counter(
+            str(r.get("error_kind") or "exception") for r in self.rows if r.get("error")
+        )
+        return dict(kinds.most_common())
+
     def groups(self) -> list[GroupSummary]:
         order = {c: i for i, c in enumerate(self.plan.controllers)}
         groups = summarise(self.outcomes)
@@ -77,30 +95,19 @@ class SweepResult:
     def ranking(self) -> list[GroupSummary]:
         return rank_controllers(self.outcomes)
 
+    # a sweep counts, times and heads itself as every experiment's run does (.experiment)
     def counts(self) -> dict[str, Any]:
-        """How the run went, as every experiment's ``--json`` says it: episodes
-        ``planned``, ``ran`` now, ``skipped`` (already in ``--out``), whether it was
-        ``interrupted``, how many ``errors`` (episodes that raised), ``wall_s``."""
-        return {
-            "planned": len(self.plan),
-            "ran": self.ran,
-            "skipped": self.skipped,
-            "interrupted": self.interrupted,
-            "errors": len(self.errors),
-            "wall_s": self.wall_s,
-        }
+        """:func:`puckboard.sweep.experiment.counts` of this run."""
+        return experiment.counts(self)
 
     @property
     def episodes_per_s(self) -> float:
         """Episodes this run ran per wall-clock second (0 when none ran)."""
-        return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+        return experiment.episodes_per_s(self)
 
     def episodes_text(self, stored: str | None = None) -> str:
-        """``N of M episodes (R run[, S already in FILE])``: how much of the plan there is
-        and where it came from, as every experiment's report heads it; ``stored`` names
-        the ``--out`` file (``None``: there is none)."""
-        counts = f"{self.ran} run" + (f", {self.skipped} already in {stored}" if stored else "")
-        return f"{len(self.outcomes)} of {len(self.plan)} episodes ({counts})"
+        """:func:`puckboard.sweep.experiment.episodes_text` of this run."""
+        return experiment.episodes_text(self, stored)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: counts, the plan, ``groups`` and ``ranking``."""
@@ -118,93 +125,197 @@ class SweepResult:
 
 
 def run_sweep(
-    plan: SweepPlan,
-    scene: Scene | str | Path,
-    *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
+    plan: SweepPlan, scene: Scene | str | Path, options: RunOptions = DEFAULT_RUN
 ) -> SweepResult:
-    """Run every episode of ``plan`` on ``scene`` that ``store`` does not hold yet.
+    """Run every episode of ``plan`` on ``scene`` that ``options.store`` does not hold yet.
 
     ``scene`` is a :class:`~puckboard.scenario.scene.Scene`, a shipped scene name or a scene
     file; it is loaded here once and sent to the workers, so remote Dask workers do not
-    need the file. Without ``executor`` a :class:`LocalExecutor` on all cores is used
-    (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
-    ``interrupted=True``. ``episode_timeout`` (wall-clock seconds) ends an episode whose
-    controller never returns; it is recorded as an ``error`` episode.
+    need the file. Without ``options.executor`` a :class:`LocalExecutor` on all cores is
+    used (and shut down afterwards). Ctrl-C stops the sweep and returns what finished with
+    ``interrupted=True``. ``options.episode_timeout`` (wall-clock seconds) ends an episode
+    that runs longer; it is recorded as an ``error`` episode of kind ``timeout``. An
+    executor that :attr:`~puckboard.sweep.executors.SweepExecutor.stops_processes` (local
+    workers) kills the process running it, which stops any layer; elsewhere (in this
+    process, on Dask workers that may not start processes) the episode is interrupted from
+    within, which stops a layer running Python code but not one blocked in a C call
+    (:mod:`puckboard.sweep.watchdog`).
     """
+    (result,) = run_sweeps([(plan, scene)], options)
+    return result
+
+
+def run_sweeps(
+    parts: Sequence[tuple[SweepPlan, Scene | str | Path]],
+    options: RunOptions = DEFAULT_RUN,
+    *,
+    isolation: Callable[[str], Isolation | None] | None = None,
+    aliases: Mapping[str, str] | None = None,
+) -> list[SweepResult]:
+    """:func:`run_sweep` for several plans, each on its scene, as one stream of tasks on
+    one executor and one ``options.store``; a result per plan, in order.
+
+    ``isolation`` maps a controller of the plans to the
+    :class:`~puckboard.sweep.host.Isolation` its episodes run in (``None``: shared
+    workers), on executors that keep it (local workers): each controller's tasks then
+    come together, every plan's in turn, so that a worker serves one controller for as
+    long as it can. ``aliases`` maps a controller spec, as the rows name it, to the spec
+    the workers load (a submission's version, say, to its file).
+    """
+    executor, store, progress = options.executor, options.store, options.progress
+    batch_size, episode_timeout = options.batch_size, options.episode_timeout
     if episode_timeout is not None and not episode_timeout > 0:
         raise ValueError(f"episode timeout must be positive seconds, got {episode_timeout}")
+    scenes = [_loaded(plan, scene) for plan, scene in parts]
+    progress = progress or NullProgress()
+    results = [SweepResult(plan=plan, outcomes=[]) for plan, _ in parts]
+    owner: dict[str, int] = {}  # episode key -> the part it belongs to
+    for index, (plan, _) in enumerate(parts):
+        for spec in plan.episodes():
+            key = spec.key(plan.scenario)
+            if key in owner:
+                raise PlanError(f"two plans of one run share the episode {key}")
+            owner[key] = index
+    done: dict[str, Outcome] = {}
+    if store is not None:
+        for row in store.rows():
+            key = str(row.get("key", ""))
+            if key in owner:
+                done[key] = Outcome.from_row(row)
+    for key, outcome in done.items():
+        results[owner[key]].outcomes.append(outcome)
+        results[owner[key]].skipped += 1
+    log.info("sweep: %d episodes planned, %d already done", len(owner), len(done))
+
+    own_executor = executor is None
+    executor = executor or LocalExecutor()
+    t0 = time.perf_counter()
+    progress.start(len(owner), len(done))
+
+    def collect(rows: list[dict[str, Any]]) -> None:
+        if store is not None:
+            store.append(rows)
+        for row in rows:
+            result = results[owner[str(row["key"])]]
+            result.rows.append(row)
+            result.outcomes.append(Outcome.from_row(row))
+            result.ran += 1
+        progress.advance(len(rows))
+
+    todo = [[s for s in plan.episodes() if s.key(plan.scenario) not in done] for plan, _ in parts]
+    try:
+        stopped = None
+        if any(todo):
+            stopped = drain(
+                executor,
+                lambda: _start(
+                    executor, parts, scenes, todo, batch_size, episode_timeout, isolation, aliases
+                ),
+                collect,
+            )
+        if stopped is not None:
+            for result in results:
+                result.interrupted = True
+                result.terminated = isinstance(stopped, Terminated)
+            log.info(
+                "sweep interrupted: %d episodes finished in this run", sum(r.ran for r in results)
+            )
+    finally:
+        progress.close()
+        if store is not None:
+            store.flush()
+        if own_executor:
+            executor.close()
+        for result in results:
+            result.wall_s = time.perf_counter() - t0
+    return results
+
+
+def _loaded(plan: SweepPlan, scene: Scene | str | Path) -> Scene:
     if isinstance(scene, (str, Path)):  # a Scene (or anything with its fields) is used as is
         from ..scenario.scenefile import load_scene
 
         scene = load_scene(scene)
     if scene.name != plan.scenario:
         raise PlanError(f"the plan is for scenario {plan.scenario!r}, the scene is {scene.name!r}")
-    progress = progress or NullProgress()
-    planned = list(plan.episodes())
-    wanted = {spec.key(plan.scenario): spec for spec in planned}
-    done: dict[str, Outcome] = {}
-    if store is not None:
-        for row in store.rows():
-            key = str(row.get("key", ""))
-            if key in wanted:
-                done[key] = Outcome.from_row(row)
-    todo = [spec for spec in planned if spec.key(plan.scenario) not in done]
-    result = SweepResult(plan=plan, outcomes=list(done.values()), skipped=len(done))
-    log.info("sweep: %d episodes planned, %d already done", len(planned), len(done))
+    return scene
 
-    own_executor = executor is None
-    executor = executor or LocalExecutor()
-    t0 = time.perf_counter()
-    progress.start(len(planned), len(done))
 
-    def collect(rows: list[dict[str, Any]]) -> None:
-        if store is not None:
-            store.append(rows)
-        result.rows.extend(rows)
-        result.outcomes.extend(Outcome.from_row(r) for r in rows)
-        result.ran += len(rows)
-        progress.advance(len(rows))
+def _start(
+    executor: SweepExecutor,
+    parts: Sequence[tuple[SweepPlan, Any]],
+    scenes: Sequence[Scene],
+    todo: Sequence[Sequence[EpisodeSpec]],
+    batch_size: int | None,
+    episode_timeout: float | None,
+    isolation: Callable[[str], Isolation | None] | None,
+    aliases: Mapping[str, str] | None,
+) -> Iterator[list[dict[str, Any]]]:
+    """Cut the episodes to run into batches, in the order :func:`run_sweeps` promises,
+    and hand them to ``executor``; returns the stream of their rows."""
+    controllers = list(dict.fromkeys(c for plan, _ in parts for c in plan.controllers))
+    given = dict(aliases or {})
+    loadable = {c: executor.runnable_controller(given.get(c, c)) for c in controllers}
+    loadable = {c: a for c, a in loadable.items() if a != c}
+    ordered: list[tuple[int, EpisodeSpec]] = []
+    if isolation is None:  # part after part, each longest first
+        for index, specs in enumerate(todo):
+            ordered += [(index, s) for s in balance_order(specs, scenes[index])]
+    else:  # controller after controller, each on every part
+        for controller in controllers:
+            for index, specs in enumerate(todo):
+                mine = [s for s in specs if s.controller == controller]
+                ordered += [(index, s) for s in balance_order(mine, scenes[index])]
+    bounds = [(i, s.controller if isolation else "") for i, s in ordered]
+    cuts = make_batches([s for _, s in ordered], executor.workers, batch_size, bounds)
+    # per-episode warnings only when asked for more output (puckboard -v)
+    level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
+    stop = executor.stop_flag()
+    # the limit on the process where the executor can kill it, else in the episode
+    on_process = executor.stops_processes and episode_timeout is not None
+    inside = None if on_process else episode_timeout
+    tasks = []
+    isolations: list[Isolation | None] = []
+    first = 0
+    for batch in cuts:
+        index = ordered[first][0]
+        first += len(batch)
+        tasks.append(
+            (scenes[index], parts[index][0].scenario, batch, loadable, level, inside, stop)
+        )
+        isolations.append(isolation(batch[0].controller) if isolation else None)
+    extra: dict[str, Any] = {"unit_limit": episode_timeout} if on_process else {}
+    if isolation is not None:
+        extra["isolation"] = isolations
+    return executor.run(run_batch, tasks, **extra)
 
-    stream: Iterator[list[dict[str, Any]]] | None = None
+
+def drain(
+    executor: SweepExecutor,
+    start: Callable[[], Iterator[Any]],
+    collect: Callable[[Any], None],
+) -> KeyboardInterrupt | None:
+    """Hand each result of the stream ``start()`` opens on ``executor`` to ``collect``.
+
+    On Ctrl-C (or SIGTERM, :class:`~puckboard.sweep.signals.Terminated`) the tasks not
+    started are dropped, the running ones end after their current unit and what they
+    finish within :data:`STOP_GRACE` seconds is collected too; the interrupt is then
+    returned (``None`` when every task ran), for the caller to say what it kept.
+    """
+    stream: Iterator[Any] | None = None
     try:
-        if todo:
-            aliases = {c: executor.runnable_controller(c) for c in plan.controllers}
-            aliases = {c: a for c, a in aliases.items() if a != c}
-            batches = make_batches(balance_order(todo, scene), executor.workers, batch_size)
-            # per-episode warnings only when asked for more output (puckboard -v)
-            level = logging.WARNING if log.isEnabledFor(logging.INFO) else logging.ERROR
-            stop = executor.stop_flag()
-            tasks = [
-                (scene, plan.scenario, batch, aliases, level, episode_timeout, stop)
-                for batch in batches
-            ]
-            stream = executor.run(run_batch, tasks)
-            for rows in stream:
-                collect(rows)
+        stream = start()
+        for value in stream:
+            collect(value)
     except KeyboardInterrupt as exc:
-        result.interrupted = True
-        result.terminated = isinstance(exc, Terminated)
         _keep_what_finishes(executor, collect)
-        log.info("sweep interrupted: %d episodes finished in this run", result.ran)
+        return exc
     finally:
         _close(stream)
-        progress.close()
-        if store is not None:
-            store.flush()
-        if own_executor:
-            executor.close()
-        result.wall_s = time.perf_counter() - t0
-    return result
+    return None
 
 
-def _keep_what_finishes(
-    executor: SweepExecutor, collect: Callable[[list[dict[str, Any]]], None]
-) -> None:
+def _keep_what_finishes(executor: SweepExecutor, collect: Callable[[Any], None]) -> None:
     """After Ctrl-C: keep the rows of batches that end within :data:`STOP_GRACE` s (each
     ends after its current episode), then stop the rest; a second Ctrl-C stops at once."""
     stopping = executor.stop(STOP_GRACE)

@@ -44,6 +44,7 @@ __all__ = [
     "interrupts_ignored",
     "spare_native_threads",
     "stop_on_terminate",
+    "stops_held",
 ]
 
 
@@ -75,6 +76,22 @@ def interrupts_deferred() -> Iterator[None]:
         yield
         return
     previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+@contextlib.contextmanager
+def stops_held() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM back until the block ends (POSIX, main thread), then raise
+    them: around a short step that must not be cut in two, such as reading one message
+    from a worker's pipe (cut between its length and its body, the pipe could not be
+    read again). Creates no process: a child would inherit SIGTERM blocked."""
+    if os.name != "posix" or not _in_main_thread():
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
     try:
         yield
     finally:

@@ -22,8 +22,10 @@ square root.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
-__all__ = ["Z95", "wilson_interval"]
+__all__ = ["Z95", "PassRate", "wilson_interval"]
 
 #: Two-sided 95 % standard normal quantile, Φ⁻¹(0.975).
 Z95 = 1.959963984540054
@@ -48,3 +50,38 @@ def wilson_interval(successes: int, trials: int, z: float = Z95) -> tuple[float,
     low = 0.0 if successes == 0 else max(0.0, centre - half)
     high = 1.0 if successes == trials else min(1.0, centre + half)
     return low, high
+
+
+@dataclass(frozen=True)
+class PassRate:
+    """``successes`` of ``episodes`` passed: the rate and its 95 % Wilson interval.
+
+    The one pass rate every report holds, a sweep's group, a transfer grid's point and
+    a study's cell alike (each a subclass adding what it is the rate of), so the rate,
+    the interval and their ``--json`` names are written once.
+    """
+
+    successes: int
+    episodes: int
+
+    @property
+    def rate(self) -> float:
+        """``successes / episodes`` (0 when there are none)."""
+        return self.successes / self.episodes if self.episodes else 0.0
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """The 95 % Wilson interval of the rate (``(0, 1)`` when there are no episodes)."""
+        return wilson_interval(self.successes, self.episodes)
+
+    def rate_dict(self) -> dict[str, Any]:
+        """The counts and the rate with its interval, as every report's ``--json`` gives
+        a pass rate."""
+        low, high = self.interval
+        return {
+            "episodes": self.episodes,
+            "successes": self.successes,
+            "success_rate": self.rate,
+            "ci95_low": low,
+            "ci95_high": high,
+        }

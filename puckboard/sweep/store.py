@@ -235,4 +235,7 @@ def open_store(path: str | os.PathLike[str]) -> ResultStore:
         return CsvStore(path)
     if suffix in (".parquet", ".pq"):
         return ParquetStore(path)
-    raise ValueError(f"{str(path)!r}: use a .csv or .parquet file name")
+    raise ValueError(
+        f"{str(path)!r}: use a .csv or .parquet file name (.parquet needs pyarrow: pip install "
+        "'puckboard[dask]')"
+    )

@@ -18,7 +18,7 @@ from typing import Any
 
 from .plan import value_key
 from .rows import Outcome
-from .stats import wilson_interval
+from .stats import PassRate
 
 __all__ = [
     "GroupSummary",
@@ -35,17 +35,12 @@ __all__ = [
 UNNAMED_FAILURE = "unnamed"
 
 
-@dataclass(frozen=True)
-class GroupSummary:
+@dataclass(frozen=True, kw_only=True)
+class GroupSummary(PassRate):
     """The statistics of one controller (with one parameter combination, or pooled)."""
 
     controller: str
     params: dict[str, Any]
-    episodes: int
-    successes: int
-    success_rate: float
-    ci95_low: float
-    ci95_high: float
     failures: dict[str, int] = field(default_factory=dict)
     mean_progress_laps: float = 0.0
     mean_collisions: float = 0.0
@@ -55,33 +50,34 @@ class GroupSummary:
         cls, controller: str, params: dict[str, Any], outcomes: Sequence[Outcome]
     ) -> GroupSummary:
         n = len(outcomes)
-        wins = sum(1 for o in outcomes if o.success)
-        low, high = wilson_interval(wins, n)
         failures = Counter(o.failure or UNNAMED_FAILURE for o in outcomes if not o.success)
         return cls(
+            sum(1 for o in outcomes if o.success),
+            n,
             controller=controller,
             params=params,
-            episodes=n,
-            successes=wins,
-            success_rate=wins / n if n else 0.0,
-            ci95_low=low,
-            ci95_high=high,
             failures=dict(sorted(failures.items(), key=lambda kv: (-kv[1], kv[0]))),
             mean_progress_laps=sum(o.progress_laps for o in outcomes) / n if n else 0.0,
             mean_collisions=sum(o.collisions for o in outcomes) / n if n else 0.0,
         )
 
+    # the names the tables and every report's --json give a group's rate and interval
+    @property
+    def success_rate(self) -> float:
+        return self.rate
+
+    @property
+    def ci95_low(self) -> float:
+        return self.interval[0]
+
+    @property
+    def ci95_high(self) -> float:
+        return self.interval[1]
+
     def rate_dict(self) -> dict[str, Any]:
         """The counts, the rate with its interval and the failures, as every report's
         ``--json`` gives a group's pass rate."""
-        return {
-            "episodes": self.episodes,
-            "successes": self.successes,
-            "success_rate": self.success_rate,
-            "ci95_low": self.ci95_low,
-            "ci95_high": self.ci95_high,
-            "failures": dict(self.failures),
-        }
+        return {**super().rate_dict(), "failures": dict(self.failures)}
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -1,13 +1,18 @@
-"""A wall-clock limit for one episode, so a controller that never returns cannot stall a
-whole sweep (a ``while True`` in a student's layer would otherwise hold a worker forever).
+"""A wall-clock limit for one episode raised from within, where its process cannot be killed.
+
+Local workers enforce ``--episode-timeout`` by killing the process that runs the episode
+(:mod:`puckboard.sweep.host`), which stops anything. An episode run in this process
+(:class:`~puckboard.sweep.executors.InlineExecutor`) or on a Dask worker, which puckboard
+cannot kill, gets this limit instead, so that a controller that never returns (a
+``while True`` in a student's layer) cannot stall a whole sweep there either.
 
 The limit is enforced from a watchdog thread that raises :class:`WallTimeExceeded` in the
 episode's thread (CPython's ``PyThreadState_SetAsyncExc``, the mechanism behind
-asynchronous ``KeyboardInterrupt``). It works in local worker processes, in Dask worker
-threads and in-process alike, on every platform — unlike ``SIGALRM``, which is POSIX-only
-and main-thread-only. The exception arrives at the next Python bytecode, so a controller
-blocked inside one long C call (``time.sleep(1e9)``) is not stopped until that call
-returns; the episode then still ends as an ``error`` row and the worker lives on.
+asynchronous ``KeyboardInterrupt``). It works in Dask worker threads and in-process
+alike, on every platform — unlike ``SIGALRM``, which is POSIX-only and main-thread-only.
+The exception arrives at the next Python bytecode, so a controller blocked inside one
+long C call (``time.sleep(1e9)``) is not stopped until that call returns; the episode
+then still ends as an ``error`` row of kind ``timeout`` and the worker lives on.
 
 Under a tracer (coverage, a debugger) the exception can arrive while the tracer's own
 code runs. The episode is still stopped, but the tracer may not recover: on Python 3.11

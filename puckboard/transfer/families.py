@@ -28,9 +28,21 @@ A family whose setting the installed puckboard does not know is simply not liste
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
+
+from ..scenario.settings import (
+    CONTROL_LATENCY,
+    CONTROL_PERIOD,
+    LINE_CONTRAST,
+    OBSTACLE_REFLECTANCE,
+    SETTINGS,
+    link_settings,
+)
+from ..scenario.variation import PLAUSIBLE as PLAUSIBLE_ROBOTS
+from ..scenario.variation import REALITY_GAP
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -49,7 +61,7 @@ __all__ = [
 #: Name of the design model's band (not a family: the model the others are held out from).
 DESIGN = "design"
 #: The design model's variation: plausible robots, as the published bands.
-PLAUSIBLE = "plausible"
+PLAUSIBLE = PLAUSIBLE_ROBOTS.name
 
 #: The noise levels a noise family scales: the wheels', the IR's, the ground sensors' and
 #: the gyro's. Start jitter is where a robot is put down, not what it senses or drives.
@@ -110,13 +122,11 @@ class Family:
     @property
     def changes(self) -> frozenset[str]:
         """Every setting the family decides at some model (the loop's period and latency
-        for a link; ``dt`` where its models are whole physics steps): a fixed value of one
-        of them would be overridden there, or the model mislabelled."""
+        for a link): a fixed value of one of them would be overridden there, or the model
+        mislabelled. A fixed ``dt`` is not one: whole steps count in it."""
         names = {"variation", *self.sets, *self.moves}
         if self.link is not None:
-            names |= {"control.period", "control.latency"}
-        if self.link is not None or self.stepped:
-            names.add("dt")
+            names |= {s.name for s in SETTINGS.values() if s.link}
         return frozenset(names)
 
     @property
@@ -147,8 +157,8 @@ class Family:
             return self.what
         timing = link_timing(self.link, dt)
         return (
-            f"period {timing['control.period'] * 1000:g} ms, latency "
-            f"{timing['control.latency'] * 1000:g} ms: {self.what}"
+            f"period {timing[CONTROL_PERIOD.name] * 1000:g} ms, latency "
+            f"{timing[CONTROL_LATENCY.name] * 1000:g} ms: {self.what}"
         )
 
     def label(self, dt: float) -> str:
@@ -177,22 +187,14 @@ class Family:
 
 
 def scene_value(scene: Scene, name: str) -> float:
-    """The scene's own value of a setting a family scales (``noise.proximity`` → the
-    scene's proximity noise); ``KeyError`` for a setting that cannot be scaled."""
-    group, _, key = name.partition(".")
-    if group == "noise" and hasattr(scene.noise, key):
-        return float(getattr(scene.noise, key))
-    if name == "surface.line_contrast":
-        return float(scene.track.contrast) if scene.track is not None else 0.0
-    if name == "obstacle.ir_reflectance":  # one number only when every obstacle has it
-        values = {float(ob.ir_reflectance) for ob in scene.obstacles}
-        return values.pop() if len(values) == 1 else float("nan")
-    raise KeyError(f"{name} is not a setting a family can scale")
-
-
-def _whole_steps(seconds: float, dt: float, minimum: int) -> float:
-    # as puckboard.profile.links.draw_timing rounds a drawn timing to the physics step
-    return max(minimum, round(seconds / dt)) * dt
+    """The scene's own value of a setting a family moves (``noise.proximity`` → the
+    scene's proximity noise), as the settings table reads it; NaN where the scene has no
+    such thing (no line) or no one value (obstacles of different reflectance);
+    ``KeyError`` for a name that is no setting."""
+    if name not in SETTINGS:
+        raise KeyError(f"{name} is not a setting a family can move")
+    value = SETTINGS[name].read(scene)
+    return math.nan if value is None else value
 
 
 def link_timing(name: str, dt: float) -> dict[str, float]:
@@ -201,12 +203,11 @@ def link_timing(name: str, dt: float) -> dict[str, float]:
     envelope the link's sources draw, where a controller that holds anywhere in it must
     hold too."""
     from ..profile.links import get_link
+    from ..scenario.scene import Control
 
     link = get_link(name)
-    return {
-        "control.period": _whole_steps(link.period[1], dt, 1),
-        "control.latency": _whole_steps(link.latency[1], dt, 0),
-    }
+    control = Control.rounded(link.period[1], link.latency[1], dt)
+    return link_settings(control.period_for(dt), control.latency)
 
 
 def _link_families() -> tuple[Family, ...]:
@@ -247,8 +248,8 @@ FAMILIES: tuple[Family, ...] = (
     *_link_families(),
     Family(
         name="period",
-        what="the controller ticks every 1, 2 or 4 physics steps, no delay",
-        stepped=("control.period",),
+        what="the controller ticks every 1, 2 or 4 physics steps",
+        stepped=(CONTROL_PERIOD.name,),
         grid=(1.0, 2.0, 4.0),
         source="AutoMoDe's e-puck in ARGoS: 100 ms; the thesis's real-time V-REP loop: "
         "68-206 ms (puckboard.profile.links)",
@@ -256,7 +257,7 @@ FAMILIES: tuple[Family, ...] = (
     Family(
         name="latency",
         what="each command reaches the wheels 0, 1 or 2 physics steps late",
-        stepped=("control.latency",),
+        stepped=(CONTROL_LATENCY.name,),
         grid=(0.0, 1.0, 2.0),
         origin=0.0,
         source="the links' latency ranges (puckboard.profile.links): slow ends 40-70 ms",
@@ -264,7 +265,7 @@ FAMILIES: tuple[Family, ...] = (
     Family(
         name="line contrast",
         what="the share of the line's contrast the ground sensors see (worn or glossy tape)",
-        valued=("surface.line_contrast",),
+        valued=(LINE_CONTRAST.name,),
         scale=0.5,
         grid=(1.0, 0.75, 0.5),
         source="reality-gap's range 0.5-1 (puckboard.scenario.reality_gap): 0.5, the Webots "
@@ -273,7 +274,7 @@ FAMILIES: tuple[Family, ...] = (
     Family(
         name="obstacle reflectance",
         what="every obstacle's IR reflectance (0.1: black, which the e-puck's IR hardly sees)",
-        valued=("obstacle.ir_reflectance",),
+        valued=(OBSTACLE_REFLECTANCE.name,),
         scale=0.1,
         grid=(1.0, 0.55, 0.1),
         source="reality-gap's range 0.1-1, assumed (epucklib: black objects are hardly detected)",
@@ -286,10 +287,10 @@ FAMILIES: tuple[Family, ...] = (
         source="puckboard.scenario.generated: the ranges each track is drawn from",
     ),
     Family(
-        name="reality-gap",
+        name=REALITY_GAP.name,
         what="plausible robots in conditions drawn per seed within sourced ranges (link "
         "timing, noise, tape, obstacles' reflectance, hand placement)",
-        variation="reality-gap",
+        variation=REALITY_GAP.name,
         source="puckboard.scenario.reality_gap: every range with its source",
     ),
 )

@@ -15,18 +15,34 @@ machinery: local cores or Dask, resumable ``--out`` rows, progress, Ctrl-C.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
+from ..scenario.overrides import link_overrides
+from ..scenario.settings import SETTINGS, link_settings
+from ..sweep.defaults import TRANSFER_SEEDS
+from ..sweep.plan import PlanError, SweepPlan, params_key, parse_seeds, profile_parameters
 from .families import DESIGN, PLAUSIBLE, Family, link_timing, scene_value
 
 if TYPE_CHECKING:
     from ..profile import RobotProfile
     from ..scenario.scene import Scene
 
-__all__ = ["Point", "Skipped", "TransferPlan", "family_params", "transfer_plan"]
+__all__ = [
+    "DEFAULT_SEEDS",
+    "Point",
+    "Skipped",
+    "TransferPlan",
+    "family_params",
+    "plan_from_names",
+    "transfer_plan",
+]
+
+#: Seeds per model unless asked otherwise (:data:`puckboard.sweep.defaults.TRANSFER_SEEDS`).
+DEFAULT_SEEDS = parse_seeds(TRANSFER_SEEDS)
 
 
 @dataclass(frozen=True)
@@ -44,11 +60,13 @@ class Point:
 
 @dataclass(frozen=True)
 class Skipped:
-    """A family that has nothing to change in one scene (``why`` says so)."""
+    """A family not run in one scene, for one profile of it (``""``: every profile):
+    ``why`` says why (it has nothing to change there, say)."""
 
     scene: str
     family: str
     why: str
+    profile: str = ""
 
 
 @dataclass(frozen=True)
@@ -89,10 +107,12 @@ def family_params(
     if family is None:
         return {**base, "variation": PLAUSIBLE}
     params = {**base, "variation": family.variation, **family.sets}
-    if family.link is not None:  # only what differs from the design loop (one step, no delay)
-        design_loop = {"control.period": float(scene.dt), "control.latency": 0.0}
+    if family.link is not None:
         timing = link_timing(family.link, scene.dt)
-        params.update({k: v for k, v in timing.items() if abs(v - design_loop[k]) > 1e-12})
+        if not measured_link(base):  # only what differs from the design loop (one step, no delay)
+            design_loop = link_settings(scene.dt, 0.0)
+            timing = {k: v for k, v in timing.items() if abs(v - design_loop[k]) > 1e-12}
+        params.update(timing)  # a profile's own link runs wherever no timing is set
     if scale != family.origin:
         for name in family.scaled:
             value = scene_value(scene, name)
@@ -111,12 +131,18 @@ def _same_as_design(family: Family, scene: Scene, base: Mapping[str, Any]) -> st
     design = family_params(None, scene, 1.0, base)
     scales = [s for s in (family.band_scale, *family.grid) if s is not None]
     if family.scene is not None:
+        if family.scene == scene.name and family.variation == PLAUSIBLE and not family.sets:
+            return f"it is the design model here: {scene.name} is the scene it runs"
         return None
-    if "surface.line_contrast" in family.valued and scene.track is None:
-        return f"{scene.name} has no line"
-    if "obstacle.ir_reflectance" in family.valued and not scene.obstacles:
-        return f"{scene.name} has no obstacle"
+    if family.stepped and measured_link(base):
+        return (
+            "its grid starts at one step without delay, and this profile runs at the link it "
+            "measured ([link])"
+        )
     for name in family.valued:  # the grid's origin must be the scene's own value
+        if SETTINGS[name].read(scene) is None:
+            return f"{scene.name} has no {SETTINGS[name].absent}"
+    for name in family.valued:
         own = scene_value(scene, name)
         if own != family.origin:
             return f"{scene.name}'s own {name} is {own:g}, not the grid's origin {family.origin:g}"
@@ -125,6 +151,11 @@ def _same_as_design(family: Family, scene: Scene, base: Mapping[str, Any]) -> st
     if family.link is not None:
         return f"at {scene.name}'s {scene.dt * 1000:g} ms step its slow end is the design loop"
     return f"on {scene.name} it changes nothing (nothing to scale)"
+
+
+def measured_link(base: Mapping[str, Any]) -> bool:
+    """Whether a profile's parameters carry the link it measured (its ``[link]``)."""
+    return any(name in base for name in link_overrides((0.0, 0.0)))
 
 
 def transfer_plan(
@@ -162,6 +193,7 @@ def transfer_plan(
     points: list[Point] = []
     skipped: list[Skipped] = []
     labels: dict[str, tuple[str, ...]] = {}
+    scenes = [_at_fixed_step(scene, fixed or {}) for scene in scenes]
     for scene in scenes:
         chosen = list(profiles.get(scene.name, ()))
         if not chosen:
@@ -179,8 +211,7 @@ def transfer_plan(
             for family in families:
                 why = _same_as_design(family, scene, base)
                 if why is not None:
-                    if profile is chosen[0]:
-                        skipped.append(Skipped(scene.name, family.name, why))
+                    skipped.append(Skipped(scene.name, family.name, why, label))
                     continue
                 runs_on = family.scene or scene.name
                 if family.scene is not None and family.scene not in others:
@@ -204,6 +235,20 @@ def transfer_plan(
     )
 
 
+def _at_fixed_step(scene: Scene, fixed: Mapping[str, Any]) -> Scene:
+    """``scene`` at the physics step a fixed ``--set dt`` gives: a family whose models are
+    whole steps (the loop's period and latency, a link's slow end) counts them in that
+    step, so a link can be judged at a finer step than the scene's."""
+    if "dt" not in fixed:
+        return scene
+    from ..scenario.overrides import apply_scene_overrides
+
+    try:
+        return apply_scene_overrides(scene, {"dt": fixed["dt"]})
+    except ValueError as exc:
+        raise PlanError(f"--set dt: {exc}") from None
+
+
 def _label(profile: str | RobotProfile) -> str:
     return profile if isinstance(profile, str) else str(profile.name)
 
@@ -225,3 +270,69 @@ def _sweeps(
         )
         for scene, unique in by_scene.items()
     )
+
+
+def plan_from_names(
+    scenes: Sequence[str | Scene] | str | Scene,
+    *,
+    controllers: Sequence[str] = (),
+    profiles: Sequence[str | RobotProfile] = (),
+    seeds: range | str = DEFAULT_SEEDS,
+    families: Sequence[str] | None = None,
+    fixed: Mapping[str, Any] | None = None,
+) -> tuple[TransferPlan, dict[str, Scene]]:
+    """A report's plan from what a user names, as ``puckboard transfer`` takes it: scenes
+    (shipped names, scene files or loaded scenes), controller specs (default: each
+    robot's from its scene), profiles (shipped names, profile files or profiles; default:
+    each scene's one), seeds (a range or ``A:B``), family names (default: all) and fixed
+    parameters; and every scene its sweeps run on, loaded, by name. Checked as the
+    command line checks it, before anything runs: a one-line
+    :class:`~puckboard.sweep.PlanError` (or another ``ValueError``) otherwise."""
+    from ..scenario.robot_profiles import scene_profile
+    from ..scenario.scenefile import load_scene
+    from ..sweep.check import check_plan
+    from ..sweep.plan import SCENE_CONTROLLERS
+    from .families import choose_families
+
+    given = (
+        [scenes] if isinstance(scenes, (str, Path)) or not isinstance(scenes, Sequence) else scenes
+    )
+    names = [s if isinstance(s, str) else getattr(s, "name", str(s)) for s in given]
+    if len(set(names)) != len(names):
+        raise PlanError(f"scene listed twice in {names}; give each once")
+    chosen = choose_families(families)
+    loaded = [s if not isinstance(s, (str, Path)) else load_scene(s) for s in given]
+    replacements = {f.scene: load_scene(f.scene) for f in chosen if f.scene is not None}
+    if profiles:
+        robots = [scene_profile(p) for p in profiles]
+        by_scene = {scene.name: list(robots) for scene in loaded}
+    else:
+        by_scene = {scene.name: [_own_profile(scene)] for scene in loaded}
+    plan = transfer_plan(
+        loaded,
+        controllers=list(controllers) or [SCENE_CONTROLLERS],
+        profiles=by_scene,
+        seeds=parse_seeds(seeds) if isinstance(seeds, str) else seeds,
+        families=chosen,
+        replacements=replacements,
+        fixed=fixed,
+    )
+    every = {**replacements, **{s.name: s for s in loaded}}
+    for sweep in plan.sweeps:
+        check_plan(sweep, every[sweep.scenario])
+    return plan, every
+
+
+def _own_profile(scene: Scene) -> str | RobotProfile:
+    """The one profile every robot of ``scene`` has; a ``PlanError`` when they differ."""
+    own = {json.dumps(_profile_id(r.profile)) for r in scene.robots}
+    if len(own) != 1:
+        raise PlanError(
+            f"the robots of {scene.name} have different profiles; name the one to run "
+            "with --profile NAME (repeatable)"
+        )
+    return scene.robots[0].profile
+
+
+def _profile_id(profile: str | RobotProfile) -> str | list[Any]:
+    return profile if isinstance(profile, str) else [profile.name, list(profile.overrides)]

@@ -27,7 +27,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..sweep.stats import Z95, wilson_interval
+from ..sweep.stats import Z95, PassRate, wilson_interval
 
 __all__ = [
     "BY",
@@ -44,22 +44,11 @@ THRESHOLD = 0.95
 BY = ("estimate", "lower")
 
 
-@dataclass(frozen=True)
-class GridPoint:
-    """One scale of a grid and the episodes run at it (``episodes`` 0: not run yet)."""
+@dataclass(frozen=True, kw_only=True)
+class GridPoint(PassRate):
+    """The pass rate at one scale of a grid (``episodes`` 0: not run yet)."""
 
     scale: float
-    successes: int
-    episodes: int
-
-    @property
-    def rate(self) -> float:
-        return self.successes / self.episodes if self.episodes else 0.0
-
-    @property
-    def interval(self) -> tuple[float, float]:
-        """The 95 % Wilson interval of the rate."""
-        return wilson_interval(self.successes, self.episodes)
 
     def keeps(self, threshold: float, by: str) -> bool:
         """Whether this point's rate is at least ``threshold``, judged ``by``."""
@@ -95,17 +84,22 @@ class Radius:
 
 
 def robustness_radius(
-    points: Sequence[GridPoint], *, threshold: float = THRESHOLD, by: str = "estimate"
+    points: Sequence[GridPoint],
+    *,
+    threshold: float = THRESHOLD,
+    by: str = "estimate",
+    episodes: int = 1,
 ) -> Radius:
     """The radius of ``points`` (a grid in its declared order, outward from the design
-    model): the last scale before the first that falls below ``threshold``."""
+    model): the last scale before the first that falls below ``threshold``. A point with
+    fewer than ``episodes`` episodes (an interrupted run) ends the walk, incomplete."""
     if by not in BY:
         raise ValueError(f"by must be one of {', '.join(BY)}, got {by!r}")
     if not 0.0 < threshold <= 1.0:
         raise ValueError(f"threshold must be in (0, 1], got {threshold}")
     at: GridPoint | None = None
     for point in points:
-        if point.episodes == 0:
+        if point.episodes < max(1, episodes):
             return Radius(None if at is None else at.scale, at, None, False, by, threshold)
         if not point.keeps(threshold, by):
             return Radius(None if at is None else at.scale, at, point, True, by, threshold)

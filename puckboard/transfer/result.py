@@ -9,10 +9,12 @@ run, and a radius that reached one is marked incomplete.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections import Counter
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
+from ..sweep import experiment
 from ..sweep.plan import params_key, seeds_text
 from ..sweep.rows import Outcome
 from ..sweep.run import SweepResult
@@ -129,7 +131,9 @@ class Cell:
 
 
 def _grid_point(scale: float, g: GroupSummary | None) -> GridPoint:
-    return GridPoint(scale, 0, 0) if g is None else GridPoint(scale, g.successes, g.episodes)
+    if g is None:
+        return GridPoint(0, 0, scale=scale)
+    return GridPoint(g.successes, g.episodes, scale=scale)
 
 
 def analyse(
@@ -160,13 +164,14 @@ def _cell(
     profile: str,
     controller: str,
     points: list[Point],
-    stats: Any,
+    stats: Callable[[str, Point], GroupSummary | None],
     threshold: float,
 ) -> Cell:
     design_point = next(p for p in points if p.family == DESIGN)
     design = Band(DESIGN, DESIGN, 1.0, scene, stats(controller, design_point))
     bands, radii = [], []
     dt = (plan.dts or {}).get(scene, 0.0)
+    seeds = len(plan.seeds)  # a point with fewer episodes is incomplete
     for family in plan.families:
         mine = [p for p in points if p.family == family.name]
         if not mine:
@@ -183,12 +188,14 @@ def _cell(
                 RadiusResult(
                     family.name,
                     grid,
-                    robustness_radius(grid, threshold=threshold, by="estimate"),
-                    robustness_radius(grid, threshold=threshold, by="lower"),
+                    robustness_radius(grid, threshold=threshold, by="estimate", episodes=seeds),
+                    robustness_radius(grid, threshold=threshold, by="lower", episodes=seeds),
                     tuple(family.scale_text(s, dt) for s in family.grid),
                 )
             )
-    skipped = tuple((s.family, s.why) for s in plan.skipped if s.scene == scene)
+    skipped = tuple(
+        (s.family, s.why) for s in plan.skipped if s.scene == scene and s.profile in ("", profile)
+    )
     return Cell(scene, controller, profile, design, tuple(bands), tuple(radii), skipped)
 
 
@@ -236,27 +243,34 @@ class TransferResult:
     def errors(self) -> list[str]:
         return [e for s in self.sweeps for e in s.errors]
 
+    def error_kinds(self) -> dict[str, int]:
+        """:meth:`SweepResult.error_kinds <puckboard.sweep.run.SweepResult.error_kinds>`
+        of the whole report."""
+        total: Counter[str] = Counter()
+        for sweep in self.sweeps:
+            total.update(sweep.error_kinds())
+        return dict(total.most_common())
+
     @property
     def outcomes(self) -> list[Outcome]:
         """Every outcome of every sweep of the report."""
         return [o for s in self.sweeps for o in s.outcomes]
 
-    # A report counts, times and heads itself as the sweeps it ran do: the same fields
-    # (plan, outcomes, ran, skipped, interrupted, errors, wall_s), summed over them.
+    # A report counts, times and heads itself as the sweeps it ran do: it is an
+    # ExperimentRun (plan, outcomes, ran, skipped, interrupted, errors, wall_s), the
+    # sweeps' fields summed.
     @property
     def episodes_per_s(self) -> float:
         """Episodes this run ran per wall-clock second, as a sweep's (0 when none ran)."""
-        return self.ran / self.wall_s if self.ran and self.wall_s else 0.0
+        return experiment.episodes_per_s(self)
 
     def counts(self) -> dict[str, Any]:
-        """:meth:`SweepResult.counts <puckboard.sweep.run.SweepResult.counts>` of the
-        whole report."""
-        return SweepResult.counts(cast(Any, self))
+        """:func:`puckboard.sweep.experiment.counts` of the whole report."""
+        return experiment.counts(self)
 
     def episodes_text(self, stored: str | None = None) -> str:
-        """:meth:`SweepResult.episodes_text <puckboard.sweep.run.SweepResult.episodes_text>`
-        of the whole report."""
-        return SweepResult.episodes_text(cast(Any, self), stored)
+        """:func:`puckboard.sweep.experiment.episodes_text` of the whole report."""
+        return experiment.episodes_text(self, stored)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``--json`` object: the plan, counts, timing and one entry per cell."""

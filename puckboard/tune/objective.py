@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..sweep.rows import Outcome
-from ..sweep.stats import wilson_interval
+from ..sweep.stats import PassRate
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -56,43 +56,28 @@ class Cell:
         return f"{self.scene}, {self.profile}" if self.profile else self.scene
 
 
-@dataclass(frozen=True)
-class CellRate:
-    """A cell's successes over its episodes, with the 95 % Wilson interval."""
+@dataclass(frozen=True, kw_only=True)
+class CellRate(PassRate):
+    """A cell's pass rate (with its 95 % Wilson interval) and mean progress."""
 
     cell: Cell
-    episodes: int
-    successes: int
     progress_laps: float = 0.0
 
-    @property
-    def rate(self) -> float:
-        return self.successes / self.episodes if self.episodes else 0.0
-
-    @property
-    def interval(self) -> tuple[float, float]:
-        return wilson_interval(self.successes, self.episodes)
-
     def to_dict(self) -> dict[str, Any]:
-        low, high = self.interval
         return {
             "scene": self.cell.scene,
             "profile": self.cell.profile or None,
-            "episodes": self.episodes,
-            "successes": self.successes,
-            "success_rate": self.rate,
-            "ci95_low": low,
-            "ci95_high": high,
+            **self.rate_dict(),
             "mean_progress_laps": self.progress_laps,
         }
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> CellRate:
         return cls(
-            Cell(str(data["scene"]), str(data.get("profile") or "")),
-            int(data["episodes"]),
             int(data["successes"]),
-            float(data.get("mean_progress_laps") or 0.0),
+            int(data["episodes"]),
+            cell=Cell(str(data["scene"]), str(data.get("profile") or "")),
+            progress_laps=float(data.get("mean_progress_laps") or 0.0),
         )
 
 
@@ -149,10 +134,10 @@ def cell_rates(outcomes: Iterable[tuple[Cell, Outcome]], cells: Sequence[Cell]) 
         n = len(runs)
         rates.append(
             CellRate(
-                cell,
-                n,
                 sum(1 for o in runs if o.success),
-                sum(o.progress_laps for o in runs) / n if n else 0.0,
+                n,
+                cell=cell,
+                progress_laps=sum(o.progress_laps for o in runs) / n if n else 0.0,
             )
         )
     return rates
@@ -218,6 +203,7 @@ def _run_scene(
     episode_timeout: float | None,
     progress: Progress | None,
 ) -> list[tuple[Cell, Outcome]]:
+    from ..sweep.options import RunOptions
     from ..sweep.plan import SweepPlan
     from ..sweep.run import run_sweep
 
@@ -229,9 +215,8 @@ def _run_scene(
         grid={"robot.profile": tuple(profiles)} if profiles else {},
         fixed=dict(params),
     )
-    result = run_sweep(
-        plan, scene, executor=executor, episode_timeout=episode_timeout, progress=progress
-    )
+    options = RunOptions(executor=executor, progress=progress, episode_timeout=episode_timeout)
+    result = run_sweep(plan, scene, options)
     if result.interrupted:
         raise Interrupted(result.terminated)
     for outcome in result.outcomes:

@@ -16,7 +16,7 @@ import logging
 import math
 import os
 import time as _time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,7 +26,14 @@ from ..errors import PuckboardError
 from ..recording.recorder import Recording
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from PIL.Image import Image
+
     from ..scenario.scene import Scene
+    from .stage import Stage
+
+#: One frame of an animation: height × width × 3 RGB bytes (:meth:`Stage.frame_rgb`).
+Frame = np.ndarray
 
 __all__ = [
     "ANIMATION_SUFFIXES",
@@ -120,7 +127,7 @@ def frame_indices(
     return idx
 
 
-def stage_for_recording(fig: Any, rec: Recording, **options: Any) -> Any:
+def stage_for_recording(fig: Figure, rec: Recording, **options: Any) -> Stage:
     """A :class:`~puckboard.viz.stage.Stage` on ``fig`` set up for ``rec``'s robots."""
     from .stage import Stage
     from .style import layer_order, robot_colours
@@ -163,7 +170,7 @@ def _layer_names(rec: Recording, i: int) -> list[str | None]:
     return [rec.layer_names[k] if k >= 0 else None for k in rec.layer[i]]
 
 
-def draw_row(stage: Any, rec: Recording, i: int, trail_start: int = 0) -> None:
+def draw_row(stage: Stage, rec: Recording, i: int, trail_start: int = 0) -> None:
     """Show recording row ``i`` on ``stage`` with trails from ``trail_start``."""
     trails = [rec.pose[trail_start : i + 1, r, :2] for r in range(len(rec.robot_names))]
     stage.update(
@@ -222,7 +229,7 @@ def render_animation(
     path.parent.mkdir(parents=True, exist_ok=True)
     t0 = _time.perf_counter()
 
-    def frames():  # type: ignore[no-untyped-def]
+    def frames() -> Iterator[Frame]:
         for k, i in enumerate(indices):
             draw_row(stage, rec, int(i))
             yield stage.frame_rgb()
@@ -250,7 +257,7 @@ def render_animation(
     return result
 
 
-def _palette(rec: Recording, stage: Any, indices: np.ndarray) -> Any:
+def _palette(rec: Recording, stage: Stage, indices: np.ndarray) -> Image:
     """One palette for the whole GIF, from a few frames spread over the run: frames share
     it, so colours never flicker and unchanged pixels compress to nothing."""
     from PIL import Image
@@ -280,7 +287,12 @@ def _rgb(colour: Any) -> tuple[int, int, int]:
 
 
 def _write_gif(
-    path: Path, frames: Any, fps: float, rec: Recording, stage: Any, indices: Any
+    path: Path,
+    frames: Iterable[Frame],
+    fps: float,
+    rec: Recording,
+    stage: Stage,
+    indices: np.ndarray,
 ) -> None:
     from PIL import Image
 
@@ -306,7 +318,7 @@ def _write_gif(
     os.replace(tmp, path)
 
 
-def _write_mp4(path: Path, frames: Any, fps: float) -> None:
+def _write_mp4(path: Path, frames: Iterable[Frame], fps: float) -> None:
     import imageio.v2 as imageio
 
     tmp = path.with_name(path.stem + ".part.mp4")

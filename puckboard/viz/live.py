@@ -1,10 +1,11 @@
 """The live view: watch a run in a matplotlib window or a Jupyter notebook.
 
-The view is an episode observer. It reads the states a :class:`~puckboard.recording.recorder.Recorder`
-has taken from the blackboard and draws them on a :class:`~puckboard.viz.stage.Stage`, the
-same picture the animations use. It never touches the simulation: pausing blocks the
-control loop between two cycles and single-stepping lets exactly one cycle through, so a
-seeded run takes the same course with or without a window.
+The view is an episode observer. It reads the states a
+:class:`~puckboard.recording.recorder.Recorder` has taken from the blackboard and draws
+them on a :class:`~puckboard.viz.stage.Stage`, the same picture the animations use. It
+never touches the simulation: pausing blocks the control loop between two cycles and
+single-stepping lets exactly one cycle through, so a seeded run takes the same course with
+or without a window.
 
 Keys (window): ``space`` pause/resume, ``right`` or ``n`` one cycle while paused,
 ``+``/``-`` double/halve the playback speed, closing the window ends the viewing (the run
@@ -17,16 +18,18 @@ from __future__ import annotations
 import logging
 import sys
 import time as _time
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
-from ..recording.recorder import Recorder
-
 if TYPE_CHECKING:
-    from ..control.episode import Episode
+    from matplotlib.figure import Figure
 
-__all__ = ["LiveView"]
+    from ..control.episode import Episode
+    from ..recording.recorder import Recording
+
+__all__ = ["LiveView", "Recorded"]
 
 log = logging.getLogger(__name__)
 
@@ -47,6 +50,24 @@ def matplotlib_backend() -> str:
     return matplotlib.get_backend().lower()
 
 
+class Recorded(Protocol):
+    """What the view reads of the states taken so far: a
+    :class:`~puckboard.recording.recorder.Recorder` while a run goes on, or a finished
+    recording played back (:func:`replay`)."""
+
+    #: the judge's events so far (``None``: none are known)
+    events: Callable[[], list[dict[str, Any]]] | None
+
+    @property
+    def layer_names(self) -> tuple[str, ...]: ...
+
+    def __len__(self) -> int: ...
+
+    def arrays(self) -> dict[str, np.ndarray]: ...
+
+    def recording(self) -> Recording: ...
+
+
 class LiveView:
     """Draw a run as it happens; see the module docstring.
 
@@ -58,11 +79,11 @@ class LiveView:
 
     def __init__(
         self,
-        recorder: Recorder,
+        recorder: Recorded,
         *,
         speed: float | None = 1.0,
         fps: float = 20.0,
-        figure: Any = None,
+        figure: Figure | None = None,
         block_at_end: bool = True,
     ) -> None:
         self.recorder = recorder
@@ -168,7 +189,7 @@ class LiveView:
         self._draw_cost = cost if self.frames_drawn == 1 else 0.8 * self._draw_cost + 0.2 * cost
 
     def _events(self) -> list[dict[str, Any]]:
-        source = getattr(self.recorder, "events", None)
+        source = self.recorder.events
         if source is None:
             return []
         try:
@@ -268,36 +289,31 @@ class LiveView:
 class _Replay:
     """A finished recording played back row by row, looking like a recorder to the view."""
 
-    def __init__(self, rec: Any) -> None:
+    def __init__(self, rec: Recording) -> None:
         self.rec = rec
         self.n = 0
         self.layer_names = rec.layer_names
-
-    def events(self) -> list[dict[str, Any]]:
-        return list(self.rec.meta.get("events") or [])
+        self.events: Callable[[], list[dict[str, Any]]] | None = lambda: list(
+            rec.meta.get("events") or []
+        )
 
     def __len__(self) -> int:
         return self.n
 
-    def recording(self) -> Any:
+    def recording(self) -> Recording:
         return self.rec
 
     def arrays(self) -> dict[str, np.ndarray]:
-        r, n = self.rec, self.n
-        return {
-            "time": r.time[:n],
-            "pose": r.pose[:n],
-            "wheels": r.wheels[:n],
-            "layer": r.layer[:n],
-            "proximity": r.proximity[:n],
-            "ground": r.ground[:n],
-        }
+        """The recording's arrays (its own mapping) up to the row being shown."""
+        return {name: values[: self.n] for name, values in self.rec.arrays().items()}
 
 
-def replay(rec: Any, *, speed: float | None = 1.0, figure: Any = None) -> LiveView:
+def replay(
+    rec: Recording, *, speed: float | None = 1.0, figure: Figure | None = None
+) -> LiveView:
     """Play a recording back in the live view (same keys: pause, step, speed)."""
     source = _Replay(rec)
-    view = LiveView(source, speed=speed, figure=figure)  # type: ignore[arg-type]
+    view = LiveView(source, speed=speed, figure=figure)
     for i in range(len(rec)):
         source.n = i + 1
         view()

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..recording.recorder import Recording
-from .style import FONT, LINE, event_label, layer_colours, layer_order, robot_colours
+from .style import LINE, TYPE_SIZES, event_label, layer_colours, layer_order, robot_colours
 
 __all__ = [
     "PLOT_FORMATS",
@@ -54,9 +54,9 @@ def _all_layers(rec: Recording) -> list[str]:
 
 
 def _style_axes(ax: Any) -> None:
-    ax.tick_params(labelsize=FONT["tick"])
-    ax.xaxis.label.set_size(FONT["label"])
-    ax.yaxis.label.set_size(FONT["label"])
+    ax.tick_params(labelsize=TYPE_SIZES["tick"])
+    ax.xaxis.label.set_size(TYPE_SIZES["label"])
+    ax.yaxis.label.set_size(TYPE_SIZES["label"])
     ax.grid(True, alpha=0.3)
 
 
@@ -88,10 +88,11 @@ def plot_trajectories(rec: Recording) -> Any:
         )  # fmt: skip
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_title(f"Trajectories: {rec.title}", fontsize=FONT["title"])
+    ax.set_title(f"Trajectories: {rec.title}", fontsize=TYPE_SIZES["title"])
     _style_axes(ax)
     fig.draw_without_rendering()  # laid out as it will be saved: names are placed by size
-    label_obstacles(ax, rec.scene, avoid=markers)
+    if rec.scene is not None:  # a recording made without its scene has none to name
+        label_obstacles(ax, rec.scene, avoid=markers)
     from matplotlib.lines import Line2D
 
     handles, _ = ax.get_legend_handles_labels()
@@ -99,7 +100,7 @@ def plot_trajectories(rec: Recording) -> Any:
         Line2D([], [], marker="o", ls="none", color="#606060", ms=10, label="start"),
         Line2D([], [], marker=(3, 0, -90), ls="none", color="#606060", ms=12, label="end"),
     ]
-    ax.legend(handles=handles, fontsize=FONT["legend"], loc="best", framealpha=0.9)
+    ax.legend(handles=handles, fontsize=TYPE_SIZES["legend"], loc="best", framealpha=0.9)
     return fig
 
 
@@ -148,18 +149,23 @@ def plot_arbitration(rec: Recording) -> Any:
             ax.broken_barh(bars, (y - 0.38, 0.76), facecolors=colour, edgecolor="none")
         switches = max(0, len(spans) - 1)
         ax.annotate(
-            f"{switches} switch{'' if switches == 1 else 'es'}", (1.0, y), xycoords=("axes fraction", "data"),
-            xytext=(14, 0), textcoords="offset points", va="center", fontsize=FONT["tick"],
-        )  # fmt: skip
+            f"{switches} switch{'' if switches == 1 else 'es'}",
+            (1.0, y),
+            xycoords=("axes fraction", "data"),
+            xytext=(14, 0),
+            textcoords="offset points",
+            va="center",
+            fontsize=TYPE_SIZES["tick"],
+        )
     handles_events = _draw_events(ax, rec, names)
-    ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=FONT["label"])
+    ax.set_yticks(range(len(names)), labels=list(reversed(names)), fontsize=TYPE_SIZES["label"])
     ax.set_ylim(-0.6, len(names) - 0.4)
     if len(rec):
         spans_end = max((b for n in names for _, _, b in layer_spans(rec, n)), default=0.0)
         start = float(rec.time[0])
         ax.set_xlim(start, spans_end + 0.01 * (spans_end - start))
     ax.set_xlabel("time (s)")
-    ax.set_title(f"Which layer had control: {rec.title}", fontsize=FONT["title"])
+    ax.set_title(f"Which layer had control: {rec.title}", fontsize=TYPE_SIZES["title"])
     handles = [
         Patch(
             facecolor=lcol[layer],
@@ -170,7 +176,7 @@ def plot_arbitration(rec: Recording) -> Any:
     handles += handles_events
     fig.legend(
         handles=handles, loc="outside lower center", ncol=min(4, max(1, len(handles))),
-        fontsize=FONT["legend"], frameon=False,
+        fontsize=TYPE_SIZES["legend"], frameon=False,
     )  # fmt: skip
     _style_axes(ax)
     ax.grid(True, axis="x", alpha=0.3)
@@ -242,9 +248,9 @@ def plot_sensors(rec: Recording) -> Any:
             extent=(t0, t1, -0.5, 7.5), interpolation="nearest",
         )  # fmt: skip
         ax_p.set_yticks(range(8), labels=[f"ps{k} {n}" for k, n in enumerate(PROX_NAMES)])
-        ax_p.tick_params(axis="y", labelsize=FONT["tick"] - 3)
+        ax_p.tick_params(axis="y", labelsize=TYPE_SIZES["tick"] - 3)
         ax_p.set_title(
-            f"{name}: IR proximity (how close, % of range)", fontsize=FONT["label"],
+            f"{name}: IR proximity (how close, % of range)", fontsize=TYPE_SIZES["label"],
             color=colours[name], loc="left", fontweight="bold",
         )  # fmt: skip
         for k, gname in enumerate(GROUND_NAMES):
@@ -253,13 +259,13 @@ def plot_sensors(rec: Recording) -> Any:
         ax_g.set_ylim(-0.05, 1.05)
         ax_g.set_ylabel("ground (0..1)")
         ax_g.legend(
-            fontsize=FONT["legend"] - 2, loc="upper left", bbox_to_anchor=(1.005, 1.0),
+            fontsize=TYPE_SIZES["legend"] - 2, loc="upper left", bbox_to_anchor=(1.005, 1.0),
             frameon=False,
         )  # fmt: skip
         _style_axes(ax_g)
-        ax_p.tick_params(axis="x", labelsize=FONT["tick"])
+        ax_p.tick_params(axis="x", labelsize=TYPE_SIZES["tick"])
     axes[-1].set_xlabel("time (s)")
-    fig.suptitle(f"Sensors: {rec.title}", fontsize=FONT["title"])
+    fig.suptitle(f"Sensors: {rec.title}", fontsize=TYPE_SIZES["title"])
     if image is not None:
         fig.colorbar(image, ax=list(axes[0::2]), label="closeness (%)", shrink=0.8, pad=0.01)
     return fig
@@ -286,15 +292,21 @@ def plot_wheels(rec: Recording) -> Any:
         ax.axhline(0.0, color="#404040", lw=1.0)
         ax.set_ylabel("rad/s")
         ax.set_title(
-            f"robot {name}: wheel commands", fontsize=FONT["label"], color=colours[name], loc="left",
+            f"robot {name}: wheel commands",
+            fontsize=TYPE_SIZES["label"],
+            color=colours[name],
+            loc="left",
             fontweight="bold",
-        )  # fmt: skip
+        )
         ax.legend(
-            fontsize=FONT["legend"], loc="upper left", bbox_to_anchor=(1.005, 1.0), frameon=False
+            fontsize=TYPE_SIZES["legend"],
+            loc="upper left",
+            bbox_to_anchor=(1.005, 1.0),
+            frameon=False,
         )
         _style_axes(ax)
     axes[-1].set_xlabel("time (s)")
-    fig.suptitle(f"Wheels: {rec.title}", fontsize=FONT["title"])
+    fig.suptitle(f"Wheels: {rec.title}", fontsize=TYPE_SIZES["title"])
     return fig
 
 

@@ -177,8 +177,9 @@ def label_obstacles(ax: Any, scene: Scene, avoid: Sequence[Any] = ()) -> list[An
     ink = None if track is None else track.get_transform().transform_path(track.get_path())
     trails = [
         line.get_transform().transform(line.get_xydata())
-        for line in ax.lines if line.get_marker() in (None, "", "None") and len(line.get_xydata()) > 1
-    ]  # fmt: skip
+        for line in ax.lines
+        if line.get_marker() in (None, "", "None") and len(line.get_xydata()) > 1
+    ]
     frame = ax.get_window_extent(renderer)
     placed = []
     for ob in getattr(scene, "obstacles", ()):

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..profile import EPUCK2, get_profile
 from .scene_art import draw_scene, scene_bounds
-from .style import FONT, LINE, event_label, layer_colour, layer_colours
+from .style import LINE, TYPE_SIZES, event_label, layer_colour, layer_colours
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -107,23 +107,29 @@ class Stage:
         draw_scene(ov, scene)
         ov.set_xlim(xmin, xmax)
         ov.set_ylim(ymin, ymax)
-        ov.set_xlabel("x (m)", fontsize=FONT["label"])
-        ov.set_ylabel("y (m)", fontsize=FONT["label"])
-        ov.tick_params(labelsize=FONT["tick"])
+        ov.set_xlabel("x (m)", fontsize=TYPE_SIZES["label"])
+        ov.set_ylabel("y (m)", fontsize=TYPE_SIZES["label"])
+        ov.tick_params(labelsize=TYPE_SIZES["tick"])
         self._title = fig.text(
-            0.06, 0.955, title, fontsize=FONT["title"], fontweight="bold", va="center"
+            0.06, 0.955, title, fontsize=TYPE_SIZES["title"], fontweight="bold", va="center"
         )
         self._footer = fig.text(
-            0.985, 0.015, "", fontsize=FONT["tick"], ha="right", va="bottom", color="#505050"
+            0.985, 0.015, "", fontsize=TYPE_SIZES["tick"], ha="right", va="bottom", color="#505050"
         )
         self._clock = fig.text(
-            0.985, 0.955, "", fontsize=FONT["title"], ha="right", va="center", family="monospace"
+            0.985,
+            0.955,
+            "",
+            fontsize=TYPE_SIZES["title"],
+            ha="right",
+            va="center",
+            family="monospace",
         )
 
         self._footer.set_animated(True)
         self._clock.set_animated(True)
         self._news = fig.text(
-            0.06, 0.912, "", fontsize=FONT["label"], va="center", color="#8b0000",
+            0.06, 0.912, "", fontsize=TYPE_SIZES["label"], va="center", color="#8b0000",
             fontweight="bold",
         )  # fmt: skip
         self._news.set_animated(True)
@@ -146,10 +152,10 @@ class Stage:
             for spine in ax.spines.values():
                 spine.set_edgecolor(self.colours[self.names[i]])
                 spine.set_linewidth(4)
-            ax.set_xlabel(self._closeup_text, fontsize=FONT["tick"], labelpad=4)
+            ax.set_xlabel(self._closeup_text, fontsize=TYPE_SIZES["tick"], labelpad=4)
         self._closeup_labels = [ax.xaxis.label for ax in self.closeups]
         self._closeup_titles = [
-            ax.set_title("", fontsize=FONT["label"], fontweight="bold", color="white", pad=6)
+            ax.set_title("", fontsize=TYPE_SIZES["label"], fontweight="bold", color="white", pad=6)
             for ax in self.closeups
         ]
 
@@ -167,7 +173,7 @@ class Stage:
                 loc="lower left",
                 bbox_to_anchor=(0.05, 0.0),
                 ncol=ncol,
-                fontsize=FONT["legend"],
+                fontsize=TYPE_SIZES["legend"],
                 frameon=False,
                 handlelength=1.4,
                 columnspacing=1.2,
@@ -201,7 +207,7 @@ class Stage:
         arts = {"trail": trail, "body": body, "ring": ring, "heading": heading}
         if not self.zoom:  # no close-up titles: label each robot with its active layer
             arts["label"] = ax.text(
-                0.0, 0.0, "", fontsize=FONT["annotation"], color="white", fontweight="bold",
+                0.0, 0.0, "", fontsize=TYPE_SIZES["annotation"], color="white", fontweight="bold",
                 ha="center", va="bottom", zorder=13, clip_on=True,
             )  # fmt: skip
         if detailed:

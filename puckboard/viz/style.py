@@ -14,13 +14,13 @@ import zlib
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
-from .figures import OKABE_ITO
+from .figures import FONT, OKABE_ITO
 
 __all__ = [
     "EVENT_LABELS",
-    "FONT",
     "LINE",
     "NO_DATA_COLOUR",
+    "TYPE_SIZES",
     "event_label",
     "hex_colour",
     "layer_colour",
@@ -30,8 +30,15 @@ __all__ = [
     "text_colour",
 ]
 
-FONT = {"title": 17, "label": 14, "tick": 12, "legend": 12, "annotation": 13}
-"""Font sizes (points) chosen to stay readable on a projector at the back of a room."""
+TYPE_SIZES = {
+    "title": FONT + 2,
+    "label": FONT - 1,
+    "tick": FONT - 3,
+    "legend": FONT - 3,
+    "annotation": FONT - 2,
+}
+"""Type sizes (points) by role, from the one :data:`~puckboard.viz.figures.FONT`: readable
+on a projector at the back of a room."""
 
 LINE = {"trail": 2.5, "trace": 2.0, "heading": 3.0, "body_edge": 3.5, "wall": 4.0}
 """Line widths (points)."""

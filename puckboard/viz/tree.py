@@ -3,8 +3,9 @@
 A controller is a py_trees tree (a Selector without memory over the layers), so py_trees
 draws it for documents (``dot``, its pydot export); the text forms (``ascii``/``unicode``)
 are drawn here. Both add what a student needs to read the diagram: each layer's priority
-(1 = highest) and the blackboard keys it reads. ``png``/``svg`` run Graphviz's ``dot`` program, a system
-package, not a Python one; when it is missing the error says how to install it.
+(1 = highest) and the blackboard keys it reads. ``png``/``svg`` run Graphviz's ``dot``
+program, a system package, not a Python one; when it is missing the error says how to
+install it.
 """
 
 from __future__ import annotations

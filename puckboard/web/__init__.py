@@ -28,13 +28,14 @@ if TYPE_CHECKING:
     from ..backends.coppeliasim.server.socket_loop import RemoteApiServer
     from ..control.episode import Episode
     from ..recording.recorder import Recording
+    from .server import WebView
 
 __all__ = ["show_replay", "watch_episode", "watch_server"]
 
 
 def watch_episode(
     episode: Episode, *, host: str = "127.0.0.1", port: int = 8080, speed: float | None = 1.0
-) -> Any:
+) -> WebView:
     """Serve a live view of ``episode`` (before :meth:`run`); returns the started
     :class:`~puckboard.web.server.WebView`. ``speed`` paces the run to the wall clock
     (1 = real time, ``None`` = as fast as it goes) so people can watch it; pacing only
@@ -54,7 +55,9 @@ def watch_episode(
     return view
 
 
-def watch_server(server: RemoteApiServer, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
+def watch_server(
+    server: RemoteApiServer, *, host: str = "127.0.0.1", port: int = 8080
+) -> WebView:
     """Serve a live view of a
     :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`'s world;
     returns the started :class:`~puckboard.web.server.WebView`."""

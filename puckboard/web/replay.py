@@ -15,7 +15,7 @@ a two-minute run of two robots to a few hundred kilobytes. Missing values are ``
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -26,6 +26,9 @@ from ..records import PROX_NAMES
 from ..viz.scene_art import scene_bounds
 from ..viz.style import event_label, layer_colours, layer_order, robot_colours
 from .state import describe_scene
+
+if TYPE_CHECKING:
+    from .server import WebView
 
 __all__ = ["REPLAY_FORMAT", "replay_data", "serve_replay"]
 
@@ -75,11 +78,16 @@ def _scene_json(rec: Recording) -> dict[str, Any]:
     robots = []
     for name in names:
         entry = described.get(name) or {
-            "name": name, "colour": colours[name], "profile": profile.name,
+            "name": name,
+            "colour": colours[name],
+            "profile": profile.name,
             "radius": profile.body_radius,
-            "sensors": [[round(p.x, 4), round(p.y, 4), round(p.heading, 4)] for p in profile.prox_poses],
-            "sensor_names": list(PROX_NAMES), "range": profile.prox_range,
-        }  # fmt: skip
+            "sensors": [
+                [round(p.x, 4), round(p.y, 4), round(p.heading, 4)] for p in profile.prox_poses
+            ],
+            "sensor_names": list(PROX_NAMES),
+            "range": profile.prox_range,
+        }
         robots.append(entry)
     out["robots"] = robots
     return out
@@ -176,7 +184,7 @@ def replay_data(rec: Recording) -> dict[str, Any]:
     }
 
 
-def serve_replay(rec: Recording, *, host: str = "127.0.0.1", port: int = 8080) -> Any:
+def serve_replay(rec: Recording, *, host: str = "127.0.0.1", port: int = 8080) -> WebView:
     """Serve the player for ``rec`` at ``http://host:port/``; returns the started
     :class:`~puckboard.web.server.WebView` (close it to stop)."""
     from .server import WebView

@@ -22,9 +22,10 @@ The page draws three things, each sent as it changes:
 visual tool; :class:`ServerFollower` from the
 :class:`~puckboard.backends.coppeliasim.server.view.ServedView` of a
 :class:`~puckboard.backends.coppeliasim.server.socket_loop.RemoteApiServer`
-(``puckboard serve --web``: the server's typed read-only face, never its internals), where the layer in control is what each client publishes as
-the string signal ``<model>.layer``.
-Both only read: the simulation is the same with or without a page watching it.
+(``puckboard serve --web``: the server's typed read-only face, never its internals),
+where the layer in control is what each client publishes as the string signal
+``<model>.layer``. Both only read: the simulation is the same with or without a page
+watching it.
 
 Colours and event words come from :mod:`puckboard.viz.style`, as in the other figures.
 """
@@ -47,11 +48,10 @@ from ..viz.scene_art import scene_bounds
 from ..viz.style import event_label, hex_colour, layer_colour, layer_colours, robot_colours
 
 if TYPE_CHECKING:
-    from ..backends.coppeliasim.server.view import ServedView
+    from ..backends.coppeliasim.server.view import ServedStep, ServedView
     from ..control.episode import Episode
     from ..scenario.judge import Judge
     from ..scenario.scene import Scene
-    from ..sim.world import World
 
 __all__ = ["FRAME_RATE", "EpisodeFollower", "ServerFollower", "describe_scene", "page_nodes"]
 
@@ -440,7 +440,7 @@ class ServerFollower(_Follower):
     def __init__(self, served: ServedView, publish: Publish) -> None:
         super().__init__(served.scene, publish, driver="puckboard serve")
         self.served = served
-        self._world = served.world
+        self._step = served.step()  # the last one looked at
         self.judge = self._new_judge()
         self._model_names = list(served.model_names)
         self._trees: dict[str, tuple[Any, dict[str, Any] | None]] = {}  # signal → parsed
@@ -450,7 +450,7 @@ class ServerFollower(_Follower):
 
         return Judge(self.scene)
 
-    def _restored(self, world: World) -> None:
+    def _restored(self, step: ServedStep) -> None:
         """The served world was replaced (``sim.stopSimulation`` restored the scene): the
         run that ended becomes the previous run, and a new one begins (not yet stepped)."""
         if self.judge.started:
@@ -460,34 +460,34 @@ class ServerFollower(_Follower):
                 self.run, self.t, self.judge, [list(t) for t in self.trails], self.timelines
             )
         self.run += 1
-        self._world = world
         self.judge = self._new_judge()
         for trail in self.trails:
             trail.clear()
         self.timelines = [[] for _ in self.names]
-        self.t = float(world.time)
+        self.t = step.time
 
     def __call__(self, _server: object = None) -> None:
         """One look at the served world (the server calls it with itself: the view is
         all this reads)."""
         served = self.served
-        world = served.world
-        if world is not self._world:
-            self._restored(world)
-        if self.previous is not None and world.step_count > 0:
+        step = served.step()
+        if step.run != self._step.run:
+            self._restored(step)
+        self._step = step
+        if self.previous is not None and step.step_count > 0:
             self.previous = None  # the next run has begun: only its own trails and events
-        poses = np.asarray(world.poses)
+        poses = step.poses
         layers = [served.signal(f"{m}.layer") for m in self._model_names]
-        if served.running and world.step_count > 0:
-            self.judge.update(world.time, poses, world.collisions)
-        self._track(float(world.time), poses, layers)
+        if served.running and step.step_count > 0:
+            self.judge.update(step.time, poses, step.collisions)
+        self._track(step.time, poses, layers)
         now = time.monotonic()
         if not self._due(now):
             return
         drivers = self._drivers(now)
         targets = served.targets
         robots = [
-            _robot_entry(name, poses[i].tolist(), np.asarray(world.prox_distance[i]).tolist(),
+            _robot_entry(name, poses[i].tolist(), step.prox_distance[i].tolist(),
                          targets[i].tolist(), layers[i], drivers[i])
             for i, name in enumerate(self.names)
         ]  # fmt: skip
@@ -497,13 +497,13 @@ class ServerFollower(_Follower):
             judge: Judge | None = self.previous.judge
         else:
             judge = self.judge if self.judge.started else None
-        frame = self._frame(float(world.time), now, robots, judge, status)
+        frame = self._frame(step.time, now, robots, judge, status)
         if status != "running":
             frame["rtf"] = None  # standing still: no rate to speak of
         self.publish("frame", frame)
         if now >= self._next_detail:
             self._next_detail = now + 1.0 / DETAIL_RATE
-            t = round(float(world.time), 3)
+            t = round(step.time, 3)
             self.publish("details", {
                 n: {**self._detail(i), "tree": self._tree(i, layers[i], t)}
                 for i, n in enumerate(self.names)
@@ -533,14 +533,14 @@ class ServerFollower(_Follower):
         return out
 
     def _detail(self, i: int) -> dict[str, Any]:
-        w = self.served.world
+        step = self._step
         prox = ", ".join(
-            f"{n} {100 * d:.1f}" for n, d in zip(PROX_NAMES, w.prox_distance[i].tolist())
-            if d < w.profiles[i].prox_range
+            f"{n} {100 * d:.1f}" for n, d in zip(PROX_NAMES, step.prox_distance[i].tolist())
+            if d < step.prox_range[i]
         )  # fmt: skip
-        ground = "L {:.2f}  C {:.2f}  R {:.2f}".format(*w.ground[i].tolist())
-        left, right = w.wheel_speeds[i].tolist()
-        x, y, th = w.poses[i].tolist()
+        ground = "L {:.2f}  C {:.2f}  R {:.2f}".format(*step.ground[i].tolist())
+        left, right = step.wheel_speeds[i].tolist()
+        x, y, th = step.poses[i].tolist()
         keys = [
             {"key": "proximity", "value": f"{prox} cm" if prox else "nothing in range",
              "age": 0.0, "status": "fresh"},

@@ -17,7 +17,14 @@ def installed(tmp_path, monkeypatch):
     """A fake installed distribution (a ``.dist-info`` on ``sys.path``) offering two
     backends: a new one, and one that tries to take a built-in name."""
     (tmp_path / f"{MODULE}.py").write_text(
-        "def open_my_robot(*args, **options):\n    return ('my robot', args, options)\n",
+        "from puckboard.backends.embedded import open_embedded\n"
+        "from puckboard.backends.registry import with_abilities\n\n"
+        "def open_my_robot(*args, **options):\n    return ('my robot', args, options)\n\n"
+        "@with_abilities(calibratable=True, remote=True)\n"
+        "def open_my_epuck(*args, **options):\n    return ('my e-puck', args, options)\n\n"
+        "@with_abilities(simulated=True, link_timing=True)\n"
+        "def open_my_simulator(scene, **options):\n    return open_embedded(scene, **options)\n\n"
+        "def open_plain_simulator(scene, **options):\n    return open_embedded(scene, **options)\n",
         encoding="utf-8",
     )
     info = tmp_path / f"{MODULE}-1.0.dist-info"
@@ -28,6 +35,9 @@ def installed(tmp_path, monkeypatch):
     (info / "entry_points.txt").write_text(
         f"[{registry.ENTRY_POINT_GROUP}]\n"
         f"my-robot = {MODULE}:open_my_robot\n"
+        f"my-epuck = {MODULE}:open_my_epuck\n"
+        f"my-simulator = {MODULE}:open_my_simulator\n"
+        f"plain-simulator = {MODULE}:open_plain_simulator\n"
         f"embedded = {MODULE}:open_my_robot\n",
         encoding="utf-8",
     )
@@ -68,3 +78,70 @@ def test_a_built_in_name_needs_no_look_at_the_installed_packages(installed, monk
 
     monkeypatch.setattr("importlib.metadata.entry_points", refuse)
     assert installed.resolve_backend("fake") is not None
+
+
+# -- what a backend can do is asked of it, never read off its name -------------------------
+def test_a_built_in_backend_says_what_it_can_do_without_being_imported(installed, monkeypatch):
+    def refuse(*_args, **_kwargs):
+        raise AssertionError("a backend was imported to ask what it can do")
+
+    monkeypatch.setattr("pkgutil.resolve_name", refuse)
+    monkeypatch.setattr("importlib.metadata.entry_points", refuse)
+    embedded = installed.abilities_of("embedded")
+    assert (embedded.simulated, embedded.link_timing, embedded.remote) == (True, True, False)
+    assert installed.abilities_of("sercom").calibratable
+    assert not installed.abilities_of("coppeliasim").calibratable
+
+
+def test_an_installed_backend_says_what_it_can_do_through_its_factory(installed):
+    assert installed.abilities_of("my-epuck") == installed.BackendAbilities(
+        calibratable=True, remote=True
+    )
+    assert installed.abilities_of("my-robot") == installed.BackendAbilities()  # said nothing
+    assert installed.backend_names(lambda able: able.calibratable) == [
+        "epuck2-wifi", "my-epuck", "sercom"
+    ]  # fmt: skip
+    with pytest.raises(ValueError, match="unknown backend 'nope'"):
+        installed.abilities_of("nope")
+
+
+def test_a_misspelt_ability_is_refused_where_it_is_declared(installed):
+    with pytest.raises(TypeError, match="link_timeing"):
+        installed.with_abilities(link_timeing=True)
+
+
+def test_an_installed_simulator_that_simulates_the_link_runs_at_a_profiles_link(
+    installed, tmp_path
+):
+    """The profile's measured link is taken by the backend that says it simulates the
+    link, whatever its name, and by no other."""
+    from puckboard.control.episode import Episode
+    from puckboard.profile import load_profile_file
+    from puckboard.scenario import load_scene
+
+    path = tmp_path / "mine.toml"
+    path.write_text('base = "epuck"\n\n[link]\nperiod = 0.1\nlatency = 0.05\n', "utf-8")
+    scene = load_scene("line-follow").with_profile(load_profile_file(path))
+    timed = Episode(scene, backend="my-simulator")
+    plain = Episode(scene, backend="plain-simulator")
+    for episode in (timed, plain):
+        episode.connection.close()
+    assert (timed.loop.period, timed.scene.control.latency) == pytest.approx((0.1, 0.05))
+    assert plain.scene.control == scene.control and plain.loop.period != pytest.approx(0.1)
+
+
+def test_calibrate_drives_an_installed_backend_that_says_it_can_be_calibrated(installed):
+    import argparse
+
+    from puckboard.cli import calibrate
+    from puckboard.cli.errors import CliError
+
+    def options(backend):
+        args = argparse.Namespace(backend=backend, what="ir", host="10.0.0.9", port=None)
+        args.device = None
+        return calibrate._backend_options(args)
+
+    assert options("my-epuck") == {"host": "10.0.0.9"}
+    for backend in ("my-robot", "my-simulator", "embedded"):
+        with pytest.raises(CliError, match=f"--backend {backend}: calibrate ir drives a real"):
+            options(backend)

@@ -12,6 +12,17 @@ def test_the_suite_is_registered_and_resolves():
 
 
 def test_the_student_s_controller_is_the_tutorial_s_block_and_loads(tmp_path):
+    """Kept in the package (the documents are not installed), equal to the page's block."""
+    import re
+    from pathlib import Path
+
+    from puckboard.bench.tutorial_controller import SOURCE
+
+    page = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
+    blocks = re.findall(
+        r"^```python\n(# my_controller\.py\n.*?)^```", page.read_text(encoding="utf-8"), re.M | re.S
+    )
+    assert blocks == [SOURCE]
     spec = transfer.student_controller(tmp_path)
     assert spec == f"{tmp_path / 'my_controller.py'}:my_controller"
     saved = (tmp_path / "my_controller.py").read_text(encoding="utf-8")
@@ -20,8 +31,8 @@ def test_the_student_s_controller_is_the_tutorial_s_block_and_loads(tmp_path):
 
 
 def test_the_flagship_is_three_controllers_two_profiles_two_scenes(tmp_path):
-    plan, scenes, student = transfer.flagship_plan(1, tmp_path)
-    assert student and len(plan.controllers) == 3
+    plan, scenes = transfer.flagship_plan(1, tmp_path)
+    assert len(plan.controllers) == 3
     assert plan.scenes == transfer.FLAGSHIP_SCENES
     assert all(p == transfer.FLAGSHIP_PROFILES for p in plan.profiles.values())
     assert {s.scenario for s in plan.sweeps} <= set(scenes)

@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 from puckboard.cli import main
-from puckboard.cli.common import bind_error_message, seed_type
+from puckboard.cli.bind import bind_error_message
+from puckboard.cli.checks import seed_type
 
 SCENE_ROBOT = """
 name = "probe"

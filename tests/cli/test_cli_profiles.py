@@ -93,7 +93,10 @@ def test_a_profile_file_runs_under_its_own_name(capsys):
         (["--set", "profile.axle_length=53"], "profile.axle_length = 53: outside [0.01 m"),
         (["--set", "robot.nobody.profile.axle_length=0.05"], "no robot 'nobody'"),
         (["--profile", "nope.toml"], "cannot read profile file 'nope.toml'"),
-        (["--variation", "wild"], "invalid choice: 'wild'"),
+        (
+            ["--variation", "wild"],
+            "--variation: unknown variation 'wild'; use one of none, plausible",
+        ),
     ],
 )
 def test_bad_robot_input_is_one_line(capsys, args, words):
@@ -145,7 +148,7 @@ def test_sweeps_take_profile_numbers_in_si_and_a_variation():
         parse_set("profile.ir_gain=0,1")
     plan = SweepPlan("arena", fixed={"variation": "plausible"}, seeds=range(2))
     assert all(dict(e.params)["variation"] == "plausible" for e in plan.episodes())
-    with pytest.raises(PlanError, match="not one of none, plausible"):
+    with pytest.raises(PlanError, match="unknown variation 'some'; use one of none, plausible"):
         SweepPlan("arena", fixed={"variation": "some"})
 
 

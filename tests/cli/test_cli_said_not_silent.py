@@ -25,8 +25,8 @@ def test_sweep_help_names_the_option_that_seeds_the_variation():
     sub = build_parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
     text = " ".join(sub["sweep"].format_help().split())
     assert "--seed " not in text and "--seed," not in text and "--seed)" not in text
-    assert "seeded by each episode's seed from --seeds" in text
-    assert "seeded by --seed," in " ".join(sub["run"].format_help().split())
+    assert "seeded by each episode's seed from --seeds:" in text
+    assert "seeded by --seed:" in " ".join(sub["run"].format_help().split())
 
 
 def test_the_sweep_table_shows_values_as_written(capsys):
@@ -89,7 +89,62 @@ def test_monitor_into_a_pipe_shows_the_first_table_at_once_flushed():
 
 @pytest.mark.parametrize("command", [["run"], SMALL])
 def test_a_step_longer_than_the_control_can_act_on_is_refused_with_the_reason(command, capsys):
-    assert main([*command, "--set", "dt=5"]) == 2
+    assert main([*command, "--set", "dt=0.5"]) == 2
     line = capsys.readouterr().err.strip().splitlines()[-1]
-    assert "dt 5 s is longer than the robots' control can act on" in line
+    assert "dt 0.5 s is longer than the robots' control can act on" in line
     assert "crosses its IR range in 0.38 s" in line and "use dt ≤ 0.37 s" in line
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (
+            ["run", "--set", "control.period=0.1", "--set", "control.period=0.2"],
+            "puckboard run: error: --set control.period given twice (control.period=0.1, "
+            "then control.period=0.2); give it once",
+        ),
+        (
+            ["scenes", "show", "generated-pass", "--seed", "7", "--seed", "8"],
+            "puckboard scenes: error: --seed given twice (7, then 8); give it once",
+        ),
+        (
+            ["run", "--duration", "1", "--duration=2"],
+            "puckboard run: error: --duration given twice (1.0, then 2.0); give it once",
+        ),
+        (
+            ["run", "--variation", "reality-gap", "--set", "variation=plausible"],
+            "puckboard run: error: --variation reality-gap and --set variation=plausible: the "
+            "variation is given twice; give it once",
+        ),
+        (
+            ["scenes", "show", "generated-pass", "--seed", "-1"],
+            "puckboard scenes: error: --seed must be a whole number ≥ 0, got -1",
+        ),
+    ],
+)
+def test_a_value_given_twice_or_a_bad_seed_is_one_line(capsys, args, said):
+    """Which of two values was meant only the user knows (the last one once won without a
+    word); a negative seed once ended in numpy's traceback."""
+    assert main(args) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [said]
+
+
+def test_the_python_api_refuses_two_variations_too():
+    from puckboard.control.episode import run_episode
+
+    with pytest.raises(ValueError, match="variation given twice: 'reality-gap' and, in the"):
+        run_episode("line-follow", variation="reality-gap", overrides={"variation": "plausible"})
+
+
+@pytest.mark.parametrize(
+    ("latency", "said"),
+    [
+        ((0.0, 0.0), "no reply is held back: sync has no latency"),
+        ((0.005, 0.005), "every reply is held back 5 ms, as on sync"),
+        ((0.005, 0.04), "every reply is held back 5-40 ms, as on sync"),
+    ],
+)
+def test_emulate_says_how_long_a_reply_is_held_back_without_a_range_of_nothing(latency, said):
+    from puckboard.cli.emulate import held_back_text
+
+    assert held_back_text("sync", latency) == said

@@ -60,7 +60,10 @@ def test_plot_draws_the_figure_and_out_resumes(capsys, tmp_path):
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        (["--fields", "ir_gains"], "'ir_gains' is not an uncertain field of epuck (did you mean ir_gain?)"),
+        (
+            ["--fields", "ir_gains"],
+            "'ir_gains' is not an uncertain field of epuck (did you mean ir_gain?)",
+        ),
         (["--fields", ","], "--fields: name at least one field"),
         (["--values", "0"], "--values must be at least 1, got 0"),
         (["--plot", "figure.txt"], "--plot 'figure.txt': use a .png, .svg or .pdf file name"),
@@ -230,7 +233,8 @@ def test_from_a_file_of_another_kind_names_from_not_out(capsys, tmp_path):
     assert main(["sensitivity", "--from", str(picture)]) == 2
     line = one_error_line(capsys)
     assert line == (
-        f"puckboard sensitivity: error: --from '{picture}': use a .csv or .parquet file name"
+        f"puckboard sensitivity: error: --from '{picture}': use a .csv or .parquet file name "
+        "(.parquet needs pyarrow: pip install 'puckboard[dask]')"
     )
     assert "--out" not in line
 
@@ -264,7 +268,8 @@ def test_an_option_the_method_would_ignore_is_refused_in_one_line(capsys, tmp_pa
 def test_too_many_values_are_refused_and_close_values_read_apart(capsys):
     from puckboard.sensitivity.units import value_digits
 
-    assert main([*SMALL, "--values", "100000"]) == 2
+    values = SMALL.index("--values") + 1  # an option is given once
+    assert main([*SMALL[:values], "100000", *SMALL[values + 1 :]]) == 2
     assert "--values 100000 is more than 100 per field" in one_error_line(capsys)
     values = [0.7 + i * 0.6 / 99 for i in range(100)]
     digits = value_digits(values)

@@ -117,7 +117,8 @@ def test_an_applies_without_return_stops_the_run_in_one_line(mistakes, capsys):
         (["run", "--nosuchflag"],
          "puckboard run: error: no option --nosuchflag; see 'puckboard run --help'"),
         (["run", "--sed", "3"],
-         "puckboard run: error: no option --sed (did you mean --seed?); see 'puckboard run --help'"),
+         "puckboard run: error: no option --sed (did you mean --seed?); see "
+         "'puckboard run --help'"),
         (["emulate", "--device", "x"],
          "puckboard emulate: error: no option --device; see 'puckboard emulate --help'"),
     ],

@@ -40,7 +40,10 @@ def refused(capsys: pytest.CaptureFixture[str], command: str) -> str:
 @pytest.mark.parametrize(
     ("argv", "flag"),
     [
-        (["sweep", "--seeds", "0:1", "--duration", "0.2", "--workers", "1", "-q", "--out"], "--out"),
+        (
+            ["sweep", "--seeds", "0:1", "--duration", "0.2", "--workers", "1", "-q", "--out"],
+            "--out",
+        ),
         (
             ["sweep", "--seeds", "0:1", "--duration", "0.2", "--workers", "1", "-q",
              "--set", "noise.proximity=0,0.1", "--plot"],

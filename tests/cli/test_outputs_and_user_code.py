@@ -143,7 +143,7 @@ def test_a_syntax_error_in_an_example_is_shown_as_python_shows_it(tmp_path, caps
 def test_warnings_held_back_for_a_lost_connection_come_out_when_the_run_ends_otherwise(caplog):
     from types import SimpleNamespace
 
-    from puckboard.cli.common import connection_loss_in_one_line
+    from puckboard.cli.errors import connection_loss_in_one_line
     from puckboard.errors import ConnectionLostError
 
     log = logging.getLogger("puckboard.control.loop")
@@ -165,7 +165,7 @@ def test_warnings_held_back_for_a_lost_connection_come_out_when_the_run_ends_oth
 def test_a_lost_connection_after_which_the_wheels_were_stopped_says_so():
     from types import SimpleNamespace
 
-    from puckboard.cli.common import connection_lost_error
+    from puckboard.cli.errors import connection_lost_error
     from puckboard.errors import ConnectionLostError
 
     stopped = SimpleNamespace(wheels_stopped=True)

@@ -11,9 +11,16 @@ FIELDS = {
     "realtime_factor", "success", "failure", "failures", "robots", "events",
 }  # fmt: skip
 ROBOT_FIELDS = {
-    "name", "profile", "profile_values", "progress_laps", "distance_m", "collisions", "on_line_fraction",
-    "obstacles_passed", "passed_other",
-}  # fmt: skip
+    "name",
+    "profile",
+    "profile_values",
+    "progress_laps",
+    "distance_m",
+    "collisions",
+    "on_line_fraction",
+    "obstacles_passed",
+    "passed_other",
+}
 
 
 def without_wall_clock(d):
@@ -84,7 +91,7 @@ def test_overrides_reach_the_scene_and_every_robots_layer():
     [
         ({"noise.wheels": 1.0}, "unknown override 'noise.wheels'"),
         ({"speed": 1.0}, "unknown override 'speed'"),
-        ({"dt": -1}, "finite number >= 0"),
+        ({"dt": -1}, r"override dt = -1: outside \(0, 1\] s"),
         ({"layer.Nope.speed": 1.0}, "no controller has a layer 'Nope'"),
         ({"layer.LineFollow.nope": 1.0}, "has no parameter 'nope'"),
         ({"layer.LineFollow.speed": "fast"}, "needs a number"),

@@ -13,7 +13,8 @@ from puckboard.scenario import load_scene
 def test_a_bad_controller_in_a_scene_file_names_the_file_and_the_robot(tmp_path):
     path = tmp_path / "my_scene.toml"
     path.write_text(
-        'name = "mine"\n[[robots]]\nname = "lefty"\nx = 0.0\ny = 0.0\ntheta = 0.0\ncontroller = "improvd"\n',
+        'name = "mine"\n[[robots]]\nname = "lefty"\nx = 0.0\ny = 0.0\ntheta = 0.0\n'
+        'controller = "improvd"\n',
         encoding="utf-8",
     )
     with pytest.raises(SceneError) as caught:

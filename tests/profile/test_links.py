@@ -12,9 +12,11 @@ import pytest
 from puckboard.cli import main
 from puckboard.cli.link_table import link_table_markdown
 from puckboard.errors import ProfileError, SceneError
-from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link, timing_overrides
+from puckboard.profile.links import LINKS, LinkTiming, draw_timing, get_link
 from puckboard.scenario import load_scene
 from puckboard.scenario.overrides import apply_scene_overrides
+from puckboard.scenario.scene import Control, whole_steps
+from puckboard.scenario.settings import link_settings
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -46,27 +48,39 @@ def test_a_range_upside_down_is_refused():
 
 
 @pytest.mark.parametrize("dt", [0.05, 0.01])
-def test_draws_lie_in_the_range_on_whole_steps_and_run(dt):
+def test_draws_lie_in_the_range_and_run_rounded_to_whole_steps(dt):
     rng = np.random.default_rng(7)
     for name, link in LINKS.items():
         for _ in range(20):
-            period, latency = draw_timing(name, rng, dt)
+            drawn = draw_timing(name, rng)
+            for value, (low, high) in zip(drawn, (link.period, link.latency)):
+                assert low <= value <= high
+            control = Control.rounded(*drawn, dt)
+            period, latency = control.period_for(dt), control.latency
             assert period >= dt
             for value, (low, high) in ((period, link.period), (latency, link.latency)):
                 assert abs(value / dt - round(value / dt)) < 1e-9
                 assert low - dt / 2 - 1e-12 <= value <= high + dt / 2 + 1e-12
             scene = apply_scene_overrides(
-                load_scene("line-follow"), {"dt": dt, **timing_overrides(period, latency)}
+                load_scene("line-follow"), {"dt": dt, **link_settings(period, latency)}
             )
             assert scene.control.steps(dt)[0] >= 1
+
+
+def test_a_time_rounds_to_the_nearest_whole_step_one_way():
+    assert whole_steps(0.096, 0.05) == 0.1
+    assert whole_steps(0.034, 0.05) == 0.05
+    assert whole_steps(0.02, 0.05) == 0.0
+    assert whole_steps(0.02, 0.05, minimum=1) == 0.05
+    assert Control.rounded(0.096, 0.034, 0.05) == Control(period=0.1, latency=0.05)
 
 
 def test_draws_are_seeded_and_take_two_numbers_whatever_the_link():
     a = np.random.default_rng(3)
     b = np.random.default_rng(3)
-    assert draw_timing("epuck2-wifi", a, 0.05) == draw_timing("epuck2-wifi", b, 0.05)
-    draw_timing("coppeliasim-sync", a, 0.05)
-    draw_timing("bluetooth-sercom", b, 0.05)
+    assert draw_timing("epuck2-wifi", a) == draw_timing("epuck2-wifi", b)
+    draw_timing("coppeliasim-sync", a)
+    draw_timing("bluetooth-sercom", b)
     assert a.random() == b.random()
 
 

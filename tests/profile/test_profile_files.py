@@ -1,4 +1,5 @@
-"""Profile files: your own e-puck as a file, checked on load, named by scenes, kept by recordings."""
+"""Profile files: your own e-puck as a file, checked on load, named by scenes, kept by
+recordings."""
 
 from __future__ import annotations
 

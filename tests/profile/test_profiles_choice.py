@@ -37,8 +37,9 @@ def test_a_scene_names_a_default_profile_and_a_robot_may_differ():
 def test_one_world_mixes_cone_and_ray_sensing():
     world = World(two_robots(profile="epuck-vrep"))
     assert [p.name for p in world.profiles] == ["epuck-vrep", "epuck"]
-    assert world.sensing.cones.robots.tolist() == [0]  # only the V-REP robot senses with cones
-    assert world.sensing.proximity.robots == (1,)  # and the other with rays
+    ir = world.sensing.ir
+    assert ir["cone"].robots == (0,)  # only the V-REP robot senses with cones
+    assert ir["rays"].robots == (1,)  # and the other with rays
 
 
 def test_shipped_thesis_scenes_use_vrep_s_model_and_arena_the_physical_robot():

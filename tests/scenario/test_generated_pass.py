@@ -19,6 +19,7 @@ from puckboard.scenario.judge import Judge
 from puckboard.scenario.placement import TrackFrame
 from puckboard.scenario.scene import CircleObstacle
 from puckboard.scenario.scenefile import load_scene, parse_scene_text
+from puckboard.sweep.options import RunOptions
 
 GENERATED = load_scene("generated-pass")
 
@@ -136,7 +137,7 @@ def test_a_sweep_over_seeds_is_a_sweep_over_tracks():
     plan = SweepPlan.from_specs(
         "generated-pass", controllers=["robust"], seeds="5:7", fixed={"duration": 1.0}
     )
-    result = run_sweep(plan, GENERATED, executor=InlineExecutor())
+    result = run_sweep(plan, GENERATED, RunOptions(executor=InlineExecutor()))
     by_seed = {o.seed: o for o in result.outcomes}
     assert sorted(by_seed) == [5, 6]
 

@@ -38,7 +38,11 @@ def test_run_and_sweep_read_a_value_alike(text):
 def test_an_assignment_is_split_at_its_first_equals_sign():
     assert parse_override(" noise.ground = 0.1 ") == ("noise.ground", 0.1)
     assert parse_override("layer.Cruise.name=a=b") == ("layer.Cruise.name", "a=b")
-    assert parse_overrides(["dt=0.1", "dt=0.05"]) == {"dt": 0.05}  # the last one given
+
+
+def test_a_setting_given_twice_is_refused_naming_both_values():
+    with pytest.raises(ValueError, match=r"^--set dt given twice \(dt=0.1, then dt=0.05\); give"):
+        parse_overrides(["dt=0.1", "dt=0.05"])
 
 
 @pytest.mark.parametrize("item", ["foo", "=3", " =3"])

@@ -43,9 +43,9 @@ def test_a_hand_placement_moves_each_robot_to_its_own_left_and_turns_it():
 @pytest.mark.parametrize(
     ("overrides", "message"),
     [
-        ({"surface.line_contrast": 1.5}, "surface.line_contrast must lie from 0 to 1"),
-        ({"obstacle.ir_reflectance": "black"}, "obstacle.ir_reflectance needs a number"),
-        ({"start.offset": 0.5}, "start.offset must lie from -0.1 to 0.1"),
+        ({"surface.line_contrast": 1.5}, r"surface.line_contrast = 1.5: outside \[0, 1\]"),
+        ({"obstacle.ir_reflectance": "black"}, "obstacle.ir_reflectance = 'black': expected a"),
+        ({"start.offset": 0.5}, r"start.offset = 0.5: outside \[-0.1, 0.1\] m"),
     ],
 )
 def test_bad_condition_values_are_one_line(overrides, message):

@@ -19,6 +19,7 @@ from puckboard.sensitivity.joint.estimate import (
 )
 from puckboard.sensitivity.one_at_a_time.plan import FIELD_LABEL
 from puckboard.sweep import PlanError
+from puckboard.sweep.options import RunOptions
 
 PATHS = ("body_radius", "ir_gain.right", "prox_heading.diagonal_right", "axle_length")
 
@@ -67,7 +68,7 @@ def test_a_number_that_drives_the_outcome_is_ranked_first_and_clear():
     assert effect is not None and effect.high < 0  # the rate falls as the gain rises
     bins = a.ranking[0].bins
     assert len(bins) == 4 and sum(b.episodes for b in bins) == 300
-    assert bins[0].rate_low > bins[-1].rate_high  # the ends' Wilson intervals apart
+    assert bins[0].interval[0] > bins[-1].interval[1]  # the ends' Wilson intervals apart
     data = a.to_dict()
     assert data["clear"] == ["left: ir_gain.right"]
     assert data["ranking"][0] == {"number": "left: ir_gain.right", "clear": True,
@@ -110,7 +111,7 @@ def test_bins_hold_every_episode_once_with_their_ranges():
     x = np.arange(10.0)
     bins = binned_curve(x, (x > 4).astype(float), x / 10, 2)
     assert [(b.low, b.high, b.episodes, b.successes) for b in bins] == [(0, 4, 5, 0), (5, 9, 5, 5)]
-    assert bins[1].rate == 1.0 and bins[1].rate_low < 1.0
+    assert bins[1].rate == 1.0 and bins[1].interval[0] < 1.0
 
 
 def test_rows_of_other_points_are_left_out_and_from_rows_says_what_it_needs():
@@ -171,7 +172,7 @@ def test_ctrl_c_keeps_what_ran_and_analyses_it(short_scene):
     plan = joint_plan(short_scene.name, profiles=["epuck"], controllers=["stock"],
                       seeds=range(8), fixed={"duration": DURATION}, bins=2)  # fmt: skip
     result = run_joint(
-        plan, short_scene, executor=CountingExecutor(interrupt_after=3), batch_size=1
+        plan, short_scene, RunOptions(executor=CountingExecutor(interrupt_after=3), batch_size=1)
     )
     assert result.sweep.interrupted and result.sweep.ran == 3
     (analysis,) = result.analyses

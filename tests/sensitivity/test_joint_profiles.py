@@ -12,6 +12,7 @@ from puckboard.sensitivity import sensitivity_plan
 from puckboard.sensitivity.joint import analyse_rows, joint_plan, run_joint
 from puckboard.sensitivity.one_at_a_time.plan import FIELD_LABEL
 from puckboard.sweep import InlineExecutor
+from puckboard.sweep.options import RunOptions
 
 
 def _rows(params: dict, n: int = 12) -> list[dict]:
@@ -69,7 +70,7 @@ def test_a_live_joint_run_on_a_one_number_file_analyses_it_under_the_files_name(
     one = load_profile_file(path)
     plan = joint_plan(short_scene.name, profiles=[one], controllers=["stock"], seeds=range(4),
                       fixed={"duration": DURATION}, bins=2)  # fmt: skip
-    result = run_joint(plan, short_scene, executor=InlineExecutor())
+    result = run_joint(plan, short_scene, RunOptions(executor=InlineExecutor()))
     (analysis,) = result.analyses
     assert analysis.band.episodes == 4
     assert analysis.profile == "one"
@@ -83,7 +84,7 @@ def test_a_labelled_point_runs_and_its_rows_carry_the_label(short_scene):
     plan = sensitivity_plan(short_scene.name, profiles=["epuck"], controllers=["stock"],
                             seeds=range(1), fields=["ir_gain"], values=2,
                             fixed={"duration": DURATION}, variation="plausible")  # fmt: skip
-    result = run_sensitivity(plan, short_scene, executor=InlineExecutor())
+    result = run_sensitivity(plan, short_scene, RunOptions(executor=InlineExecutor()))
     assert result.sweep.errors == []
     labelled = [r for r in result.sweep.rows if FIELD_LABEL in json.loads(r["params"])]
     assert len(labelled) == 2 and all(r[f"param.{FIELD_LABEL}"] == "ir_gain" for r in labelled)

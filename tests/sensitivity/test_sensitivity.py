@@ -25,6 +25,7 @@ from puckboard.sensitivity import (
 )
 from puckboard.sensitivity.one_at_a_time.plan import PLAUSIBLE, SHIPPED, VALUE
 from puckboard.sweep import InlineExecutor, PlanError, SweepPlan, open_store
+from puckboard.sweep.options import RunOptions
 from puckboard.sweep.plan import params_key
 from puckboard.sweep.rows import Outcome
 from puckboard.sweep.run import SweepResult
@@ -124,7 +125,7 @@ def test_a_profile_file_s_own_numbers_are_measured_not_varied(repo_root):
         ({"fields": ["prox_radius.side"], "profiles": ("epuck-vrep",)}, "not an uncertain"),
         ({"values": 0}, "--values must be at least 1"),
         ({"profiles": ("epuck", "epuck")}, "profile listed twice"),
-        ({"variation": "wild"}, "none, plausible or reality-gap"),
+        ({"variation": "wild"}, "unknown variation 'wild'; use one of none, plausible"),
     ],
 )
 def test_bad_plans_are_one_line_saying_what_to_do(kwargs, message):
@@ -209,7 +210,7 @@ def short_analysis(short_scene):
         short_scene.name, profiles=["epuck"], controllers=["improved"], seeds=range(2),
         fields=["wheel_radius.left", "ir_gain"], values=3, fixed={"duration": DURATION},
     )  # fmt: skip
-    return plan, run_sensitivity(plan, short_scene, executor=InlineExecutor())
+    return plan, run_sensitivity(plan, short_scene, RunOptions(executor=InlineExecutor()))
 
 
 def test_each_value_is_the_run_that_set_profile_field_value_gives(short_analysis, short_scene):
@@ -240,10 +241,12 @@ def test_a_stored_analysis_resumes_without_running_anything_again(short_scene, t
         fields=["ir_gain"], values=2, fixed={"duration": DURATION},
     )  # fmt: skip
     with open_store(tmp_path / "runs.csv") as store:
-        first = run_sensitivity(plan, short_scene, executor=InlineExecutor(), store=store)
+        first = run_sensitivity(
+            plan, short_scene, RunOptions(executor=InlineExecutor(), store=store)
+        )
     counting = CountingExecutor()
     with open_store(tmp_path / "runs.csv") as store:
-        again = run_sensitivity(plan, short_scene, executor=counting, store=store)
+        again = run_sensitivity(plan, short_scene, RunOptions(executor=counting, store=store))
     assert counting.ran == [] and again.sweep.skipped == len(plan) == first.sweep.ran
     assert [a.to_dict() for a in again.analyses] == [a.to_dict() for a in first.analyses]
 
@@ -254,7 +257,7 @@ def test_ctrl_c_keeps_what_ran_and_summarises_it(short_scene):
         fields=["ir_gain"], values=2, fixed={"duration": DURATION},
     )  # fmt: skip
     result = run_sensitivity(
-        plan, short_scene, executor=CountingExecutor(interrupt_after=1), batch_size=1
+        plan, short_scene, RunOptions(executor=CountingExecutor(interrupt_after=1), batch_size=1)
     )
     assert result.sweep.interrupted and result.sweep.ran == 1
     (analysis,) = result.analyses

@@ -140,7 +140,8 @@ def test_recalibrating_next_to_an_obstacle_blinds_the_sensor_and_in_free_space_r
     w.set_pose(0, 1.0, 1.0, 0.0)  # far from the wall: below the new baseline, clamped
     assert (w.prox_raw[0] == 0.0).all()
     w.recalibrate_ir(0)
-    assert w.sensing.calibration.offset[0].tolist() == [0.0] * 8  # the 5 left over are gone
+    # the 5 left over are gone
+    assert w.sensing.ir["rays"].calibration.offset[0].tolist() == [0.0] * 8
     w.set_pose(0, 0.0, 0.0, 0.0)
     nominal = world_of(EPUCK, wall)
     assert w.prox_raw[0].tolist() == nominal.prox_raw[0].tolist()

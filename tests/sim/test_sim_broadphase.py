@@ -103,8 +103,11 @@ def _random_poses(rng, n):
 def test_vectorised_sensor_broad_phase_equals_the_python_one(seed, n, swarm, monkeypatch):
     world = World(swarm(n, seed), seed=seed)
     rng = np.random.default_rng(seed)
-    # the rays' broad phase and the cones' (none has seers in a swarm of one model)
-    phases = [world.sensing.proximity.broad_phase, world.sensing.cones.broad_phase]
+    # the broad phase of each IR model the swarm uses: the rays', the cones'
+    ir = world.sensing.ir
+    phases = [ir["rays"].proximity.broad_phase] + (
+        [ir["cone"].cones.broad_phase] if "cone" in ir else []
+    )
     for _ in range(5):
         poses = _random_poses(rng, n)
         for broad in phases:
@@ -133,7 +136,7 @@ def test_vectorised_sensor_broad_phase_equals_the_python_one(seed, n, swarm, mon
 @pytest.mark.parametrize("n", [30, 50])
 def test_the_rays_cast_from_arrays_holds_the_python_candidates(seed, n, swarm):
     world = World(swarm(n, seed), seed=seed)
-    sensors = world.sensing.proximity
+    sensors = world.sensing.ir["rays"].proximity
     rng = np.random.default_rng(seed)
     for _ in range(5):
         poses = _random_poses(rng, n)
@@ -207,8 +210,8 @@ def test_cones_through_the_broad_phase_equal_cones_against_everything(n):
             for _ in range(n)
         ]
         distance, raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.sensing.cones.sense(poses, distance, raw)
+        world.sensing.ir["cone"].cones.sense(poses, distance, raw)
         every_distance, every_raw = np.zeros((n, 8)), np.zeros((n, 8))
-        world.sensing.cones.sense(poses, every_distance, every_raw, every_object=True)
+        world.sensing.ir["cone"].cones.sense(poses, every_distance, every_raw, every_object=True)
         assert np.array_equal(distance, every_distance)
         assert np.array_equal(raw, every_raw)

@@ -21,7 +21,7 @@ from puckboard.sim.world import World
 def raw_response(*obstacles, profile=EPUCK) -> np.ndarray:
     """Every sensor's response (before the firmware's calibration) of a robot at the origin."""
     world = World(empty_scene(robot("a", profile=profile), obstacles=obstacles))
-    return world.sensing.proximity.response(world.poses.tolist())[0]
+    return world.sensing.ir["rays"].proximity.response(world.poses.tolist())[0]
 
 
 @pytest.mark.parametrize("make", [lambda: obstacle_on_sensor_axis(PS7, 0.015),

@@ -5,8 +5,9 @@ The reference figures were recorded before the hot paths were optimised (blackbo
 writes, namespace snapshots, layer ticks, trusted records) and every optimisation left
 them bit-identical. A change that alters behaviour on purpose must re-record them and
 say why (below, with the figures: last when the engine came to simulate each robot as
-built, with the one IR conversion of the real robot). Poses are compared to 1e-9 m/rad so that a different platform's last-bit libm
-differences do not fail the test; which layer drove, and how often, is compared exactly.
+built, with the one IR conversion of the real robot). Poses are compared to 1e-9 m/rad
+so that a different platform's last-bit libm differences do not fail the test; which
+layer drove, and how often, is compared exactly.
 """
 
 from __future__ import annotations

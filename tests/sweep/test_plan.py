@@ -52,14 +52,19 @@ def test_set_parses_names_and_values():
         ("gain=1", "unknown parameter"),
         ("layer.LineFollow=1", "unknown parameter"),
         ("noise.ground=", "no values"),
-        ("noise.ground=high", "needs numbers"),
-        ("noise.ground=-0.1", "cannot be negative"),
-        ("dt=0", "must be positive"),
-        ("duration=nan", "finite"),
+        ("noise.ground=high", "parameter noise.ground = 'high': expected a number"),
+        ("noise.ground=-0.1", r"parameter noise.ground = -0.1: outside \[0, 1\]"),
+        ("dt=0", r"parameter dt = 0: outside \(0, 1\] s \(simulation step\)"),
+        ("duration=nan", r"parameter duration = nan: outside \(0, 1e\+06\] s"),
+        ("control.latency=1e9", r"control.latency = 1e\+09: outside \[0, 1\] s"),
+        ("control.period=100ms,50ms", None),
         ("noise.ground=0.1,0.10", "listed twice"),
     ],
 )
 def test_bad_set_specs_say_what_is_wrong(spec, message):
+    if message is None:  # a time with its unit, as every setting takes it
+        assert parse_set(spec) == ("control.period", (0.1, 0.05))
+        return
     with pytest.raises(PlanError, match=message):
         parse_set(spec)
 

@@ -25,6 +25,7 @@ from puckboard.sweep import (
     open_store,
     run_sweep,
 )
+from puckboard.sweep.options import RunOptions
 
 # Timing columns legitimately differ between runs; everything else must not.
 TIMING = {"wall_s", "realtime_factor"}
@@ -46,7 +47,7 @@ def small_plan(scene, seeds="0:2"):
 
 @pytest.fixture(scope="module")
 def inline_rows(short_scene):
-    result = run_sweep(small_plan(short_scene), short_scene, executor=InlineExecutor())
+    result = run_sweep(small_plan(short_scene), short_scene, RunOptions(executor=InlineExecutor()))
     assert not result.errors, result.errors[:1]
     return result.rows
 
@@ -74,7 +75,9 @@ def test_rows_do_not_depend_on_the_order_episodes_run_in(inline_rows, short_scen
 @pytest.mark.slow
 def test_local_processes_give_the_same_rows(inline_rows, short_scene):
     with LocalExecutor(workers=2) as executor:
-        result = run_sweep(small_plan(short_scene), short_scene, executor=executor, batch_size=2)
+        result = run_sweep(
+            small_plan(short_scene), short_scene, RunOptions(executor=executor, batch_size=2)
+        )
     assert result.ran == len(inline_rows)
     assert outcome_table(result.rows) == outcome_table(inline_rows)
 
@@ -95,14 +98,14 @@ def test_dask_cluster_gives_the_same_rows(short_scene, tmp_path):
         sets=["noise.wheel_speed=0,0.2"],
         fixed={"duration": DURATION},
     )
-    expected = run_sweep(plan, short_scene, executor=InlineExecutor())
+    expected = run_sweep(plan, short_scene, RunOptions(executor=InlineExecutor()))
     assert not expected.errors
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster:
         with DaskExecutor(cluster.scheduler_address) as executor:
             assert executor.workers == 2
-            result = run_sweep(plan, short_scene, executor=executor, batch_size=3)
+            result = run_sweep(plan, short_scene, RunOptions(executor=executor, batch_size=3))
         assert executor.client is None  # our client is closed; the cluster is the test's
     assert result.ran == len(plan)
     assert not result.errors, result.errors[:1]
@@ -116,12 +119,16 @@ def test_resuming_runs_only_the_missing_episodes(tmp_path, short_scene, suffix):
     out = tmp_path / f"runs{suffix}"
     first = CountingExecutor()
     with open_store(out) as store:
-        r1 = run_sweep(small_plan(short_scene, "0:1"), short_scene, executor=first, store=store)
+        r1 = run_sweep(
+            small_plan(short_scene, "0:1"), short_scene, RunOptions(executor=first, store=store)
+        )
     assert len(first.ran) == r1.ran == 4
 
     second = CountingExecutor()
     with open_store(out) as store:
-        r2 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=second, store=store)
+        r2 = run_sweep(
+            small_plan(short_scene, "0:2"), short_scene, RunOptions(executor=second, store=store)
+        )
     assert len(second.ran) == r2.ran == 4
     assert {s.seed for s in second.ran} == {1}
     assert r2.skipped == 4
@@ -130,7 +137,9 @@ def test_resuming_runs_only_the_missing_episodes(tmp_path, short_scene, suffix):
 
     third = CountingExecutor()
     with open_store(out) as store:
-        r3 = run_sweep(small_plan(short_scene, "0:2"), short_scene, executor=third, store=store)
+        r3 = run_sweep(
+            small_plan(short_scene, "0:2"), short_scene, RunOptions(executor=third, store=store)
+        )
         assert len(store.rows()) == 8
     assert third.ran == [] and r3.ran == 0 and r3.skipped == 8
 
@@ -140,13 +149,15 @@ def test_ctrl_c_keeps_finished_rows_and_the_rerun_completes(tmp_path, short_scen
     plan = small_plan(short_scene, "0:2")
     interrupted = CountingExecutor(interrupt_after=1)
     with open_store(out) as store:
-        result = run_sweep(plan, short_scene, executor=interrupted, store=store, batch_size=3)
+        result = run_sweep(
+            plan, short_scene, RunOptions(executor=interrupted, store=store, batch_size=3)
+        )
     assert result.interrupted
     assert result.ran == 3 == len(open_store(out).rows())
 
     rest = CountingExecutor()
     with open_store(out) as store:
-        again = run_sweep(plan, short_scene, executor=rest, store=store, batch_size=3)
+        again = run_sweep(plan, short_scene, RunOptions(executor=rest, store=store, batch_size=3))
     assert not again.interrupted
     assert again.ran == len(rest.ran) == len(plan) - 3
     assert len(open_store(out).rows()) == len(plan)
@@ -162,7 +173,7 @@ def test_cancelling_a_local_pool_stops_running_workers():
         processes = new_children(before)
         assert processes
         results.close()  # what Ctrl-C in the consuming loop does
-        assert executor._pool is None
+        assert executor._hosts == []
         # every worker has exited: a process's sentinel is ready once it has ended
         sentinels = [p.sentinel for p in processes]
         assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
@@ -201,7 +212,7 @@ def test_stopping_a_local_pool_keeps_what_its_running_batches_finished(short_sce
         wait_until(lambda: all(m.exists() for m in markers), "both batches' first episode")
         late = list(executor.stop(grace=60.0))
         results.close()
-        assert executor._pool is None
+        assert executor._hosts == []
         sentinels = [p.sentinel for p in processes]
         assert sorted(multiprocessing.connection.wait(sentinels, timeout=0)) == sorted(sentinels)
     assert len(late) == 2
@@ -230,7 +241,7 @@ def test_grading_a_folder_ranks_and_scores_broken_submissions(tmp_path, short_sc
     plan = SweepPlan.from_specs(
         short_scene.name, controllers=specs, seeds="0:2", fixed={"duration": DURATION}
     )
-    result = run_sweep(plan, short_scene, executor=InlineExecutor())
+    result = run_sweep(plan, short_scene, RunOptions(executor=InlineExecutor()))
     ranking = result.ranking()
     assert ranking[0].controller.endswith("alice.py:make_controller")
     for broken in ranking[1:]:
@@ -286,7 +297,8 @@ CRUISE_ONLY = (
         # what 'run' refuses at once, refused before the first episode
         (["--controller", "improvd"], "controller 'improvd' cannot be built: unknown controller"),
         (["--controller", "stock", "--controller", "no_such_module:make"], "'no_such_module'"),
-        (["--set", "layer.LineFollow.inner_factor=0.3,abc"], "needs a number (the parameter is float), got 'abc'"),
+        (["--set", "layer.LineFollow.inner_factor=0.3,abc"],
+         "needs a number (the parameter is float), got 'abc'"),
         (["--set", "dt=0.05,1e-9"], "more than one episode may take"),
         (["--controller", "improved", "--controller", "CRUISE", "--set",
           "layer.LineFollow.inner_factor=0.3"], "no controller has a layer 'LineFollow'"),
@@ -300,7 +312,8 @@ def test_cli_rejects_bad_input_with_a_clear_message(args, message, capsys, tmp_p
     args = [a.replace("CRUISE", f"{cruise.as_posix()}:make_controller") for a in args]
     out = tmp_path / "runs.csv"
     extra = [] if "--out" in args else ["--out", str(out)]
-    assert main(["sweep", "line-follow", "--workers", "1", "--quiet", *extra, *args]) == 2
+    workers = [] if "--workers" in args else ["--workers", "1"]  # an option is given once
+    assert main(["sweep", "line-follow", *workers, "--quiet", *extra, *args]) == 2
     captured = capsys.readouterr()
     assert message in captured.err
     assert len(captured.err.splitlines()) == 1, captured.err
@@ -364,7 +377,9 @@ def test_a_controller_that_never_returns_is_stopped_by_the_episode_timeout(tmp_p
         seeds="0:2",
         fixed={"duration": DURATION},
     )
-    result = run_sweep(plan, short_scene, executor=InlineExecutor(), episode_timeout=1.0)
+    result = run_sweep(
+        plan, short_scene, RunOptions(executor=InlineExecutor(), episode_timeout=1.0)
+    )
     by_controller = {g.controller: g for g in result.ranking()}
     assert by_controller[plan.controllers[0]].failures == {"error": 2}
     assert len(result.errors) == 2
@@ -416,9 +431,10 @@ def test_a_stopped_dask_sweep_frees_its_workers_after_one_episode(short_scene):
 
         given = executor.stop_flag()
         result = run_sweep(
-            small_plan(short_scene), short_scene, executor=executor, batch_size=1,
-            progress=InterruptingProgress(),
-        )  # fmt: skip
+            small_plan(short_scene),
+            short_scene,
+            RunOptions(executor=executor, batch_size=1, progress=InterruptingProgress()),
+        )
         assert result.interrupted and 1 <= result.ran < len(small_plan(short_scene))
         assert Event(given.name, client=executor.client).is_set()
         assert executor.stop_flag().name != given.name

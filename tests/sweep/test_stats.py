@@ -52,3 +52,27 @@ def test_wilson_without_trials_is_uninformative_and_bad_counts_fail():
         wilson_interval(3, 2)
     with pytest.raises(ValueError):
         wilson_interval(-1, 2)
+
+
+def test_every_report_holds_a_pass_rate_one_way():
+    """A sweep's group, a transfer grid's point, a study's cell and a sensitivity bin are
+    each a PassRate: the same counts give the same rate, interval and --json names."""
+    from puckboard.sensitivity.joint.estimate import Bin
+    from puckboard.sweep.stats import PassRate
+    from puckboard.sweep.summary import GroupSummary
+    from puckboard.transfer.radius import GridPoint
+    from puckboard.tune.objective import Cell, CellRate
+
+    plain = PassRate(17, 20)
+    assert (plain.rate, plain.interval) == (0.85, wilson_interval(17, 20))
+    held = [
+        GroupSummary(17, 20, controller="c", params={}),
+        GridPoint(17, 20, scale=2.0),
+        CellRate(17, 20, cell=Cell("s")),
+        Bin(17, 20, low=0, high=1, progress=0, progress_low=0, progress_high=0),
+    ]
+    for rate in held:
+        assert isinstance(rate, PassRate)
+        assert (rate.rate, rate.interval) == (plain.rate, plain.interval)
+        assert plain.rate_dict().items() <= rate.rate_dict().items()
+    assert PassRate(0, 0).rate == 0.0 and PassRate(0, 0).interval == (0.0, 1.0)

@@ -9,7 +9,7 @@ from puckboard.transfer.radius import GridPoint, robustness_radius, seeds_for_lo
 
 
 def grid(*counts: tuple[float, int, int]) -> list[GridPoint]:
-    return [GridPoint(scale, k, n) for scale, k, n in counts]
+    return [GridPoint(k, n, scale=scale) for scale, k, n in counts]
 
 
 def test_the_radius_ends_at_the_first_scale_that_falls_below():

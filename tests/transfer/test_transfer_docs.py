@@ -11,8 +11,8 @@ import pytest
 
 from puckboard.bench import transfer as bench
 from puckboard.cli import build_parser
-from puckboard.cli.transfer import DEFAULT_SEEDS
 from puckboard.scenario.scenefile import load_scene
+from puckboard.sweep.defaults import TRANSFER_SEEDS as DEFAULT_SEEDS
 from puckboard.sweep.plan import parse_seeds
 from puckboard.transfer import FAMILIES, seeds_for_lower_bound, transfer_plan
 
@@ -70,8 +70,7 @@ def test_the_default_seeds_are_the_page_s_and_the_bench_s():
 
 
 def test_the_page_s_episode_counts_are_the_plans(tmp_path):
-    plan, _, student = bench.flagship_plan(len(parse_seeds(DEFAULT_SEEDS)), tmp_path)
-    assert student
+    plan, _ = bench.flagship_plan(len(parse_seeds(DEFAULT_SEEDS)), tmp_path)
     assert f"{len(plan):,} episodes" in PAGE
     scene = load_scene("two-robot-pass")
     one = transfer_plan(
@@ -143,7 +142,8 @@ def robust_transfer() -> tuple[list[str], list[list[str]]]:
         if line.startswith("$ puckboard transfer ") and "--controller robust" in line
     ]
     start = lines.index(
-        "| model | straight, `epuck` | straight, `epuck-vrep` | bend, `epuck` | bend, `epuck-vrep` |"
+        "| model | straight, `epuck` | straight, `epuck-vrep` | bend, `epuck` | "
+        "bend, `epuck-vrep` |"
     )
     rows = []
     for line in lines[start + 2 :]:

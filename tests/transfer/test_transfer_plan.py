@@ -230,14 +230,33 @@ def test_links_with_the_same_timing_in_whole_steps_share_their_episodes():
 
 @pytest.mark.parametrize(
     ("family", "name"),
-    [("link epuck2-wifi", "control.latency"), ("latency", "dt"), ("noise", "noise.ground"),
+    [("link epuck2-wifi", "control.latency"), ("noise", "noise.ground"),
      ("reality-gap", "variation"), ("obstacle reflectance", "obstacle.ir_reflectance")],
 )  # fmt: skip
 def test_a_fixed_value_a_family_decides_is_refused(family, name):
-    """A fixed value would be overridden at the family's models, or (``dt``, which its
-    whole steps are counted in) make them other than the report names them."""
+    """A fixed value would be overridden at the family's models."""
     with pytest.raises(PlanError, match=f"--set {name}: the family '{family}' decides it"):
         plan_for(families=choose_families([family]), fixed={name: 0.1})
+
+
+@pytest.mark.parametrize(
+    ("family", "dt", "models"),
+    [
+        ("latency", 0.01, {1.0: {"control.latency": 0.01}, 2.0: {"control.latency": 0.02}}),
+        ("period", 0.02, {2.0: {"control.period": 0.04}, 4.0: {"control.period": 0.08}}),
+        ("link usb-sercom", 0.01, {1.0: {"control.period": 0.05, "control.latency": 0.01}}),
+    ],
+)
+def test_a_fixed_dt_is_the_step_whole_steps_count_in(family, dt, models):
+    """A link judged at a finer physics step: the family's models are counted in the
+    fixed ``dt`` (the usb link's slow end is its own at 10 ms, not the design loop)."""
+    plan = plan_for(families=choose_families([family]), fixed={"dt": dt})
+    base = {"robot.profile": "epuck", "variation": "plausible"}
+    got = {k: v for k, v in by_family(plan, family).items() if k in models}
+    assert got == {
+        k: {**base, **{n: pytest.approx(x) for n, x in v.items()}} for k, v in models.items()
+    }
+    assert plan.dts == {"two-robot-pass": dt}
 
 
 def test_fixed_values_are_every_model_s_base():
@@ -318,3 +337,54 @@ def test_the_report_has_a_column_per_controller_a_row_per_model_and_a_legend():
     assert radius.split("  ")[-1].strip() == "×2: 4/4 [51, 100] %; ×3 2/4"
     assert "  radius: noise: grid ×1, ×2, ×3; " in text
     assert "at least 73 seeds" in lines[-1]
+
+
+def test_a_family_that_runs_the_report_s_own_scene_is_the_design_model_and_says_so():
+    generated = load_scene("generated-pass")
+    plan = plan_for(scenes=(generated,), families=choose_families(["generated-pass", "noise"]))
+    assert "generated-pass" not in {p.family for p in plan.points}
+    (skipped,) = [s for s in plan.skipped if s.family == "generated-pass"]
+    assert skipped.why == "it is the design model here: generated-pass is the scene it runs"
+
+
+def test_an_interrupted_report_marks_what_ran_short_incomplete():
+    """A point that ran one of its two seeds reads "incomplete", and a radius does not
+    walk on through it (the rows once mixed 2/2 and 1/1 and read "≥ ×3: 2/2")."""
+    from puckboard.sweep.run import SweepResult
+    from puckboard.transfer import format_result
+    from puckboard.transfer.result import TransferResult
+
+    plan = plan_for(seeds=range(4))
+    ran = {k: [o for o in v if not (o.key.startswith("3.0/") and o.seed >= 2)]
+           for k, v in outcomes(plan, {1.0: 4, 2.0: 4, 3.0: 4}).items()}  # fmt: skip
+    (sweep,) = plan.sweeps
+    result = TransferResult(plan, [SweepResult(plan=sweep, outcomes=ran[sweep.scenario])])
+    result.cells = analyse(plan, ran)
+    result.stopped = True
+    (radius,) = result.cells[0].radii
+    assert (radius.estimate.radius, radius.estimate.complete) == (2.0, False)
+    text = format_result(result, stored="t.csv")
+    assert "\nINCOMPLETE: the run was stopped; bands and radii marked incomplete ran fewer " in text
+    assert "×2: 4/4 [51, 100] %; further not run (incomplete)" in text
+
+
+def test_the_report_names_the_fixed_settings_in_its_head_and_each_model():
+    """--set control.latency=0.05 with the period family once ran every row 50 ms late
+    while the report said "no delay"."""
+    from puckboard.sweep.run import SweepResult
+    from puckboard.transfer import format_result
+    from puckboard.transfer.result import TransferResult
+
+    fixed = {"control.latency": 0.05, "layer.Cruise.speed": 3.0}
+    plan = plan_for(families=choose_families(["period"]), fixed=fixed)
+    result = TransferResult.of(plan, [SweepResult(plan=s, outcomes=[]) for s in plan.sweeps])
+    head, *_ = text = format_result(result).splitlines()
+    assert head.endswith("; every model with control.latency=0.05, layer.Cruise.speed=3.0")
+    assert (
+        "  design: the scene with plausible robots (--variation plausible); "
+        "with control.latency=0.05" in text
+    )
+    assert (
+        "  radius: period: grid 50 ms, 100 ms, 200 ms; the controller ticks every 1, 2 or 4 "
+        "physics steps; with control.latency=0.05" in text
+    )

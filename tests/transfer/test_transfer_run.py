@@ -8,7 +8,8 @@ from sweep_helpers import DURATION, CountingExecutor
 
 from puckboard.scenario.scenefile import load_scene
 from puckboard.sweep import InlineExecutor, open_store
-from puckboard.transfer import choose_families, run_transfer, transfer_plan
+from puckboard.sweep.options import RunOptions
+from puckboard.transfer import choose_families, run_transfer_plan, transfer_plan
 from puckboard.transfer import run as transfer_run
 
 FIRST = dataclasses.replace(load_scene("line-follow"), duration=DURATION)
@@ -25,17 +26,20 @@ def plan():
 
 def test_a_stopped_report_starts_no_further_scene_and_keeps_what_ran(tmp_path):
     with open_store(tmp_path / "runs.csv") as store:
-        result = run_transfer(
-            plan(), SCENES, executor=CountingExecutor(interrupt_after=1), store=store,
-            batch_size=1,
-        )  # fmt: skip
+        result = run_transfer_plan(
+            plan(),
+            SCENES,
+            RunOptions(executor=CountingExecutor(interrupt_after=1), store=store, batch_size=1),
+        )
     assert result.interrupted and result.ran == 1
     assert [s.ran for s in result.sweeps] == [1, 0]
     first, second = result.cells
     assert sum(p.episodes for p in first.radii[0].grid) == 1  # the grid holds every point
     assert second.design.stats is None and all(b.stats is None for b in second.families)
     with open_store(tmp_path / "runs.csv") as store:
-        again = run_transfer(plan(), SCENES, executor=InlineExecutor(), store=store)
+        again = run_transfer_plan(
+            plan(), SCENES, RunOptions(executor=InlineExecutor(), store=store)
+        )
     assert (again.skipped, again.ran, again.interrupted) == (1, len(plan()) - 1, False)
 
 
@@ -50,7 +54,7 @@ def test_ctrl_c_between_two_scenes_keeps_the_first_and_says_so(monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(transfer_run, "run_sweep", ctrl_c_before_the_second)
-    result = run_transfer(plan(), SCENES, executor=InlineExecutor())
+    result = run_transfer_plan(plan(), SCENES, RunOptions(executor=InlineExecutor()))
     assert result.interrupted and not result.terminated
     assert [s.ran for s in result.sweeps] == [len(plan().sweeps[0]), 0]
 
@@ -72,6 +76,6 @@ def test_progress_covers_the_whole_report_once():
 
     seen = Seen()
     whole = plan()
-    run_transfer(whole, SCENES, executor=InlineExecutor(), progress=seen)
+    run_transfer_plan(whole, SCENES, RunOptions(executor=InlineExecutor(), progress=seen))
     assert seen.starts == [(len(whole), 0)]
     assert seen.advanced == len(whole) == 2 * 3  # two scenes: design, noise ×2 and ×3

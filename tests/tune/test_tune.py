@@ -73,7 +73,8 @@ def test_an_unknown_parameter_is_refused_naming_the_keywords_and_the_attributes(
 # -- the objective ---------------------------------------------------------------------------
 def rates(*cells: tuple[int, float], n: int = 4) -> list[CellRate]:
     return [
-        CellRate(Cell("s", str(i)), n, wins, progress) for i, (wins, progress) in enumerate(cells)
+        CellRate(wins, n, cell=Cell("s", str(i)), progress_laps=progress)
+        for i, (wins, progress) in enumerate(cells)
     ]
 
 
@@ -294,8 +295,8 @@ def test_the_report_gives_both_rates_per_cell_and_a_line_to_run_it(short_pass, t
     ]
     best = data["best"]["params"]
     assert (
-        data["use"]
-        == f"--controller improved --set {INNER}={best[INNER]:.6g} --set controller.speed={best['speed']:.6g}"
+        data["use"] == f"--controller improved --set {INNER}={best[INNER]:.6g} "
+        f"--set controller.speed={best['speed']:.6g}"
     )
     text = format_result(result)
     assert "design (seeds 0:2)" in text and "validation (seeds 2:3)" in text
@@ -315,11 +316,11 @@ def test_the_report_gives_both_rates_per_cell_and_a_line_to_run_it(short_pass, t
 def test_validation_below_design_beyond_both_intervals_is_overfitting(short_pass):
     result = run_tune(spec_for(short_pass), 1, executor=CountingExecutor())
     cell = result.design[0].cell
-    result.design = [CellRate(cell, 40, 40)]
-    result.validation = [CellRate(cell, 40, 30)]
+    result.design = [CellRate(40, 40, cell=cell)]
+    result.validation = [CellRate(30, 40, cell=cell)]
     assert result.overfit() == [cell]
     assert "validation is below design beyond both intervals" in format_result(result)
-    result.validation = [CellRate(cell, 40, 38)]  # lower, within the intervals
+    result.validation = [CellRate(38, 40, cell=cell)]  # lower, within the intervals
     assert result.overfit() == []
 
 

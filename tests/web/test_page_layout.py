@@ -50,7 +50,8 @@ NAME_CLASHES = """(() => {
   CanvasRenderingContext2D.prototype.fillText = function (text, x, y) {
     if (this.canvas.id === 'arena') {
       const m = this.measureText(text);
-      calls.push({ text, box: [x, y - m.actualBoundingBoxAscent, x + m.width, y + m.actualBoundingBoxDescent] });
+      calls.push({ text, box: [x, y - m.actualBoundingBoxAscent, x + m.width,
+                               y + m.actualBoundingBoxDescent] });
     }
     return fill.apply(this, arguments);
   };
@@ -61,7 +62,8 @@ NAME_CLASHES = """(() => {
   for (let i = 0; i < p.times.length; i += STRIDE) {
     calls.length = 0;
     p.show(i);
-    const robots = state.frame.robots.map((r, k) => [r.name, ...px(r.pose[0], r.pose[1]), sc.robots[k].radius * v.s]);
+    const robots = state.frame.robots.map(
+      (r, k) => [r.name, ...px(r.pose[0], r.pose[1]), sc.robots[k].radius * v.s]);
     const names = calls.filter(c => robots.some(r => r[0] === c.text));
     if (names.length !== robots.length) out.push([i, 'names drawn', names.map(c => c.text)]);
     for (const c of names) {
@@ -72,12 +74,17 @@ NAME_CLASHES = """(() => {
       }
       for (const [name, u, w, r] of robots) {
         if (disc(c.box, u, w, r)) out.push([i, c.text, 'on robot', name]);
-        const far = Math.hypot(Math.max(c.box[0], Math.min(u, c.box[2])) - u, Math.max(c.box[1], Math.min(w, c.box[3])) - w);
-        if (name === c.text && far > r + 12 * v.ratio) out.push([i, c.text, 'away from its robot', far - r]);
+        const far = Math.hypot(Math.max(c.box[0], Math.min(u, c.box[2])) - u,
+                               Math.max(c.box[1], Math.min(w, c.box[3])) - w);
+        if (name === c.text && far > r + 12 * v.ratio) {
+          out.push([i, c.text, 'away from its robot', far - r]);
+        }
       }
       for (const d of names) {
         const b = d.box, a = c.box;
-        if (d !== c && a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]) out.push([i, c.text, 'on name', d.text]);
+        if (d !== c && a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]) {
+          out.push([i, c.text, 'on name', d.text]);
+        }
       }
     }
   }
@@ -113,7 +120,10 @@ def test_on_a_phone_the_footer_follows_the_events_and_names_stay_on_one_line(rep
             "Array.from(document.querySelectorAll('#robots .layer')).map(e => e.textContent)"
         )
         boxes = browser.evaluate("""(() => {
-          const box = e => { const b = e.getBoundingClientRect(); return [b.left, b.top, b.right, b.bottom]; };
+          const box = e => {
+            const b = e.getBoundingClientRect();
+            return [b.left, b.top, b.right, b.bottom];
+          };
           return {
             footer: box(document.getElementById('connection')),
             events: Array.from(document.querySelectorAll('#events li')).map(box),
@@ -122,7 +132,8 @@ def test_on_a_phone_the_footer_follows_the_events_and_names_stay_on_one_line(rep
             // per robot row: the tops of the lines its name cell's contents sit on
             names: Array.from(document.querySelectorAll('#robots tbody td:first-child')).map(td => {
               const r = document.createRange(); r.selectNodeContents(td);
-              return Array.from(r.getClientRects()).filter(q => q.width > 0).map(q => Math.round(q.top));
+              return Array.from(r.getClientRects())
+                .filter(q => q.width > 0).map(q => Math.round(q.top));
             }),
           };
         })()""")

@@ -158,8 +158,10 @@ def test_the_offline_file_plays_from_disk_with_the_network_off(recorded):
         browser.wait_for(READY)
         assert browser.evaluate("state.scene.robots.map(r => r.name)") == ["left", "right"]
         assert browser.evaluate("document.getElementById('player').hidden") is False
-        browser.evaluate("document.getElementById('speed').value = '8'; "
-                         "document.getElementById('speed').dispatchEvent(new Event('change'))")  # fmt: skip
+        browser.evaluate(
+            "document.getElementById('speed').value = '8'; "
+            "document.getElementById('speed').dispatchEvent(new Event('change'))"
+        )
         browser.evaluate("document.getElementById('play').click()")
         time.sleep(1.0)
         first = browser.evaluate("state.player.index")
@@ -200,7 +202,8 @@ def test_an_older_recording_replays_and_its_panel_says_the_tree_is_missing(recor
         assert browser.evaluate("document.getElementById('tree-note').hidden") is False
         assert browser.evaluate("document.querySelectorAll('#tree li').length") == 0
         keys = browser.evaluate(
-            "Array.from(document.querySelectorAll('#keys tbody td:first-child')).map(e => e.textContent)"
+            "Array.from(document.querySelectorAll('#keys tbody td:first-child'))"
+            ".map(e => e.textContent)"
         )
         assert keys == ["proximity", "ground", "command/layer", "command/wheels"]
         assert browser.evaluate("state.frame.robots[0].pose") == pytest.approx(

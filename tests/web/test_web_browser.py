@@ -74,13 +74,15 @@ def test_the_page_draws_every_robot_and_time_advances(live_run):
               const side = 0.6 * state.scene.robots[i].radius, th = r.pose[2] + Math.PI / 2;
               const [u, w] = px(r.pose[0] + side * Math.cos(th), r.pose[1] + side * Math.sin(th));
               const d = g.getImageData(Math.round(u), Math.round(w), 1, 1).data;
-              const hex = '#' + [d[0], d[1], d[2]].map(v => v.toString(16).padStart(2, '0')).join('');
+              const hex = '#' + [d[0], d[1], d[2]]
+                .map(v => v.toString(16).padStart(2, '0')).join('');
               return [hex, state.scene.robots[i].colour.toLowerCase()];
             });
         })()""")
         for got, want in drawn:  # each body, beside its heading line, in the robot's colour
-            assert all(abs(int(got[k:k + 2], 16) - int(want[k:k + 2], 16)) <= 8
-                       for k in (1, 3, 5)), drawn  # fmt: skip
+            assert all(
+                abs(int(got[k : k + 2], 16) - int(want[k : k + 2], 16)) <= 8 for k in (1, 3, 5)
+            ), drawn
 
 
 def test_clicking_a_robot_opens_its_panel(live_run):
@@ -91,7 +93,8 @@ def test_clicking_a_robot_opens_its_panel(live_run):
         browser.evaluate("document.querySelector('#robots tbody tr[data-robot=\"right\"]').click()")
         keys = browser.wait_for(
             "document.getElementById('panel').hidden == false && "
-            "Array.from(document.querySelectorAll('#keys tbody td:first-child')).map(e => e.textContent)"
+            "Array.from(document.querySelectorAll('#keys tbody td:first-child'))"
+            ".map(e => e.textContent)"
         )
         assert {"proximity", "ground", "command/layer"} <= set(keys)
         assert browser.evaluate("document.getElementById('panel-title').textContent") == "right"
@@ -115,14 +118,16 @@ def test_clicking_a_robot_opens_its_panel(live_run):
 
 
 RESTORED_PAGE = """(() => ({
-  banner: document.getElementById('verdict').hidden ? null : document.getElementById('verdict').textContent,
+  banner: document.getElementById('verdict').hidden
+    ? null : document.getElementById('verdict').textContent,
   status: document.getElementById('status').textContent,
   title: document.getElementById('events').previousElementSibling.textContent,
   events: document.querySelectorAll('#events li').length,
   // how far each robot's trail strays from where the robot now is
   strays: state.frame.robots.map(r => Math.max(0, ...(state.trails[r.name] || []).map(
     ([x, y]) => Math.hypot(x - r.pose[0], y - r.pose[1])))),
-  previous: state.frame.robots.map(r => ((state.previous || { trails: {} }).trails[r.name] || []).length),
+  previous: state.frame.robots.map(
+    r => ((state.previous || { trails: {} }).trails[r.name] || []).length),
 }))()"""
 
 

@@ -227,8 +227,11 @@ def test_a_restored_served_world_labels_the_previous_run_and_starts_new_trails()
                 "two-robot-pass", duration=duration, backend="coppeliasim", port=server.port
             ))  # fmt: skip
             frame = wait_for_frame(
-                view, lambda f, d=duration: (f.get("previous") or {}).get("t") == pytest.approx(d, abs=0.06)
-            )  # fmt: skip
+                view,
+                lambda f, d=duration: (
+                    (f.get("previous") or {}).get("t") == pytest.approx(d, abs=0.06)
+                ),
+            )
             shown.append((frame, json.loads(get(view.url + "trails.json")[1])))
     finally:
         view.close()

@@ -66,7 +66,8 @@ def plot_traces(
             ax.plot(truth[k, 0], truth[k, 1], ".", color="black", ms=3)
         m = trace.metrics()
         ax.set_title(
-            f"{trace.robot}: {trace.variant}\nfinal error {m['final_position_error_m'] * 100:.1f} cm, "
+            f"{trace.robot}: {trace.variant}\n"
+            f"final error {m['final_position_error_m'] * 100:.1f} cm, "
             f"{m['final_heading_error_deg']:.1f}° after {m['distance_m']:.1f} m",
             fontsize=9,
         )

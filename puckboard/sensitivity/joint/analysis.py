@@ -11,10 +11,11 @@ numbers, from which :mod:`.estimate` bins a curve per number and ranks the numbe
 ~30 numbers on its own. A number is attributed *per robot*: ``left: body_radius`` and
 ``right: body_radius`` are two inputs. The robots of a scene play different parts (in the
 two-robot pass they go round the loop in opposite directions, so what one meets on its
-right the other meets on its left) and a number can matter for one part only; the two robots' mean would halve such an effect and mix it with noise from the
-other robot, and "the robot that failed" is not defined for an episode that passes and
-selects on the outcome for one that fails. A number that matters for both robots shows up
-twice, each with part of its effect.
+right the other meets on its left) and a number can matter for one part only; the two
+robots' mean would halve such an effect and mix it with noise from the other robot, and
+"the robot that failed" is not defined for an episode that passes and selects on the
+outcome for one that fails. A number that matters for both robots shows up twice, each
+with part of its effect.
 
 The rows are those of the one-at-a-time method's plausible point (same parameters, same
 keys), so either method's ``--out`` file feeds the other, and :func:`from_rows` recomputes
@@ -32,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ...profile import apply_overrides, get_profile, profile_values
+from ...sweep.options import DEFAULT_RUN, RunOptions
 from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters, seeds_text
 from ...sweep.rows import Outcome
 from ...sweep.run import SweepResult
@@ -55,9 +57,6 @@ if TYPE_CHECKING:
 
     from ...profile import RobotProfile
     from ...scenario.scene import Scene
-    from ...sweep.executors import SweepExecutor
-    from ...sweep.progress import Progress
-    from ...sweep.store import ResultStore
 
 __all__ = [
     "JointAnalysis",
@@ -114,9 +113,7 @@ def joint_plan(
     labels = [p.name for p in chosen]
     if len(set(labels)) != len(labels):
         raise PlanError(f"profile listed twice in {labels}")
-    points = tuple(
-        {**profile_parameters(p if p.overrides else p.name), "variation": PLAUSIBLE} for p in chosen
-    )
+    points = tuple({**profile_parameters(p), "variation": PLAUSIBLE} for p in chosen)
     sweep = SweepPlan(
         scenario=scenario,
         controllers=tuple(controllers),
@@ -408,29 +405,15 @@ def from_rows(rows: Sequence[Mapping[str, Any]], bins: int = DEFAULT_BINS) -> Jo
 
 
 def run_joint(
-    plan: JointPlan,
-    scene: Scene | str | Path,
-    *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
+    plan: JointPlan, scene: Scene | str | Path, options: RunOptions = DEFAULT_RUN
 ) -> JointResult:
-    """Run every episode of ``plan`` not yet in ``store`` (as
-    :func:`~puckboard.sweep.run_sweep`) and analyse all of the plan's episodes, those
-    ``store`` held before included."""
+    """Run every episode of ``plan`` not yet in ``options.store`` (as
+    :func:`~puckboard.sweep.run_sweep`) and analyse all of the plan's episodes, those the
+    store held before included."""
     from ...sweep.run import run_sweep
 
-    sweep = run_sweep(
-        plan.sweep,
-        scene,
-        executor=executor,
-        store=store,
-        batch_size=batch_size,
-        progress=progress,
-        episode_timeout=episode_timeout,
-    )
+    store = options.store
+    sweep = run_sweep(plan.sweep, scene, options)
     keys = {spec.key(plan.scenario) for spec in plan.sweep.episodes()}
     rows = [r for r in (store.rows() if store is not None else sweep.rows) if r.get("key") in keys]
     point_keys = [params_key({**plan.sweep.fixed, **point}) for point in plan.sweep.points]

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ...sweep.stats import wilson_interval
+from ...sweep.stats import PassRate
 
 __all__ = [
     "ALPHA",
@@ -81,23 +81,25 @@ def _statsmodels() -> Any:
     return sm
 
 
-@dataclass(frozen=True)
-class Bin:
-    """The episodes whose number lies in ``[low, high]`` (drawn values, SI)."""
+@dataclass(frozen=True, kw_only=True)
+class Bin(PassRate):
+    """The pass rate of the episodes whose number lies in ``[low, high]`` (drawn values,
+    SI), and their mean progress with its interval."""
 
     low: float
     high: float
-    episodes: int
-    successes: int
-    rate: float
-    rate_low: float
-    rate_high: float
     progress: float
     progress_low: float
     progress_high: float
 
     def to_dict(self) -> dict[str, Any]:
-        return dict(self.__dict__)
+        rate_low, rate_high = self.interval
+        return {
+            "low": self.low, "high": self.high, "episodes": self.episodes,
+            "successes": self.successes, "rate": self.rate, "rate_low": rate_low,
+            "rate_high": rate_high, "progress": self.progress,
+            "progress_low": self.progress_low, "progress_high": self.progress_high,
+        }  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -164,7 +166,6 @@ def binned_curve(x: Array, success: Array, progress: Array, bins: int) -> list[B
         if n == 0:
             continue
         wins = int(np.sum(success[inside]))
-        low, high = wilson_interval(wins, n)
         values = progress[inside]
         if n > 1 and float(np.std(values)) > 0:
             with warnings.catch_warnings():
@@ -174,13 +175,10 @@ def binned_curve(x: Array, success: Array, progress: Array, bins: int) -> list[B
             p_low = p_high = float(np.mean(values))
         out.append(
             Bin(
+                wins,
+                n,
                 low=float(np.min(x[inside])),
                 high=float(np.max(x[inside])),
-                episodes=n,
-                successes=wins,
-                rate=wins / n,
-                rate_low=low,
-                rate_high=high,
                 progress=float(np.mean(values)),
                 progress_low=float(p_low),
                 progress_high=float(p_high),

@@ -84,8 +84,8 @@ def _panel(ax: Any, name: str, analyses: list[JointAnalysis], outcome: str) -> N
         xs = [scale * (b.low + b.high) / 2 for b in n.bins]
         if outcome == PASS:
             ys = [100 * b.rate for b in n.bins]
-            below = [100 * (b.rate - b.rate_low) for b in n.bins]
-            above = [100 * (b.rate_high - b.rate) for b in n.bins]
+            below = [100 * (b.rate - b.interval[0]) for b in n.bins]
+            above = [100 * (b.interval[1] - b.rate) for b in n.bins]
         else:
             ys = [b.progress for b in n.bins]
             below = [b.progress - b.progress_low for b in n.bins]

@@ -74,7 +74,7 @@ def _curve(n: Number) -> str:
             str(b.episodes),
             str(b.successes),
             _percent(b.rate),
-            f"[{100 * b.rate_low:.0f}, {100 * b.rate_high:.0f}] %",
+            "[{:.0f}, {:.0f}] %".format(*(100 * v for v in b.interval)),
             f"{b.progress:.3f} [{b.progress_low:.3f}, {b.progress_high:.3f}]",
         ]
         for b in n.bins

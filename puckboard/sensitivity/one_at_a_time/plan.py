@@ -29,6 +29,8 @@ from typing import Any
 
 from ...profile import RobotProfile, apply_overrides, get_profile, uncertainty
 from ...profile.setting_names import is_set, setting_unit, setting_value
+from ...scenario.variation import NONE, check_variation
+from ...scenario.variation import PLAUSIBLE as PLAUSIBLE_ROBOTS
 from ...sweep.plan import PlanError, SweepPlan, params_key, profile_parameters
 
 __all__ = [
@@ -55,7 +57,7 @@ DEFAULT_VALUES = 7
 MAX_VALUES = 100
 
 #: Kinds of point: the profile as shipped, one field at one value, all fields drawn.
-SHIPPED, VALUE, PLAUSIBLE = "shipped", "value", "plausible"
+SHIPPED, VALUE, PLAUSIBLE = "shipped", "value", PLAUSIBLE_ROBOTS.name
 
 #: The label (:data:`~puckboard.sweep.plan.LABEL_PREFIX`) naming the field of a value
 #: point that draws every other number (``--variation plausible``). Its rows are not a
@@ -67,7 +69,8 @@ FIELD_LABEL = "label.field"
 @dataclass(frozen=True)
 class Field:
     """One uncertain path of one profile: its range, its shipped value and the values the
-    analysis sets it to (in SI; ``unit`` as :func:`~puckboard.profile.setting_names.setting_unit`)."""
+    analysis sets it to (in SI; ``unit`` as
+    :func:`~puckboard.profile.setting_names.setting_unit`)."""
 
     profile: str
     path: str
@@ -109,7 +112,7 @@ class SensitivityPlan:
     points: tuple[Point, ...]
     values: int = DEFAULT_VALUES
     #: ``plausible``: every number but the field's drawn at each value; ``none``: shipped.
-    variation: str = "none"
+    variation: str = NONE.name
 
     @property
     def scenario(self) -> str:
@@ -219,7 +222,7 @@ def sensitivity_plan(
     fields: Sequence[str] | None = None,
     values: int = DEFAULT_VALUES,
     fixed: Mapping[str, Any] | None = None,
-    variation: str = "none",
+    variation: str = NONE.name,
 ) -> SensitivityPlan:
     """The points of an analysis of ``scenario``: for each profile, the shipped point,
     the plausible point and ``values`` values of each uncertain field (all of them, or
@@ -232,11 +235,13 @@ def sensitivity_plan(
     """
     if values < 1:
         raise PlanError(f"--values must be at least 1, got {values}")
-    if variation not in ("none", PLAUSIBLE, "reality-gap"):
-        raise PlanError(f"variation must be none, plausible or reality-gap, got {variation!r}")
+    try:
+        check_variation(variation)
+    except ValueError as exc:
+        raise PlanError(str(exc)) from None
     # reality-gap: every other number drawn, in drawn conditions too (the plausible point
     # keeps its meaning: the robots alone)
-    background = {} if variation == "none" else {"variation": variation}
+    background = {} if variation == NONE.name else {"variation": variation}
     chosen = [get_profile(p) for p in profiles]
     labels = [_label(p) for p in chosen]
     if not chosen:
@@ -247,9 +252,9 @@ def sensitivity_plan(
     picked = _choose(every, fields, labels)
     points: list[Point] = []
     for profile, label in zip(chosen, labels):
-        base = profile_parameters(profile if profile.overrides else profile.name)
+        base = profile_parameters(profile)
         points.append(Point(label, SHIPPED, base))
-        points.append(Point(label, PLAUSIBLE, {**base, "variation": "plausible"}))
+        points.append(Point(label, PLAUSIBLE, {**base, "variation": PLAUSIBLE_ROBOTS.name}))
         for field in (f for f in picked if f.profile == label):
             for value in field.values:
                 params = _value_params(profile, base, field, value, bool(background))

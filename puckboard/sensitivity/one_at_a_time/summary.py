@@ -15,12 +15,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from ...sweep.executors import SweepExecutor
+from ...scenario.variation import NONE
+from ...sweep.options import DEFAULT_RUN, RunOptions
 from ...sweep.plan import params_key, seeds_text
-from ...sweep.progress import Progress
 from ...sweep.rows import Outcome
 from ...sweep.run import SweepResult, run_sweep
-from ...sweep.store import ResultStore
 from ...sweep.summary import GroupSummary, summarise
 from .plan import PLAUSIBLE, SHIPPED, Field, SensitivityPlan
 
@@ -116,7 +115,7 @@ class Analysis:
             "controller": self.controller,
             "profile": self.profile,
             "shipped": None if self.shipped is None else self.shipped.rate_dict(),
-            "plausible": None if self.plausible is None else self.plausible.rate_dict(),
+            PLAUSIBLE: None if self.plausible is None else self.plausible.rate_dict(),
             "ranking": [
                 {"field": r.field.path, "spread": r.spread, "clear": r.clear} for r in self.fields
             ],
@@ -150,7 +149,7 @@ def analyse(plan: SensitivityPlan, outcomes: Iterable[Outcome]) -> list[Analysis
                     for g in [stats(plan.point_key(p))]
                     if g is not None
                 ]
-                if shipped is not None and f.shipped_inside and plan.variation == "none":
+                if shipped is not None and f.shipped_inside and plan.variation == NONE.name:
                     values.append(ValueResult(f.shipped, True, shipped))
                 values.sort(key=lambda v: v.value)
                 results.append(FieldResult(f, tuple(values)))
@@ -189,26 +188,11 @@ class SensitivityResult:
 
 
 def run_sensitivity(
-    plan: SensitivityPlan,
-    scene: Scene | str | Path,
-    *,
-    executor: SweepExecutor | None = None,
-    store: ResultStore | None = None,
-    batch_size: int | None = None,
-    progress: Progress | None = None,
-    episode_timeout: float | None = None,
+    plan: SensitivityPlan, scene: Scene | str | Path, options: RunOptions = DEFAULT_RUN
 ) -> SensitivityResult:
-    """Run every episode of ``plan`` not yet in ``store`` and summarise all of them. The
-    points are a :class:`~puckboard.sweep.SweepPlan`, so :func:`~puckboard.sweep.run_sweep`
-    (whose arguments these are) skips what ``--out`` holds and keeps what ran on Ctrl-C:
-    an interrupted analysis is summarised from what ran, and the same call resumes it."""
-    sweep = run_sweep(
-        plan.sweep,
-        scene,
-        executor=executor,
-        store=store,
-        batch_size=batch_size,
-        progress=progress,
-        episode_timeout=episode_timeout,
-    )
-    return SensitivityResult.of(plan, sweep)
+    """Run every episode of ``plan`` not yet in ``options.store`` and summarise all of
+    them. The points are a :class:`~puckboard.sweep.SweepPlan`, so
+    :func:`~puckboard.sweep.run_sweep` skips what ``--out`` holds and keeps what ran on
+    Ctrl-C: an interrupted analysis is summarised from what ran, and the same call
+    resumes it."""
+    return SensitivityResult.of(plan, run_sweep(plan.sweep, scene, options))

@@ -22,12 +22,40 @@ def server():  # not started: the view is read in the server's thread, here the 
 
 def test_the_view_shows_the_served_world_and_follows_a_restore(server):
     view = server.view()
-    assert view.world is server.api.world
-    assert view.scene is server.api.world.scene
+    world = server.api.world
+    assert view.scene is world.scene
     assert view.model_names == tuple(b.name for b in server.api.objects.bases)
-    assert len(view.model_names) == len(view.world.poses)
+    first = view.step()
+    as_read = first.poses.copy()
+    assert len(view.model_names) == len(first.poses)
+    assert (first.run, first.time, first.step_count) == (0, 0.0, 0)
+    assert np.array_equal(first.poses, world.poses)
+    assert np.array_equal(first.prox_distance, world.prox_distance)
+    assert first.prox_range == tuple(p.prox_range for p in world.profiles)
+    world.set_wheel_speeds(0, 3.0, 3.0)
+    for _ in range(5):
+        world.step()
+    later = view.step()
+    assert later.run == 0 and later.step_count == 5 and later.time > first.time
+    assert not np.array_equal(later.poses[0], first.poses[0])
+    assert np.array_equal(first.poses, as_read)  # the earlier step stayed as it was read
     server.api.reset()  # what sim.stopSimulation does: a new world, the scene restored
-    assert view.world is server.api.world
+    restored = view.step()
+    assert (restored.run, restored.step_count) == (1, 0)
+    assert np.array_equal(restored.poses, first.poses)
+
+
+def test_a_step_is_frozen_and_no_window_into_the_engine(server):
+    step = server.view().step()
+    world = server.api.world
+    for name in ("poses", "collisions", "prox_distance", "ground", "wheel_speeds"):
+        array = getattr(step, name)
+        with pytest.raises(ValueError, match="read-only"):
+            array[...] = 0
+        assert not np.shares_memory(array, getattr(world, name)), name
+    with pytest.raises(AttributeError):
+        step.time = 1.0  # type: ignore[misc]
+    assert not hasattr(server.view(), "world")
 
 
 def test_the_view_reads_signals_as_text_and_copies_the_targets(server):

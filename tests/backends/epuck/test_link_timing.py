@@ -124,6 +124,22 @@ def test_a_profiles_link_runs_the_simulator_at_that_timing(tmp_path, capsys):
     assert d["control_period_s"] == pytest.approx(0.15) and d["control_latency_s"] == 0.0
 
 
+def test_on_the_robot_itself_a_profiles_link_is_the_link(tmp_path, capsys):
+    """The one rule's third case: a robot's own link needs no simulating, so the run
+    keeps the robot's pace (neither refused, as a simulator that cannot delay is, nor
+    slowed to the file's period)."""
+    path = tmp_path / "slow.toml"
+    write_link_table(path, measurement(0.11, 0.04), "measured", base="epuck", name="slow")
+    with emulated("wifi", fixed(0.0), None) as em:
+        code = main([
+            "run", "line-follow", "--backend", "epuck2-wifi", "--host", em.info.options["host"],
+            "--port", str(em.info.options["port"]), "--profile", str(path), "--duration",
+            "0.2", "--json",
+        ])  # fmt: skip
+    assert code == 0
+    assert "control_period_s" not in json.loads(capsys.readouterr().out)
+
+
 def test_calibrate_link_against_the_emulator_writes_a_loadable_profile(tmp_path, capsys):
     out = tmp_path / "bt.toml"
     with emulated("wifi", fixed(0.0), None) as em:
@@ -143,12 +159,12 @@ def test_calibrate_link_against_the_emulator_writes_a_loadable_profile(tmp_path,
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        (["--rounds", "1"], "--rounds must be at least 2"),
+        (["--backend", "sercom", "--rounds", "1"], "--rounds must be at least 2"),
         (["--backend", "embedded"], "calibrate link drives a real e-puck"),
     ],
 )
 def test_bad_calibrate_link_input_is_one_line(tmp_path, capsys, args, words):
-    base = ["calibrate", "link", "--out", str(tmp_path / "x.toml"), "--backend", "sercom"]
+    base = ["calibrate", "link", "--out", str(tmp_path / "x.toml")]
     assert main([*base, "--device", "/dev/null-none", *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0], err
@@ -158,3 +174,87 @@ def test_emulate_refuses_an_unknown_link(capsys):
     assert main(["emulate", "line-follow", "--link", "carrier-pigeon"]) == 2
     err = capsys.readouterr().err.strip()
     assert "--link 'carrier-pigeon': unknown link; links: coppeliasim-sync" in err
+
+
+def calibrate_on(em: Emulation, out: Path, *more: str) -> int:
+    return main([
+        "calibrate", "link", "--backend", "epuck2-wifi", "--host", em.info.options["host"],
+        "--port", str(em.info.options["port"]), "--out", str(out), *more,
+    ])  # fmt: skip
+
+
+def test_ctrl_c_keeps_the_cycles_timed_and_writes_them(tmp_path, capsys, monkeypatch):
+    """As calibrate ir fits the stops it measured: 3 of 100000 cycles are written."""
+    from puckboard.sweep.progress import PlainProgress
+
+    advance = PlainProgress.advance
+
+    def ctrl_c_at_the_third(self, n):
+        advance(self, n)
+        if self.done == 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(PlainProgress, "advance", ctrl_c_at_the_third)
+    out = tmp_path / "slow.toml"
+    with emulated("wifi", fixed(0.0), None) as em:
+        assert calibrate_on(em, out, "--rounds", "100000") == 130
+    captured = capsys.readouterr()
+    assert "interrupted; keeping the 3 of 100000 cycles timed before Ctrl-C" in captured.err
+    assert "round trip (sense): median" in captured.out and "wrote [link]" in captured.out
+    assert "3 cycles over epuck2-wifi" in load_profile_file(out).sources["link"]
+
+
+def test_progress_is_shown_on_a_log_too(tmp_path, capsys):
+    with emulated("wifi", fixed(0.0), None) as em:
+        assert calibrate_on(em, tmp_path / "a.toml", "--rounds", "4") == 0
+    assert "calibrate link: 4/4 cycles (100 %)" in capsys.readouterr().err
+
+
+def test_a_write_that_fails_loses_no_measurement(tmp_path, capsys, monkeypatch):
+    from puckboard.calibration import link
+    from puckboard.errors import ProfileError
+
+    def refuse(path, *args, **kwargs):
+        raise ProfileError("the disk is full")
+
+    monkeypatch.setattr(link, "write_link_table", refuse)
+    out = tmp_path / "a.toml"
+    with emulated("wifi", fixed(0.0), None) as em:
+        assert calibrate_on(em, out, "--rounds", "4") == 1
+    captured = capsys.readouterr()
+    assert "round trip (sense): median" in captured.out and "whole cycle" in captured.out
+    assert captured.err.strip().splitlines()[-1] == (
+        f"puckboard calibrate: error: {out}: not updated (the disk is full); the measurement "
+        "is printed above"
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "said"),
+    [
+        ("[[broken", "not a TOML file (Expected ']]'"),
+        ("hello = 3\n", "unknown key 'hello'"),
+    ],
+)
+def test_an_out_file_that_is_no_profile_is_refused_before_measuring(tmp_path, capsys, text, said):
+    out = tmp_path / "x.toml"
+    out.write_text(text, encoding="utf-8")
+    args = ["calibrate", "link", "--backend", "sercom", "--device", "/dev/null-none"]
+    assert main([*args, "--out", str(out)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith(f"puckboard calibrate: error: {out}: {said}")
+    assert line.endswith("; nothing was measured")
+    assert out.read_text(encoding="utf-8") == text
+
+
+def test_dry_run_says_what_link_would_do_and_a_port_in_the_host_points_to_port(capsys):
+    assert main(["calibrate", "link", "--dry-run", "--rounds", "50"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("calibrate link: time 50 control cycles over the robot's link")
+    assert "nothing was connected, nothing moved" in out
+    args = ["calibrate", "link", "--backend", "epuck2-wifi", "--host", "127.0.0.1:38000"]
+    assert main([*args, "--out", "x.toml"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "puckboard calibrate: error: --host '127.0.0.1:38000' holds a port; give it with "
+        "--port: --host 127.0.0.1 --port 38000"
+    )

@@ -1,11 +1,12 @@
 """The ZeroMQ remote API (protocol version 2), served by the embedded simulator.
 
-CoppeliaSim's add-on "ZMQ remote API server" lets a client in any language call
-``sim.*`` functions over a ZeroMQ REQ/REP pair, one CBOR map per message. This package
-speaks that protocol for a served :class:`~puckboard.sim.world.World`, so the official
-client (``coppeliasim-zmqremoteapi-client``) and :class:`~puckboard.backends.coppeliasim.adapter.EPuckVRep`
-drive our simulator exactly as they would drive CoppeliaSim, and a lecturer can serve one
-simulation to a whole class (``puckboard serve``).
+CoppeliaSim's add-on "ZMQ remote API server" lets a client in any language call ``sim.*``
+functions over a ZeroMQ REQ/REP pair, one CBOR map per message. This package speaks that
+protocol for a served :class:`~puckboard.sim.world.World`, so the official client
+(``coppeliasim-zmqremoteapi-client``) and
+:class:`~puckboard.backends.coppeliasim.adapter.EPuckVRep` drive our simulator exactly as
+they would drive CoppeliaSim, and a lecturer can serve one simulation to a whole class
+(``puckboard serve``).
 
 One concept per module:
 

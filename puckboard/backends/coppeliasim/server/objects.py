@@ -162,7 +162,12 @@ class SceneObjects:
 
     # -- construction ----------------------------------------------------------------------
     def _add(
-        self, kind: str, name: str, alias: str, parent: ServedObject | None, local: Frame = IDENTITY,
+        self,
+        kind: str,
+        name: str,
+        alias: str,
+        parent: ServedObject | None,
+        local: Frame = IDENTITY,
         **fields: object,
     ) -> ServedObject:  # fmt: skip
         if name in self._by_name:  # V-REP makes names unique: "Cylinder", "Cylinder0" ...

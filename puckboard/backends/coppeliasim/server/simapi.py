@@ -134,7 +134,10 @@ class SimApi(
         )
         return {
             # the scene tree
-            "sim.getObject": (self.get_object, (P("objectPath", string), P("options", options_map, {}))),
+            "sim.getObject": (
+                self.get_object,
+                (P("objectPath", string), P("options", options_map, {})),
+            ),
             "sim.getObjectHandle": (self.get_object_handle, (P("objectName", string),)),
             "sim.getObjectAlias": (self.get_object_alias, (handle, P("options", integer, -1))),
             "sim.getObjectName": (self.get_object_name, (handle,)),
@@ -143,7 +146,11 @@ class SimApi(
             "sim.getObjectChild": (self.get_object_child, (handle, P("index", integer))),
             "sim.getObjectsInTree": (
                 self.get_objects_in_tree,
-                (P("treeBaseHandle", integer), P("objectType", integer, HANDLE_ALL), P("options", integer, 0)),
+                (
+                    P("treeBaseHandle", integer),
+                    P("objectType", integer, HANDLE_ALL),
+                    P("options", integer, 0),
+                ),
             ),
             "sim.getObjects": (self.get_objects, (P("index", integer), P("objectType", integer))),
             "sim.isHandle": (self.is_handle, (handle,)),
@@ -156,36 +163,79 @@ class SimApi(
             "sim.getObjectPose": (self.get_object_pose, (handle, rel)),
             "sim.getObjectMatrix": (self.get_object_matrix, (handle, rel)),
             "sim.getObjectVelocity": (self.get_object_velocity, (handle,)),
-            "sim.setObjectPosition": (self.set_object_position, (handle, P("position", anything), P("relativeToObjectHandle", anything, HANDLE_WORLD))),
-            "sim.setObjectPose": (self.set_object_pose, (handle, P("pose", anything), P("relativeToObjectHandle", anything, HANDLE_WORLD))),
+            "sim.setObjectPosition": (
+                self.set_object_position,
+                (
+                    handle,
+                    P("position", anything),
+                    P("relativeToObjectHandle", anything, HANDLE_WORLD),
+                ),
+            ),
+            "sim.setObjectPose": (
+                self.set_object_pose,
+                (handle, P("pose", anything), P("relativeToObjectHandle", anything, HANDLE_WORLD)),
+            ),
             # joints
             "sim.setJointTargetVelocity": (
                 self.set_joint_target_velocity,
-                (P("jointHandle", integer), P("targetVelocity", number), P("params", anything, None)),
+                (
+                    P("jointHandle", integer),
+                    P("targetVelocity", number),
+                    P("params", anything, None),
+                ),
             ),
-            "sim.getJointTargetVelocity": (self.get_joint_target_velocity, (P("jointHandle", integer),)),
+            "sim.getJointTargetVelocity": (
+                self.get_joint_target_velocity,
+                (P("jointHandle", integer),),
+            ),
             "sim.getJointPosition": (self.get_joint_position, (P("jointHandle", integer),)),
             "sim.getJointVelocity": (self.get_joint_velocity, (P("jointHandle", integer),)),
             # sensors
             "sim.readProximitySensor": (self.read_proximity_sensor, (P("sensorHandle", integer),)),
-            "sim.handleProximitySensor": (self.read_proximity_sensor, (P("sensorHandle", integer),)),
+            "sim.handleProximitySensor": (
+                self.read_proximity_sensor,
+                (P("sensorHandle", integer),),
+            ),
             "sim.readVisionSensor": (self.read_vision_sensor, (P("sensorHandle", integer),)),
             "sim.handleVisionSensor": (self.handle_vision_sensor, (P("sensorHandle", integer),)),
             "sim.getVisionSensorRes": (self.get_vision_sensor_res, (P("sensorHandle", integer),)),
             "sim.getVisionSensorImg": (self.get_vision_sensor_img, img_args),
             "sim.getVisionSensorCharImage": (
                 self.get_vision_sensor_char_image,
-                (P("sensorHandle", integer), P("posX", integer, 0), P("posY", integer, 0), P("sizeX", integer, 0), P("sizeY", integer, 0), P("rgbaCutOff", number, 0.0)),
+                (
+                    P("sensorHandle", integer),
+                    P("posX", integer, 0),
+                    P("posY", integer, 0),
+                    P("sizeX", integer, 0),
+                    P("sizeY", integer, 0),
+                    P("rgbaCutOff", number, 0.0),
+                ),
             ),
             "sim.getVisionSensorImage": (
                 self.get_vision_sensor_image,
-                (P("sensorHandle", integer), P("posX", integer, 0), P("posY", integer, 0), P("sizeX", integer, 0), P("sizeY", integer, 0), P("returnType", integer, 0)),
+                (
+                    P("sensorHandle", integer),
+                    P("posX", integer, 0),
+                    P("posY", integer, 0),
+                    P("sizeX", integer, 0),
+                    P("sizeY", integer, 0),
+                    P("returnType", integer, 0),
+                ),
             ),
             # parameters
-            "sim.getObjectInt32Param": (self.get_object_int32_param, (handle, P("parameterID", integer))),
-            "sim.setObjectInt32Param": (self.set_object_int32_param, (handle, P("parameterID", integer), P("parameter", integer))),
+            "sim.getObjectInt32Param": (
+                self.get_object_int32_param,
+                (handle, P("parameterID", integer)),
+            ),
+            "sim.setObjectInt32Param": (
+                self.set_object_int32_param,
+                (handle, P("parameterID", integer), P("parameter", integer)),
+            ),
             "sim.getInt32Param": (self.get_int32_param, (P("parameter", integer),)),
-            "sim.setInt32Param": (self.set_int32_param, (P("parameter", integer), P("intState", integer))),
+            "sim.setInt32Param": (
+                self.set_int32_param,
+                (P("parameter", integer), P("intState", integer)),
+            ),
             "sim.getFloatParam": (self.get_float_param, (P("parameter", integer),)),
             "sim.getBoolParam": (self.get_bool_param, (P("parameter", integer),)),
             # signals
@@ -207,13 +257,17 @@ class SimApi(
             # scripts
             "sim.getScript": (
                 self.get_script,
-                (P("scriptType", integer), P("objectHandle", integer, -1), P("scriptName", anything, None)),
+                (
+                    P("scriptType", integer),
+                    P("objectHandle", integer, -1),
+                    P("scriptName", anything, None),
+                ),
             ),
             "sim.callScriptFunction": (
                 self.call_script_function,
                 (P("functionName", string), P("scriptHandle", anything)),
             ),
-        }  # fmt: skip
+        }
 
     def info(self) -> dict[str, Any]:
         """What ``zmqRemoteApi.info('sim')`` returns: CoppeliaSim's whole ``sim`` namespace

@@ -1,12 +1,16 @@
 """What a served world shows to a watcher, read-only and typed.
 
-A viewer of ``puckboard serve`` (the web page) needs the served world, the robots' model
-names, whether the simulation runs, the wheel targets the clients set, the string
-signals they publish and who drives which robot. Those live in the server's internals
-(the ``sim.*`` state, the object tree, the client table), which change as the served
-functions grow; a viewer reaching into them would be coupled to them where no import
-and no type shows it. :class:`ServedView` is the one face they read instead: each
-property names what it gives, and nothing here lets a viewer change the simulation.
+A viewer of ``puckboard serve`` (the web page) needs the served world's state, the
+robots' model names, whether the simulation runs, the wheel targets the clients set, the
+string signals they publish and who drives which robot. Those live in the server's
+internals (the ``sim.*`` state, the world, the object tree, the client table), which
+change as the served functions grow; a viewer reaching into them would be coupled to them
+where no import and no type shows it. :class:`ServedView` is the one face they read
+instead: each property names what it gives, and nothing here lets a viewer change the
+simulation. The world itself is not handed out: :meth:`ServedView.step` gives a frozen
+:class:`ServedStep` (time, poses, collisions, sensor readings), copied at the step it
+was read, so a viewer neither sees the engine's live arrays change under it nor needs
+to know the engine's types.
 
 Like a step observer, a view is read in the server's thread (between requests), so it
 reads without a lock; it copies nothing it is not asked for.
@@ -25,7 +29,38 @@ if TYPE_CHECKING:  # pragma: no cover
     from .clients import ClientTable
     from .simapi import SimApi
 
-__all__ = ["ServedClient", "ServedView"]
+__all__ = ["ServedClient", "ServedStep", "ServedView"]
+
+
+@dataclass(frozen=True)
+class ServedStep:
+    """The served world at one step, as a viewer sees it: copies, read only, so it stays
+    what it was when read. One row per robot, in the world's robot order."""
+
+    #: The served run it belongs to: 0 for the first, one more after each restore of the
+    #: scene (``sim.stopSimulation``), so a viewer sees where one run ends.
+    run: int
+    #: Simulation time (s) and steps taken since the run began.
+    time: float
+    step_count: int
+    #: N×3 x (m), y (m), theta (rad).
+    poses: np.ndarray
+    #: N collisions counted so far (the judge's count).
+    collisions: np.ndarray
+    #: N×8 IR distances ps0..ps7 (m; ``prox_range`` of that robot: nothing seen).
+    prox_distance: np.ndarray
+    #: The distance that means "nothing seen", per robot (m).
+    prox_range: tuple[float, ...]
+    #: N×3 ground values gs0..gs2 (0 black .. 1 white).
+    ground: np.ndarray
+    #: N×2 wheel speeds left, right (rad/s).
+    wheel_speeds: np.ndarray
+
+
+def _frozen(values: np.ndarray) -> np.ndarray:
+    out = np.array(values)
+    out.flags.writeable = False
+    return out
 
 
 @dataclass(frozen=True)
@@ -52,12 +87,27 @@ class ServedView:
         self._api = api
         self._clients = clients
         self._model_names = tuple(b.name for b in api.objects.bases)
+        self._world: World = api.world
+        self._run = 0
 
-    @property
-    def world(self) -> World:
-        """The served world. ``sim.stopSimulation`` replaces it with the restored scene:
-        a different object from then on."""
-        return self._api.world
+    def step(self) -> ServedStep:
+        """The served world now, frozen. ``sim.stopSimulation`` replaces the world with
+        the restored scene: the step read after it belongs to the next ``run``."""
+        world = self._api.world
+        if world is not self._world:
+            self._world = world
+            self._run += 1
+        return ServedStep(
+            run=self._run,
+            time=float(world.time),
+            step_count=int(world.step_count),
+            poses=_frozen(world.poses),
+            collisions=_frozen(world.collisions),
+            prox_distance=_frozen(world.prox_distance),
+            prox_range=tuple(float(p.prox_range) for p in world.profiles),
+            ground=_frozen(world.ground),
+            wheel_speeds=_frozen(world.wheel_speeds),
+        )
 
     @property
     def scene(self) -> Scene:

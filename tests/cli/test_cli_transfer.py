@@ -4,6 +4,7 @@ and mistakes, on a few seconds of line following."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 
 import pytest
@@ -119,6 +120,32 @@ def test_set_is_every_model_s_base(capsys, tmp_path, in_process):
     assert len({params.get("noise.proximity") for params in rows}) == 3  # the noise family's
 
 
+def test_rows_carry_their_family_and_model_as_columns(capsys, tmp_path, in_process):
+    out = tmp_path / "runs.csv"
+    assert main([*SMALL, "--out", str(out)]) == 0
+    with out.open(newline="", encoding="utf-8") as handle:
+        labels = {(row["family"], row["model"]) for row in csv.DictReader(handle)}
+    assert labels == {
+        ("design; noise", "design; noise ×1"),
+        ("noise", "noise ×2"),
+        ("noise", "noise ×3"),
+    }
+
+
+def test_python_gives_the_report_the_command_prints(capsys, in_process):
+    """The documented entry point (docs/transfer.md): names in, the command's result out."""
+    from puckboard.sweep import RunOptions
+    from puckboard.transfer import format_result, run_transfer
+
+    result = run_transfer(
+        "line-follow", controllers=["stock"], profiles=["epuck"], seeds="0:2",
+        families=["noise"], fixed={"duration": 2.0}, options=RunOptions(executor=InProcess()),
+    )  # fmt: skip
+    assert main(SMALL) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert format_result(result).splitlines()[1:] == printed[1:]  # all but the timing
+
+
 def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
     capsys, tmp_path, monkeypatch, in_process
 ):
@@ -126,9 +153,9 @@ def test_ctrl_c_keeps_what_ran_exits_130_and_the_same_command_resumes(
 
     real = transfer_run.run_sweep
 
-    def stopped_after_one_episode(plan, scene, **kwargs):
-        kwargs.update(executor=CountingExecutor(interrupt_after=1), batch_size=1)
-        return real(plan, scene, **kwargs)
+    def stopped_after_one_episode(plan, scene, options):
+        stopping = CountingExecutor(interrupt_after=1)
+        return real(plan, scene, dataclasses.replace(options, executor=stopping, batch_size=1))
 
     monkeypatch.setattr(transfer_run, "run_sweep", stopped_after_one_episode)
     out = tmp_path / "runs.csv"
