@@ -104,25 +104,51 @@ class Sensor(str, enum.Enum):
         return self.value
 
 
-def _frozen_array(values: Any, n: int, what: str, *, dtype: Any = np.float64) -> np.ndarray:
-    """A read-only copy of ``values`` as ``n`` finite numbers, or a ValueError naming ``what``.
+def _frozen_array(values: Any, n: int, what: str) -> tuple[np.ndarray, list[float]]:
+    """A read-only copy of ``values`` as ``n`` finite numbers, and the numbers as a list
+    (for a record's own checks), or a ValueError naming ``what``.
 
     The checks run on a Python list: for 3 or 8 values that is several times cheaper than
-    numpy's reductions, and records are built for every robot on every control cycle.
+    numpy's reductions, and records are built for every robot on every control cycle. A
+    sum of finite numbers is finite unless it overflows, so one sum clears the usual
+    case and only a sum that is not finite looks at each number.
     """
-    arr = np.array(values, dtype=dtype, copy=True)
+    if type(values) is np.ndarray and values.dtype == np.float64:
+        arr = values.copy()  # the world's rows: a copy without np.array's conversions
+    else:
+        arr = np.array(values, dtype=np.float64, copy=True)
     if arr.shape != (n,):
         raise ValueError(f"{what} needs {n} values, got an array of shape {arr.shape}")
-    if arr.dtype.kind == "f" and not all(map(math.isfinite, arr.tolist())):
-        raise ValueError(f"{what} must be finite numbers, got {arr.tolist()}")
+    listed: list[float] = arr.tolist()
+    if not math.isfinite(sum(listed)) and not all(map(math.isfinite, listed)):
+        raise ValueError(f"{what} must be finite numbers, got {listed}")
     arr.setflags(write=False)
-    return arr
+    return arr, listed
 
 
 def _check_finite(cls_name: str, **values: float) -> None:
     for name, value in values.items():
         if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
             raise NonFiniteError(f"{cls_name}.{name} must be a finite number, got {value!r}")
+
+
+def _store(record: object, fields: dict[str, Any]) -> None:
+    """Set a frozen record's fields, which its ``__init__`` has checked, in one step.
+
+    A frozen dataclass's own ``__init__`` sets them one at a time through
+    ``object.__setattr__``; for the records built for every robot on every control cycle
+    that cost more than checking them."""
+    object.__setattr__(record, "__dict__", fields)
+
+
+def _finite_floats(*values: float) -> bool:
+    """Whether every value is a plain finite float: the usual case of a record built
+    every cycle, cleared without :func:`_check_finite`'s keyword loop (anything else
+    gets that full check, and its error)."""
+    for value in values:
+        if type(value) is not float or not -math.inf < value < math.inf:
+            return False
+    return True
 
 
 class _Named:
@@ -145,7 +171,7 @@ class _Named:
         return {n: float(v) for n, v in zip(type(self)._names, values)}
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Proximity(_Named):
     """The 8 IR proximity sensors, in ps0..ps7 order.
 
@@ -161,18 +187,18 @@ class Proximity(_Named):
     _names = PROX_NAMES
     _field = "distance"
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", _frozen_array(self.distance, 8, "Proximity.distance"))
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Proximity.raw"))
-        _check_finite("Proximity", range=self.range)
-        if self.range <= 0:
-            raise ValueError(f"Proximity.range must be positive (m), got {self.range}")
-        distances = self.distance.tolist()
-        if min(distances) < 0 or max(distances) > self.range + 1e-9:
+    def __init__(self, distance: Any, raw: Any, range: float = 0.05) -> None:
+        distance, distances = _frozen_array(distance, 8, "Proximity.distance")
+        raw, _ = _frozen_array(raw, 8, "Proximity.raw")
+        if not _finite_floats(range):
+            _check_finite("Proximity", range=range)
+        if range <= 0:
+            raise ValueError(f"Proximity.range must be positive (m), got {range}")
+        if min(distances) < 0 or max(distances) > range + 1e-9:
             raise ValueError(
-                f"Proximity.distance must lie in [0, range={self.range}] m, got "
-                f"{self.distance.tolist()}"
+                f"Proximity.distance must lie in [0, range={range}] m, got {distances}"
             )
+        _store(self, {"distance": distance, "raw": raw, "range": range})
 
     def raw_of(self, name: str) -> float:
         """Raw e-puck value of one sensor by name."""
@@ -192,7 +218,7 @@ class Proximity(_Named):
         return cls(np.full(8, range), np.zeros(8), range)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Ground(_Named):
     """The 3 ground sensors gs0 (left), gs1 (centre), gs2 (right).
 
@@ -206,12 +232,12 @@ class Ground(_Named):
     _names = GROUND_NAMES
     _field = "value"
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "value", _frozen_array(self.value, 3, "Ground.value"))
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 3, "Ground.raw"))
-        values = self.value.tolist()
+    def __init__(self, value: Any, raw: Any) -> None:
+        value, values = _frozen_array(value, 3, "Ground.value")
+        raw, _ = _frozen_array(raw, 3, "Ground.raw")
         if min(values) < 0 or max(values) > 1:
             raise ValueError(f"Ground.value must lie in [0, 1], got {values}")
+        _store(self, {"value": value, "raw": raw})
 
     def dark(self, threshold: float = 0.5) -> npt.NDArray[np.bool_]:
         """Which sensors see the line (value below ``threshold``)."""
@@ -228,10 +254,10 @@ class Light(_Named):
     _field = "raw"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw"))
+        object.__setattr__(self, "raw", _frozen_array(self.raw, 8, "Light.raw")[0])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Acceleration:
     """Linear acceleration in the robot frame (m/s²), gravity included on z."""
 
@@ -239,11 +265,13 @@ class Acceleration:
     y: float
     z: float
 
-    def __post_init__(self) -> None:
-        _check_finite("Acceleration", x=self.x, y=self.y, z=self.z)
+    def __init__(self, x: float, y: float, z: float) -> None:
+        if not _finite_floats(x, y, z):
+            _check_finite("Acceleration", x=x, y=y, z=z)
+        _store(self, {"x": x, "y": y, "z": z})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class AngularVelocity:
     """Angular velocity in the robot frame (rad/s), as a gyroscope measures it.
 
@@ -257,57 +285,56 @@ class AngularVelocity:
     y: float
     z: float
 
-    def __post_init__(self) -> None:
-        _check_finite("AngularVelocity", x=self.x, y=self.y, z=self.z)
+    def __init__(self, x: float, y: float, z: float) -> None:
+        if not _finite_floats(x, y, z):
+            _check_finite("AngularVelocity", x=x, y=y, z=z)
+        _store(self, {"x": x, "y": y, "z": z})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelEncoders:
     """Accumulated wheel rotation (rad) since the adapter opened; never wraps."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        _check_finite("WheelEncoders", left=self.left, right=self.right)
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
+            _check_finite("WheelEncoders", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelSpeeds:
     """Measured (or, where nothing measures them, commanded) wheel speeds (rad/s)."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        _check_finite("WheelSpeeds", left=self.left, right=self.right)
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
+            _check_finite("WheelSpeeds", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class WheelCommand:
     """A wheel speed command (rad/s), as produced by a behaviour layer."""
 
     left: float
     right: float
 
-    def __post_init__(self) -> None:
-        # every layer decision and every wheel write builds one: plain finite floats (the
-        # usual case) are accepted without the general check's keyword-argument loop
-        left, right = self.left, self.right
-        if not (
-            type(left) is float
-            and type(right) is float
-            and -math.inf < left < math.inf
-            and -math.inf < right < math.inf
-        ):
+    def __init__(self, left: float, right: float) -> None:
+        if not _finite_floats(left, right):
             _check_finite("WheelCommand", left=left, right=right)
+        _store(self, {"left": left, "right": right})
 
     @classmethod
     def stop(cls) -> WheelCommand:
         return cls(0.0, 0.0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Pose:
     """Planar pose: position (m) and heading (rad, counter-clockwise from world x).
 
@@ -320,8 +347,10 @@ class Pose:
     theta: float
     ground_truth: bool = False
 
-    def __post_init__(self) -> None:
-        _check_finite("Pose", x=self.x, y=self.y, theta=self.theta)
+    def __init__(self, x: float, y: float, theta: float, ground_truth: bool = False) -> None:
+        if not _finite_floats(x, y, theta):
+            _check_finite("Pose", x=x, y=y, theta=theta)
+        _store(self, {"x": x, "y": y, "theta": theta, "ground_truth": ground_truth})
 
 
 @dataclass(frozen=True, eq=False)

@@ -163,6 +163,7 @@ class RobotAdapter(SensingThreads, abc.ABC):
         self.command_timeout = command_timeout
         self.io_lock = threading.RLock()
         self._enabled: set[Sensor] = set(self.available_sensors) - self.opt_in_sensors
+        self._sense_all_reads = frozenset(self._enabled - {Sensor.CAMERA})
         self._stale_after: float | None = None
         self._closed = False
         self._clamp_warned = False
@@ -182,6 +183,8 @@ class RobotAdapter(SensingThreads, abc.ABC):
                 board = Blackboard(clock=clock)
             ns = board.namespace(self.name)
         declare_robot_keys(ns, max_age=self._stale_after)
+        # each sensor's absolute key, spelt once: a record per sensor is written every cycle
+        self._keys = {sensor: ns.prefix + sensor.key for sensor in Sensor}
         return ns
 
     def set_stale_after(self, seconds: float | None) -> None:
@@ -215,10 +218,12 @@ class RobotAdapter(SensingThreads, abc.ABC):
                     f"available: {', '.join(sorted(x.value for x in self.available_sensors))}"
                 )
             self._enabled.add(s)
+        self._sense_all_reads = frozenset(self._enabled - {Sensor.CAMERA})
 
     def disable(self, *sensors: Sensor | str) -> None:
         for s in map(_as_sensor, sensors):
             self._enabled.discard(s)
+        self._sense_all_reads = frozenset(self._enabled - {Sensor.CAMERA})
 
     @property
     def enabled_sensors(self) -> frozenset[Sensor]:
@@ -229,10 +234,9 @@ class RobotAdapter(SensingThreads, abc.ABC):
 
         Returns the records by sensor. Sensor observers are told which sensors changed.
         """
-        wanted = frozenset(self._enabled - {Sensor.CAMERA})
         with self.io_lock:
             self._ensure_open()
-            records = self._read_sensors(wanted)
+            records = self._read_sensors(self._sense_all_reads)
             stamp = self.now()
         self._publish(records, stamp)
         self._check_watchdog()
@@ -268,12 +272,10 @@ class RobotAdapter(SensingThreads, abc.ABC):
         if not records:
             return
         # One dict keyed by the absolute keys, written straight to the board (what
-        # ``Namespace.put_many`` does after re-keying a second dict); ``_value_`` is the
-        # key (Sensor.key), whose property would cost a Python call per record.
-        ns = self.ns
-        prefix = ns.prefix
-        ns.board.put_many(
-            {prefix + s.value: r for s, r in records.items()}, stamp=stamp, writer=self.name
+        # ``Namespace.write_many`` does after re-keying a second dict).
+        keys = self._keys
+        self.ns.board.write_many(
+            {keys[s]: r for s, r in records.items()}, stamp=stamp, writer=self.name
         )
         if self._sensor_observers:  # no set to build on the usual, unobserved cycle
             self._tell_sensor_observers(frozenset(records))

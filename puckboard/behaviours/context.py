@@ -18,8 +18,7 @@ from __future__ import annotations
 
 import difflib
 import reprlib
-import time
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -121,11 +120,6 @@ class TickContext:
     proposal: tuple[str, WheelCommand] | None = None
     #: The layer whose ``observe``, ``applies`` or ``command`` raised during this tick.
     failed_layer: str | None = None
-    #: Seconds each layer's own code took, by layer name, while the loop times a slow
-    #: controller (``Controller.time_layers``); ``None``, timing nothing, else.
-    timings: dict[str, float] | None = None
-    #: The clock ``timings`` are read from.
-    clock: Callable[[], float] = time.perf_counter
 
     def begin(self, snapshot: Snapshot) -> Frame:
         """Start a tick: its snapshot, no proposal and no failure yet. Returns the

@@ -33,6 +33,7 @@ fix, rather than a failure at the first tick the layer is asked (or never).
 from __future__ import annotations
 
 import difflib
+import time
 from collections.abc import Callable, Iterable, Sequence
 
 import py_trees
@@ -43,6 +44,7 @@ from ..errors import LayerError
 from ..records import WheelCommand
 from .context import ROBOT_KEYS, TickContext
 from .layer import Layer, LayerNode, as_behaviour, layer_of
+from .layer_timing import LayerTiming
 
 __all__ = ["NO_LAYER", "Controller"]
 
@@ -112,6 +114,8 @@ class Controller:
         self.asked_ticks = 0
         self.driven_ticks = 0
         self._checked: Namespace | None = None  # the namespace whose keys were checked
+        self._command_keys = ("command/wheels", "command/layer")  # as absolute keys there
+        self._timing: LayerTiming | None = None  # attached while the layers are timed
         self.tree.setup(context=self.context)
         #: Each layer with the frame it reads through (made at setup, see LayerNode).
         self._frames = [(node.layer, node.frame) for node in nodes]
@@ -151,8 +155,15 @@ class Controller:
                 layer_name, cmd = "(stale inputs)", WheelCommand.stop()
                 break
         else:
-            self._observe(snapshot, context.timings)  # every layer, whoever drives
-            self.tree.tick()
+            self._observe(snapshot, self._timing)  # every layer, whoever drives
+            tree = self.tree
+            if tree.visitors or tree.pre_tick_handlers or tree.post_tick_handlers:
+                tree.tick()  # a trace, a timing or a user's visitor sees every node
+            else:
+                # nothing watches: py_trees' own tick of the root, the same ticks without
+                # the tree's walks for visitors (still counted, as BehaviourTree.tick does)
+                self.root.tick_once()
+                tree.count += 1
             self.asked_ticks += 1
             proposal = context.proposal
             if proposal is None:
@@ -162,20 +173,17 @@ class Controller:
                 self.driven_ticks += 1
         self.active_layer = layer_name
         self.last_command = cmd
-        ns.put_many(
-            {"command/wheels": cmd, "command/layer": layer_name},
-            stamp=snapshot.now,
-            writer=self.name,
-        )
+        wheels, layer = self._command_keys
+        ns.board.write_many({wheels: cmd, layer: layer_name}, stamp=snapshot.now, writer=self.name)
         return cmd
 
-    def _observe(self, snapshot: Snapshot, timings: dict[str, float] | None) -> None:
+    def _observe(self, snapshot: Snapshot, timing: LayerTiming | None) -> None:
         """Every layer observes the snapshot (subsumption: arbitration suppresses outputs,
-        not perception); with ``timings``, each adds the seconds its ``observe`` took."""
+        not perception); with ``timing``, each adds the seconds its ``observe`` took."""
         context = self.context
         for layer, frame in self._frames:
             frame.point_at(snapshot)
-            start = context.clock() if timings is not None else 0.0
+            start = timing.clock() if timing is not None else 0.0
             try:
                 layer.observe(frame)
             except Exception as exc:
@@ -184,27 +192,25 @@ class Controller:
                     raise
                 raise error from exc
             finally:
-                if timings is not None:
-                    timings[layer.name] = timings.get(layer.name, 0.0) + context.clock() - start
+                if timing is not None:
+                    timing.add(layer.name, timing.clock() - start)
 
     def time_layers(
-        self, timings: dict[str, float] | None, clock: Callable[[], float] | None = None
+        self, timings: dict[str, float] | None, clock: Callable[[], float] = time.perf_counter
     ) -> None:
         """From the next tick on, add the seconds each layer's own code takes
         (``observe``, ``applies``, ``command``) to ``timings[layer name]``, read from
-        ``clock`` (default ``time.perf_counter``); ``None`` stops timing. Timing is done
-        where the controller calls the layers (its tick, each layer's node), never on
-        the layer objects, and an untimed tick pays nothing for it."""
-        context = self.context
-        context.timings = timings
-        if clock is not None:
-            context.clock = clock
-        for node in self.root.iterate():
-            if isinstance(node, LayerNode):
-                if timings is None:
-                    vars(node).pop("update", None)
-                else:  # py_trees calls the node's update(): this node's, timed
-                    node.update = node.timed_update  # type: ignore[method-assign]
+        ``clock``; ``None`` stops timing. The controller times ``observe`` where it
+        calls it; ``applies`` and ``command`` are timed by a py_trees visitor
+        (:class:`~puckboard.behaviours.layer_timing.LayerTiming`) attached to the tree
+        only while timing, so an untimed tick pays nothing for it and nothing is set on
+        a layer or its node."""
+        if self._timing is not None:
+            self.tree.visitors.remove(self._timing)
+            self._timing = None
+        if timings is not None:
+            self._timing = LayerTiming(timings, clock)
+            self.tree.add_visitor(self._timing)
 
     def check_keys(self, ns: Namespace) -> None:
         """Refuse a key read by a layer (or in ``requires``) that robot ``ns`` cannot have.
@@ -223,6 +229,7 @@ class Controller:
                 unknown = _unknown_key(key, ns, known)
                 raise LayerError(f"controller {self.name!r} requires {unknown}")
         self._checked = ns
+        self._command_keys = (ns.key("command/wheels"), ns.key("command/layer"))
 
     def reset(self) -> None:
         """Start afresh: stop every behaviour of the tree, let every layer forget what it

@@ -167,20 +167,6 @@ class LayerNode(py_trees.behaviour.Behaviour):
         context.propose(self.name, command)
         return Status.RUNNING
 
-    def timed_update(self) -> Status:
-        """:meth:`update`, adding the seconds it took (the layer's ``applies`` and
-        ``command``) to the tick context's ``timings``. The controller ticks its nodes
-        with it while the loop times a slow controller
-        (:meth:`~puckboard.behaviours.Controller.time_layers`); ``update`` itself
-        times nothing, so a run that is not timed pays nothing for it."""
-        context = self.context
-        assert context is not None and context.timings is not None
-        timings, start = context.timings, context.clock()
-        try:
-            return LayerNode.update(self)
-        finally:
-            timings[self.name] = timings.get(self.name, 0.0) + context.clock() - start
-
 
 _BOOL = "it must return True or False (a bool)"
 

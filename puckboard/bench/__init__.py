@@ -33,6 +33,7 @@ log = logging.getLogger(__name__)
 #: default) and returns a dict of results.
 SUITES: dict[str, str] = {
     "core": "puckboard.bench.core:run_suite",
+    "floor": "puckboard.bench.floor:run_suite",
     "sim": "puckboard.bench.sim:run_suite",
     "coppeliasim": "puckboard.bench.coppeliasim:run_suite",
     "sweep": "puckboard.bench.sweep:run_suite",

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from .bare_tree import bare_selector
 from .timing import REPEATS, seconds_per_call
 
 __all__ = ["run_suite"]
@@ -93,39 +94,8 @@ def run_suite(steps: int | None = None) -> dict[str, Any]:
     out["observe_pass_us"] = _median_us(observe_pass, calls)
 
     # the same shape in plain py_trees: 4 children reading via a Client, writing a command
-    py_trees.blackboard.Blackboard.clear()
-    writer = py_trees.blackboard.Client(name="sensors")
-    writer.register_key("ground", access=py_trees.common.Access.WRITE)
-    writer.register_key("proximity", access=py_trees.common.Access.WRITE)
-    writer.set("ground", (0.9, 0.1, 0.9))
-    writer.set("proximity", tuple([0.05] * 8))
-
-    class _Layer(py_trees.behaviour.Behaviour):
-        def __init__(self, name: str, key: str, wants: Callable[[Any], bool]) -> None:
-            super().__init__(name)
-            self.key = key
-            self.wants = wants
-            self.bb = self.attach_blackboard_client(name=name)
-            self.bb.register_key(key, access=py_trees.common.Access.READ)
-            self.bb.register_key("cmd", access=py_trees.common.Access.WRITE)
-
-        def update(self) -> py_trees.common.Status:
-            reading = self.bb.get(self.key)
-            if not self.wants(reading):
-                return py_trees.common.Status.FAILURE
-            self.bb.set("cmd", (1.0, 1.0))
-            return py_trees.common.Status.RUNNING
-
-    children = [
-        _Layer("avoid", "proximity", lambda p: min(p[0], p[7]) < 0.05),
-        _Layer("line", "ground", lambda g: min(g) < 0.5),
-        _Layer("wall", "proximity", lambda p: p[2] < 0.05),
-        _Layer("cruise", "ground", lambda g: True),
-    ]
-    root = py_trees.composites.Selector("arbiter", memory=False, children=children)
-    tree = py_trees.trees.BehaviourTree(root)
-    tree.setup()
-    out["py_trees_selector_tick_us"] = _median_us(tree.tick, calls)
+    tick = bare_selector()
+    out["py_trees_selector_tick_us"] = _median_us(tick, calls)
     out["arbiter_over_selector"] = round(
         out["arbiter_tick_us"] / out["py_trees_selector_tick_us"], 2
     )

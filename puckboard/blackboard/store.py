@@ -40,6 +40,9 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 Subscriber = Callable[[Record], None]
+#: A write as a slot keeps it: (value, stamp, received, seq, writer), a Record's fields
+#: after its key.
+Entry = tuple[Any, float, float, int, str]
 
 
 class MissingValueError(KeyError):
@@ -57,6 +60,8 @@ class StaleValueError(LookupError):
 class _Slot:
     schema: Schema | None = None
     max_age: float | None = None
+    #: the newest write, and its Record once anyone asked for it (see Blackboard)
+    entry: Entry | None = None
     record: Record | None = None
     history: deque[Record] | None = None
     seq: int = 0
@@ -83,34 +88,42 @@ class Snapshot(Mapping[str, Record]):
     ``snap[key]`` returns the fresh record or raises :class:`MissingValueError` /
     :class:`StaleValueError`; ``snap.get(key)`` returns ``None`` for both;
     ``snap.status(key)`` says which of ``"fresh"``, ``"stale"`` and ``"missing"`` it is.
+    ``snap.value(key)`` is the fresh record's value. The writes are held as they were
+    made (``entries``, keyed relative to ``prefix``) and each :class:`Record` is made
+    when first asked for.
     """
 
-    __slots__ = ("_max_age", "_records", "now")
+    __slots__ = ("_entries", "_max_age", "_prefix", "_records", "now")
 
     def __init__(
-        self, records: dict[str, Record | None], max_age: dict[str, float | None], now: float
+        self,
+        entries: dict[str, Entry | None],
+        max_age: dict[str, float | None],
+        now: float,
+        prefix: str = "",
     ) -> None:
-        self._records = records
+        self._entries = entries
         self._max_age = max_age
+        self._prefix = prefix
+        self._records: dict[str, Record] | None = None
         self.now = now
 
     def status(self, key: str) -> str:
-        rec = self._records.get(key)
-        if rec is None:
+        entry = self._entries.get(key)
+        if entry is None:
             return "missing"
         limit = self._max_age.get(key)
-        if limit is not None and self.now - rec.stamp > limit:
+        if limit is not None and self.now - entry[1] > limit:
             return "stale"
         return "fresh"
 
     def __getitem__(self, key: str) -> Record:
         status = self.status(key)
         if status == "fresh":
-            return self._records[key]  # type: ignore[return-value]
+            return self._record(key)
         if status == "missing":
             raise MissingValueError(f"no value has been written to blackboard key {key!r} yet")
-        rec = self._records[key]
-        assert rec is not None
+        rec = self._record(key)
         raise StaleValueError(
             f"blackboard key {key!r} is stale: its newest value is {self.now - rec.stamp:.3f} s "
             f"old, the key allows {self._max_age[key]} s"
@@ -118,31 +131,43 @@ class Snapshot(Mapping[str, Record]):
 
     def get(self, key: str, default: Any = None) -> Any:  # type: ignore[override]
         """The fresh record, or ``default`` when missing or stale."""
-        return self._records[key] if self.status(key) == "fresh" else default  # type: ignore[return-value]
+        return self._record(key) if self.status(key) == "fresh" else default
 
     def value(self, key: str, default: Any = None) -> Any:
         """The fresh value, or ``default`` when missing or stale."""
         # layers call this several times per tick: the status test inlined, not re-called
-        rec = self._records.get(key)
-        if rec is None:
+        entry = self._entries.get(key)
+        if entry is None:
             return default
         limit = self._max_age.get(key)
-        if limit is not None and self.now - rec.stamp > limit:
+        if limit is not None and self.now - entry[1] > limit:
             return default
-        return rec.value
+        return entry[0]
 
     def record(self, key: str) -> Record | None:
         """The newest record whatever its age (``None`` if missing)."""
-        return self._records.get(key)
+        return self._record(key) if self._entries.get(key) is not None else None
+
+    def _record(self, key: str) -> Record:
+        """The Record of ``key``'s write (which exists), made once per snapshot."""
+        records = self._records
+        if records is None:
+            records = self._records = {}
+        rec = records.get(key)
+        if rec is None:
+            entry = self._entries[key]
+            assert entry is not None
+            rec = records[key] = Record(self._prefix + key, *entry)
+        return rec
 
     def __iter__(self):  # type: ignore[no-untyped-def]
-        return iter(self._records)
+        return iter(self._entries)
 
     def __len__(self) -> int:
-        return len(self._records)
+        return len(self._entries)
 
     def __repr__(self) -> str:
-        parts = ", ".join(f"{k}: {self.status(k)}" for k in self._records)
+        parts = ", ".join(f"{k}: {self.status(k)}" for k in self._entries)
         return f"Snapshot(now={self.now:.3f}, {parts})"
 
 
@@ -155,6 +180,12 @@ class Blackboard:
     ``clock`` is the time base of stamps and staleness. A simulation passes its
     simulation clock (so staleness means simulated seconds, whatever the speed-up); the
     default is the host's monotonic clock.
+
+    A write keeps its fields as they came (value, stamp, time received, sequence number,
+    writer) and the :class:`Record` holding them is made when someone asks for it: a
+    robot writes a dozen keys every control cycle and its controller reads two or three
+    values, so most records would never be looked at. Whoever asks for one gets the
+    same immutable record, whenever they ask.
     """
 
     def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
@@ -203,7 +234,20 @@ class Blackboard:
     def put_many(
         self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
     ) -> list[Record]:
-        """Write several values atomically: a snapshot sees all of them or none."""
+        """Write several values atomically: a snapshot sees all of them or none. Returns
+        the records stored."""
+        return self._write(values, stamp, writer, True)
+
+    def write_many(
+        self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
+    ) -> None:
+        """:meth:`put_many` for a writer that does not need the records back (a robot's
+        sensing cycle, a controller's decision): none is made until someone reads one."""
+        self._write(values, stamp, writer, False)
+
+    def _write(
+        self, values: Mapping[str, Any], stamp: float | None, writer: str, records: bool
+    ) -> list[Record]:
         received = time.monotonic()
         if stamp is None:
             stamp = self.clock()
@@ -219,15 +263,19 @@ class Blackboard:
                 elif slot.schema is not None and type(value) is not slot.exact_type:
                     check(key, slot.schema, value)
                 pending.append((key, value, slot))
+            made = records or bool(self._subscribers)  # records someone is handed now
             for key, value, slot in pending:
                 if slot is None:
                     slot = slots[key] = _Slot()
                 seq = slot.seq = slot.seq + 1
-                rec = Record(key, value, stamp, received, seq, writer)
-                slot.record = rec
-                if slot.history is not None:
-                    slot.history.append(rec)
-                written.append(rec)
+                entry = slot.entry = (value, stamp, received, seq, writer)
+                if made or slot.history is not None:
+                    rec = slot.record = Record(key, *entry)
+                    if slot.history is not None:
+                        slot.history.append(rec)
+                    written.append(rec)
+                else:
+                    slot.record = None
             # waking waiters costs a lock probe even when nobody waits, on every write
             if self._waiting:
                 self._changed.notify_all()
@@ -244,7 +292,7 @@ class Blackboard:
         """The newest record of ``key`` whatever its age; raises if never written."""
         with self._lock:
             slot = self._slots.get(key)
-            rec = slot.record if slot is not None else None
+            rec = _record_of(key, slot) if slot is not None else None
         if rec is None:
             raise MissingValueError(f"no value has been written to blackboard key {key!r} yet")
         return rec
@@ -259,13 +307,13 @@ class Blackboard:
             now = self.clock()
             if keys is None:
                 keys = [k for k in self._slots if k.startswith(prefix)]
-            records: dict[str, Record | None] = {}
+            entries: dict[str, Entry | None] = {}
             ages: dict[str, float | None] = {}
             for key in keys:
                 slot = self._slots.get(key)
-                records[key] = slot.record if slot is not None else None
+                entries[key] = slot.entry if slot is not None else None
                 ages[key] = slot.max_age if slot is not None else None
-        return Snapshot(records, ages, now)
+        return Snapshot(entries, ages, now)
 
     def history(self, key: str) -> tuple[Record, ...]:
         """The kept history of ``key``, oldest first (empty if none is kept)."""
@@ -276,7 +324,9 @@ class Blackboard:
     def keys(self, prefix: str = "") -> list[str]:
         """Every key that holds a value, sorted."""
         with self._lock:
-            return sorted(k for k, s in self._slots.items() if s.record and k.startswith(prefix))
+            return sorted(
+                k for k, s in self._slots.items() if s.entry is not None and k.startswith(prefix)
+            )
 
     def declared_keys(self, prefix: str = "") -> list[str]:
         """Every key declared or written, sorted: what a reader may expect to see, where
@@ -295,8 +345,9 @@ class Blackboard:
         with self._lock:
             while True:
                 slot = self._slots.get(key)
-                if slot is not None and slot.record is not None and slot.record.seq > after_seq:
-                    return slot.record
+                rec = _record_of(key, slot) if slot is not None else None
+                if rec is not None and rec.seq > after_seq:
+                    return rec
                 remaining = None if deadline is None else deadline - time.monotonic()
                 if remaining is not None and remaining <= 0:
                     raise TimeoutError(
@@ -379,6 +430,12 @@ class Namespace:
             {p + k: v for k, v in values.items()}, stamp=stamp, writer=writer
         )
 
+    def write_many(
+        self, values: Mapping[str, Any], *, stamp: float | None = None, writer: str = ""
+    ) -> None:
+        p = self.prefix
+        self.board.write_many({p + k: v for k, v in values.items()}, stamp=stamp, writer=writer)
+
     def get(self, key: str) -> Record:
         return self.board.get(self.prefix + key)
 
@@ -392,7 +449,7 @@ class Namespace:
             # every controller tick takes one: read the slots directly under the board's
             # lock instead of building absolute keys and re-keying a second snapshot
             board = self.board
-            records: dict[str, Record | None] = {}
+            entries: dict[str, Entry | None] = {}
             ages: dict[str, float | None] = {}
             with board._lock:
                 now = board.clock()
@@ -400,17 +457,18 @@ class Namespace:
                 for key in keys:
                     slot = slots.get(p + key)
                     if slot is None:
-                        records[key] = ages[key] = None
+                        entries[key] = ages[key] = None
                     else:
-                        records[key] = slot.record
+                        entries[key] = slot.entry
                         ages[key] = slot.max_age
-            return Snapshot(records, ages, now)
+            return Snapshot(entries, ages, now, p)
         snap = self.board.snapshot(prefix=p)
         n = len(p)
         return Snapshot(
-            {k[n:]: r for k, r in snap._records.items()},
+            {k[n:]: e for k, e in snap._entries.items()},
             {k[n:]: a for k, a in snap._max_age.items()},
             snap.now,
+            p,
         )
 
     def history(self, key: str) -> tuple[Record, ...]:
@@ -437,6 +495,14 @@ class Namespace:
 
     def __repr__(self) -> str:
         return f"Namespace({self.name!r})"
+
+
+def _record_of(key: str, slot: _Slot) -> Record | None:
+    """The Record of ``slot``'s newest write, made on first asking (hold the lock)."""
+    rec = slot.record
+    if rec is None and slot.entry is not None:
+        rec = slot.record = Record(key, *slot.entry)
+    return rec
 
 
 def _matches(pattern: str, key: str) -> bool:

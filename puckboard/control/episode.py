@@ -175,6 +175,9 @@ class Episode:
             self.judge = Judge(self.scene)
             self._clock_offset: float | None = None  # record clock minus run clock, real robots
             self._order = [self.world.index(n) for n in specs] if self.world is not None else None
+            # the judge takes the robots in the scene's order: the world's rows, reordered
+            # only when they differ
+            self._reorder = self._order is not None and self._order != list(range(len(specs)))
         except BaseException:
             self.connection.close()
             raise
@@ -239,7 +242,7 @@ class Episode:
         if self.world is not None:
             poses = self.world.poses
             collisions = self.world.collisions
-            if self._order is not None and self._order != list(range(len(self._order))):
+            if self._reorder:
                 poses = poses[self._order]
                 collisions = collisions[self._order]
             self.judge.update(self.world.time, poses, collisions)

@@ -20,9 +20,9 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from ..backends.base import RobotAdapter, Stepper
-from ..behaviours.controller import Controller
 from ..records import Sensor
 from .tick_timing import TickTimer
+from .tickable import Tickable
 
 __all__ = ["Binding", "ControlLoop", "ControllerFailure"]
 
@@ -49,7 +49,7 @@ class Binding:
     """One robot in the loop: its adapter and the controller that drives it."""
 
     adapter: RobotAdapter
-    controller: Controller
+    controller: Tickable
 
 
 class ControlLoop:
@@ -63,7 +63,7 @@ class ControlLoop:
 
     def __init__(
         self,
-        bindings: Iterable[Binding | tuple[RobotAdapter, Controller]],
+        bindings: Iterable[Binding | tuple[RobotAdapter, Tickable]],
         *,
         period: float | None = None,
         stale_after: float | None = None,
@@ -168,12 +168,11 @@ class ControlLoop:
                     b.adapter.name, b.controller, self.period
                 )
             try:
-                with timer.tick():
-                    cmd = b.controller.tick(b.adapter.ns)
+                cmd = timer.tick(b.adapter.ns)
             except Exception:
                 # the exception goes on unchanged; this says where it happened, for the
                 # one-line summary a command prints after the traceback
-                layer = getattr(b.controller, "failed_layer", None)
+                layer = b.controller.failed_layer
                 self.failure = ControllerFailure(b.adapter.name, self.time, layer)
                 raise
             b.adapter.command_wheels(cmd)

@@ -65,6 +65,7 @@ import numpy.typing as npt
 from ..geometry import project_on_segments
 from ..profile import get_profile, profile_values
 from .scene import CircleObstacle, PolygonObstacle, Scene
+from .track_position import NearestSegment, TrackProjector
 
 __all__ = ["FAILURES", "Event", "Judge", "JudgeRules", "RobotMetrics"]
 
@@ -145,41 +146,6 @@ class RobotMetrics:
         }
 
 
-class _TrackProjector:
-    """Nearest point on a polyline, as arc length, for several points at once.
-
-    One P×S array per quantity (P points, S segments); per-segment data are kept as
-    contiguous 1-D arrays so each numpy call streams through memory once.
-    """
-
-    def __init__(self, segments: FloatArray, closed: bool) -> None:
-        d = segments[:, 1] - segments[:, 0]
-        self.ax = np.ascontiguousarray(segments[:, 0, 0])
-        self.ay = np.ascontiguousarray(segments[:, 0, 1])
-        self.dx = np.ascontiguousarray(d[:, 0])
-        self.dy = np.ascontiguousarray(d[:, 1])
-        self.seg_len = np.hypot(self.dx, self.dy)
-        self.inv_len2 = 1.0 / np.maximum(self.seg_len**2, 1e-18)
-        self.heading = np.arctan2(self.dy, self.dx)
-        self.cum = np.concatenate([[0.0], np.cumsum(self.seg_len)])[:-1]
-        self.length = float(self.seg_len.sum())
-        self.closed = closed
-
-    def project(self, points: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(arc position, distance to the line, track heading there) for P×2 points."""
-        t, wx, wy = project_on_segments(
-            points[:, 0:1] - self.ax, points[:, 1:2] - self.ay, self.dx, self.dy,
-            inv_len2=self.inv_len2,
-        )  # fmt: skip
-        wx *= wx
-        wy *= wy
-        wx += wy  # squared distance
-        best = np.argmin(wx, axis=1)
-        rows = np.arange(len(points))
-        arc = self.cum[best] + t[rows, best] * self.seg_len[best]
-        return arc, np.sqrt(wx[rows, best]), self.heading[best]
-
-
 @dataclass
 class _RobotState:
     name: str
@@ -205,6 +171,8 @@ class _RobotState:
     obstacle_k0: list[int] = field(default_factory=list)
     obstacle_k: list[int] = field(default_factory=list)
     history: deque[tuple[float, float, float, float]] = field(default_factory=deque)
+    #: the positions (time, x, y) of the stuck test's window, oldest first
+    window: deque[tuple[float, float, float]] = field(default_factory=deque)
     contacts: set[str] = field(default_factory=set)
 
 
@@ -243,9 +211,11 @@ class Judge:
             ground_x = float(np.mean([p.x for p in profile.ground_poses]))
             self.robots.append(_RobotState(spec.name, profile.body_radius, ground_x))
         track = scene.track
-        self.projector = _TrackProjector(track.segments(), track.closed) if track else None
-        self._points = np.zeros((2 * self.n, 2))
-        self._sensor_offsets = np.array([r.sensor_offset for r in self.robots])
+        projector = TrackProjector(track.segments(), track.closed) if track else None
+        self.projector = projector
+        # each robot's centre and sensor point, followed along the track cycle by cycle
+        self._centres = [NearestSegment(projector) for _ in self.robots] if projector else []
+        self._sensors = [NearestSegment(projector) for _ in self.robots] if projector else []
         self.length = self.projector.length if self.projector else 0.0
         self.on_line_tolerance = (track.width / 2 if track else 0.0) + self.rules.on_line_margin
         # obstacles standing on the line, with their arc positions
@@ -272,6 +242,9 @@ class Judge:
         self._pair_k0: dict[tuple[int, int], int] = {}
         self._pair_k: dict[tuple[int, int], int] = {}
         self._parallel_since: dict[tuple[int, int], float | None] = {}
+        # how long a robot's positions are kept (the longest window that reads them)
+        self._horizon = max(self.rules.stuck_s, self.rules.settle_s) + 1.0
+        self._sim_counts: list[int] = [0] * self.n  # the simulator's collision counts
 
     # -- feeding ---------------------------------------------------------------------------
     def update(
@@ -282,14 +255,20 @@ class Judge:
     ) -> None:
         """One observation: ``poses`` is N×3 (x, y, theta) in scene robot order;
         ``collisions`` (optional) the simulator's cumulative collision count per robot."""
-        p = np.asarray(poses, dtype=float).reshape(self.n, 3)
+        if type(poses) is np.ndarray and poses.shape == (self.n, 3) and poses.dtype == float:
+            p = poses  # a simulator's pose array, as it is every cycle
+        else:
+            p = np.asarray(poses, dtype=float).reshape(self.n, 3)
         self.time = float(time)
         if not self.started:
             self._start(p)
-        self._track_update(p)
-        self._motion_update(p)
-        self._collision_update(p, collisions)
-        self._pair_update(p)
+        # a few robots: the per-robot bookkeeping below runs on plain floats, which cost
+        # less than numpy's scalars and give the same values
+        rows = p.tolist()
+        self._track_update(p, rows)
+        self._motion_update(rows)
+        self._collision_update(rows, collisions)
+        self._pair_update(rows)
         if not self.decided:
             self._decide()
 
@@ -298,6 +277,7 @@ class Judge:
         for i, r in enumerate(self.robots):
             x, y, th = p[i]
             r.history.append((self.time, x, y, 0.0))
+            r.window.append((self.time, float(x), float(y)))
             if self.projector is None:
                 continue
             arc, dist, heading = self.projector.project(p[i : i + 1, :2])
@@ -323,29 +303,43 @@ class Judge:
             for j in range(i + 1, self.n):
                 self._parallel_since[(i, j)] = None
 
-    def _track_update(self, p: FloatArray) -> None:
+    def _track_update(self, p: FloatArray, rows: list[list[float]]) -> None:
         if self.projector is None:
             for r in self.robots:
                 r.cycles += 1
             return
         L = self.length
-        n = self.n
-        both = self._points
-        both[:n] = p[:, :2]
-        both[n:, 0] = p[:, 0] + np.cos(p[:, 2]) * self._sensor_offsets
-        both[n:, 1] = p[:, 1] + np.sin(p[:, 2]) * self._sensor_offsets
-        arc, dist, _ = self.projector.project(both)
+        arcs = self.projector.arcs
+        near_line, tolerance = self.rules.near_line, self.on_line_tolerance
+        closed = self.projector.closed
+        # the point between the ground sensors: numpy's cos and sin, as ever
+        theta = p[:, 2]
+        cos = np.cos(theta).tolist()
+        sin = np.sin(theta).tolist()
         for i, r in enumerate(self.robots):
+            x, y, _ = rows[i]
             r.cycles += 1
-            r.near = bool(dist[i] <= self.rules.near_line)
-            r.on_line = bool(dist[self.n + i] <= self.on_line_tolerance)
+            nearest = self._centres[i].query(x, y, near_line)
+            r.near = nearest is not None
+            offset = r.sensor_offset
+            reach = abs(offset) + tolerance + 1e-6
+            if nearest[2] > reach * reach if nearest is not None else near_line > reach:
+                # the centre is farther than ``reach`` from the line, so the sensor point,
+                # ``offset`` from it, is farther than the tolerance
+                r.on_line = False
+            else:
+                sensor = (x + cos[i] * offset, y + sin[i] * offset)
+                r.on_line = self._sensors[i].query(*sensor, tolerance) is not None
             if r.on_line:
                 r.on_line_cycles += 1
-            if r.near:
-                delta = float(arc[i]) - r.arc
-                if self.projector.closed:
+            if nearest is not None:
+                j, t, _ = nearest
+                start, length = arcs[j]
+                arc = start + t * length
+                delta = arc - r.arc
+                if closed:
                     delta = (delta + L / 2) % L - L / 2
-                r.arc = float(arc[i])
+                r.arc = arc
                 r.unwrapped += delta
                 r.progress += r.sign * delta
                 r.best_progress = max(r.best_progress, r.progress)
@@ -387,25 +381,36 @@ class Judge:
             elif q + h < k * L:
                 r.obstacle_k[o] = k - 1
 
-    def _motion_update(self, p: FloatArray) -> None:
-        horizon = max(self.rules.stuck_s, self.rules.settle_s) + 1.0
+    def _motion_update(self, p: list[list[float]]) -> None:
+        horizon = self._horizon
+        window = self.rules.stuck_s + 1e-9
+        now = self.time
         for i, r in enumerate(self.robots):
             _, x0, y0, _ = r.history[-1]
-            x, y = float(p[i, 0]), float(p[i, 1])
+            x, y = p[i][0], p[i][1]
             r.distance += math.hypot(x - x0, y - y0)
-            r.history.append((self.time, x, y, r.progress))
-            while r.history and self.time - r.history[0][0] > horizon:
+            r.history.append((now, x, y, r.progress))
+            while r.history and now - r.history[0][0] > horizon:
                 r.history.popleft()
+            r.window.append((now, x, y))
+            while now - r.window[0][0] > window:
+                r.window.popleft()
 
-    def _collision_update(self, p: FloatArray, collisions: npt.ArrayLike | None) -> None:
+    def _collision_update(self, p: list[list[float]], collisions: npt.ArrayLike | None) -> None:
         if collisions is not None:
-            counts = np.asarray(collisions, dtype=int).reshape(self.n)
+            if type(collisions) is np.ndarray and collisions.shape == (self.n,):
+                counts = collisions.astype(int, copy=False).tolist()
+            else:
+                counts = np.asarray(collisions, dtype=int).reshape(self.n).tolist()
+            if counts == self._sim_counts:
+                return  # nothing new touched anything (most steps)
+            self._sim_counts = counts
             for i, r in enumerate(self.robots):
-                new = int(counts[i]) - r.sim_collisions
+                new = counts[i] - r.sim_collisions
                 if new > 0:
                     r.collisions += new
                     self.events.append(Event(self.time, r.name, "collision"))
-                r.sim_collisions = int(counts[i])
+                r.sim_collisions = counts[i]
             return
         for i, r in enumerate(self.robots):
             now = self._contacts_of(i, p)
@@ -415,14 +420,14 @@ class Judge:
                 self.events.append(Event(self.time, r.name, "collision"))
             r.contacts = now
 
-    def _contacts_of(self, i: int, p: FloatArray) -> set[str]:
+    def _contacts_of(self, i: int, p: list[list[float]]) -> set[str]:
         """What robot ``i``'s body touches now (names), by geometry alone."""
         eps = 1e-4
         r = self.robots[i]
-        x, y = p[i, 0], p[i, 1]
+        x, y = p[i][0], p[i][1]
         out: set[str] = set()
         for j, other in enumerate(self.robots):
-            if j != i and math.hypot(p[j, 0] - x, p[j, 1] - y) < r.radius + other.radius + eps:
+            if j != i and math.hypot(p[j][0] - x, p[j][1] - y) < r.radius + other.radius + eps:
                 out.add(f"robot:{other.name}")
         for label, cx, cy, rad in self._circles:
             if math.hypot(cx - x, cy - y) < rad + r.radius + eps:
@@ -438,7 +443,7 @@ class Judge:
                 out.add("wall")
         return out
 
-    def _pair_update(self, p: FloatArray) -> None:
+    def _pair_update(self, p: list[list[float]]) -> None:
         rules = self.rules
         max_heading = math.radians(rules.parallel_heading_deg)
         for (i, j), since in self._parallel_since.items():
@@ -456,13 +461,14 @@ class Judge:
                     self.events.append(Event(self.time, ri.name, "passed_other"))
                     self.events.append(Event(self.time, rj.name, "passed_other"))
             # side by side, close, same heading, both driving
-            dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]
+            pi, pj = p[i], p[j]
+            dx, dy = pj[0] - pi[0], pj[1] - pi[1]
             dist = math.hypot(dx, dy)
-            dth = abs(_wrap(p[j, 2] - p[i, 2]))
+            dth = abs(_wrap(pj[2] - pi[2]))
             side_by_side = False
             if dist < rules.parallel_distance and dth < max_heading and dist > 0:
                 mean = math.atan2(
-                    math.sin(p[i, 2]) + math.sin(p[j, 2]), math.cos(p[i, 2]) + math.cos(p[j, 2])
+                    math.sin(pi[2]) + math.sin(pj[2]), math.cos(pi[2]) + math.cos(pj[2])
                 )
                 lateral = abs(-math.sin(mean) * dx + math.cos(mean) * dy) / dist
                 side_by_side = lateral > math.sin(math.radians(45.0))
@@ -548,11 +554,10 @@ class Judge:
         window = self.rules.stuck_s
         if t - r.history[0][0] < window - 1e-9:
             return False  # not enough history to cover the window yet
-        return all(
-            math.hypot(x - xw, y - yw) < self.rules.stuck_distance
-            for tw, xw, yw, _ in r.history
-            if t - tw <= window + 1e-9
-        )
+        # oldest first: a robot that moves is far from where it was a window ago, so the
+        # first position of the window usually settles it
+        stuck = self.rules.stuck_distance
+        return all(math.hypot(x - xw, y - yw) < stuck for _, xw, yw in r.window)
 
     def _pass_complete(self) -> bool:
         if self.n >= 2 and not all(self._pair_passed(i, j) for (i, j) in self._pair_k):

@@ -102,6 +102,17 @@ class _Near:
         return subset
 
 
+#: A grid: each cell's segments; and the segments already joined for sets of cells.
+_Grid = dict[tuple[int, int], list[int]]
+_Joined = dict[tuple[tuple[int, int], ...], _Near]
+#: Grids of the tracks last built (see Floor.segments_near), by the track's geometry and
+#: the grid's reach: the worlds of a sweep or a test session share their scene's track,
+#: and building one was most of what making a world cost.
+_GRIDS: dict[tuple[bytes, bytes, float, float], tuple[_Grid, _Joined]] = {}
+#: Tracks whose grids are kept.
+GRIDS_KEPT = 8
+
+
 class Floor:
     """Floor brightness and line raster of one scene; all static data precomputed."""
 
@@ -136,8 +147,8 @@ class Floor:
         self._origin = np.zeros(2)
         self._all = _Near(self.seg_start, self.seg_vector)
         self._grid_reach = -1.0
-        self._grid: dict[tuple[int, int], list[int]] = {}
-        self._joined: dict[tuple[tuple[int, int], ...], _Near] = {}
+        self._grid: _Grid = {}
+        self._joined: _Joined = {}
         self._ramps_of: dict[tuple[float, ...], _RampPlan] = {}
 
     def ramp(self, footprint: float) -> tuple[float, float] | None:
@@ -328,8 +339,20 @@ class Floor:
         return joined
 
     def _build_grid(self, reach: float) -> None:
+        key = (self.seg_start.tobytes(), self.seg_vector.tobytes(), self.half_width, reach)
+        kept = _GRIDS.get(key)
+        if kept is None:
+            if len(_GRIDS) >= GRIDS_KEPT:
+                del _GRIDS[next(iter(_GRIDS))]  # the oldest
+            kept = _GRIDS[key] = (self._grid_cells(reach), {})
+        self._grid, self._joined = kept
+        self._grid_reach = reach
+
+    def _grid_cells(self, reach: float) -> _Grid:
+        """Each grid cell's segments: those whose bounding box, grown by ``reach`` and
+        the line's half-width, overlaps the cell."""
         grow = reach + self.half_width
-        grid: dict[tuple[int, int], list[int]] = {}
+        grid: _Grid = {}
         inv = 1.0 / GRID_CELL
         ends = self.seg_start + self.seg_vector
         lo = np.floor((np.minimum(self.seg_start, ends) - grow) * inv).astype(int).tolist()
@@ -338,9 +361,7 @@ class Floor:
             for i in range(i0, i1 + 1):
                 for j in range(j0, j1 + 1):
                     grid.setdefault((i, j), []).append(k)
-        self._grid = grid
-        self._joined = {}
-        self._grid_reach = reach
+        return grid
 
     # -- camera ----------------------------------------------------------------------------
     def _build_raster(self) -> None:

@@ -66,6 +66,25 @@ def test_sim_suite_reports_rate_split_and_camera():
     assert "steps_per_s" in text and "camera_us_per_frame" in text
 
 
+def test_floor_suite_sets_the_full_stack_beside_its_floor_in_one_run(monkeypatch):
+    from puckboard.bench import floor
+
+    monkeypatch.setattr(floor, "REPEATS", 1)
+    res = floor.run_suite(5)
+    for name in floor.CONTROLLERS:
+        r = res[name]
+        # the engine replays the very trajectory the full stack drove
+        assert r["engine_replay_identical"] is True
+        for clock in ("us", "cpu_us"):
+            floor_us = r[f"engine_step_{clock}"] + 2 * r[f"bare_tick_{clock}"]
+            assert r[f"floor_{clock}"] == floor_us > 0
+        assert r["ratio"] == round(r["full_stack_us"] / r["floor_us"], 2)
+        assert r["ratio_cpu"] == round(r["full_stack_cpu_us"] / r["floor_cpu_us"], 2)
+        assert set(r["split_cpu_us"]) == {"sensing", "ticks", "commands", "engine", "judge"}
+    text = report.format_results({"machine": bench.machine(), "suites": {"floor": res}})
+    assert "ratio_cpu" in text and "robust:" in text
+
+
 def test_table_shows_records_one_block_each_and_cuts_long_lists():
     rows = [
         {"seed": k, "errors": {"final_m": 0.001 * k}} for k in range(report.TABLE_LIST_LIMIT + 3)

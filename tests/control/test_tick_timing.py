@@ -83,7 +83,7 @@ def test_timing_leaves_the_layer_objects_alone_and_ends_with_the_tick(monkeypatc
         Episode("line-follow", controller=lambda: controller).run(0.5)
     assert "its slowest layer, Watched, takes 300 ms" in caplog.text  # the tick was timed
     assert len(shadowed) > 2 and shadowed == [set()] * len(shadowed)
-    assert controller.context.timings is None
+    assert controller.tree.visitors == []  # the timing visitor went with the timed tick
 
 
 def test_time_layers_adds_each_layer_s_seconds_and_stops_when_told():

@@ -372,3 +372,34 @@ def test_every_failure_name_is_documented():
     doc = (Path(__file__).parents[2] / "docs" / "scenarios.md").read_text(encoding="utf-8")
     for name in FAILURES:
         assert f"`{name}`" in doc, name
+
+
+@pytest.mark.parametrize("near_line", [0.10, 0.01])
+def test_on_line_and_progress_are_what_testing_every_segment_gives(near_line):
+    """The judge follows each robot along the track testing only the segments that can
+    be nearest (and skips its sensor point when the centre is far): every cycle's
+    on-line verdict and every trusted arc position are those of the full search, here
+    on wandering robots and with a near-line radius smaller than the sensors' offset."""
+    rules = JudgeRules(near_line=near_line)
+    judge = Judge(pass_scene(), rules=rules)
+    rng = np.random.default_rng(5)
+    poses = np.array([[-0.25, -0.25, 0.0], [0.25, -0.25, math.pi]])
+    offsets = np.array([r.sensor_offset for r in judge.robots])
+    on_line = np.zeros(2, dtype=int)
+    for step in range(1500):
+        poses[:, 2] += rng.normal(0.0, 0.2, size=2)
+        poses[:, 0] += 0.004 * np.cos(poses[:, 2])
+        poses[:, 1] += 0.004 * np.sin(poses[:, 2])
+        judge.update(step * DT, poses)
+        sensors = (
+            poses[:, :2]
+            + np.column_stack([np.cos(poses[:, 2]), np.sin(poses[:, 2])]) * offsets[:, None]
+        )
+        arc, dist, _ = judge.projector.project(np.vstack([poses[:, :2], sensors]))
+        on_line += dist[2:] <= judge.on_line_tolerance
+        for i, r in enumerate(judge.robots):
+            assert r.near == (dist[i] <= near_line)
+            if r.near:
+                assert r.arc == arc[i]
+    assert [r.on_line_cycles for r in judge.robots] == on_line.tolist()
+    assert on_line.min() > 0 and on_line.max() < 1500  # on and off the line, both

@@ -187,7 +187,7 @@ class EPuckVRep(RobotAdapter):
                     self.name, part, show_name(names[part]), sensor.value,
                 )  # fmt: skip
                 self.available_sensors = self.available_sensors - {sensor}
-                self._enabled.discard(sensor)
+                self.disable(sensor)
 
     def _find_sense_script(self, sense_mode: str) -> int | None:
         if sense_mode == "calls":
