@@ -378,11 +378,16 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
     asking for one there is refused rather than silently run without it (a drawn or a
     measured one already was, naming where it came from: scenario.preparation)."""
     control = scene.control
-    if control.latency > 0 and world is None:
+    if world is None and (control.latency > 0 or control.varies):
+        name, value = (
+            ("control.latency", f"{control.latency:g} s")
+            if control.latency > 0 or control.cycle_latency is not None
+            else ("control.repeated", f"{control.repeated:g}")
+        )
         raise SceneError(
-            f"control.latency = {control.latency:g} s is simulated by the embedded backend "
-            "only; a real link brings its own (measure it with puckboard calibrate link), "
-            "so leave control.latency at 0 on this backend"
+            f"{name} = {value} is simulated by the embedded backend only; a real link "
+            f"brings its own (measure it with puckboard calibrate link), so leave {name} "
+            "at 0 on this backend"
         )
     return control.period
 

@@ -27,8 +27,8 @@ from ..profile import get_profile
 from .conversion import for_seed
 from .overrides import apply_scene_overrides
 from .robot_profiles import link_control
-from .scene import Scene
-from .settings import CONTROL_LATENCY, SETTINGS
+from .scene import Control, Scene
+from .settings import CONTROL_LATENCY, CONTROL_REPEATED, SETTINGS
 from .variation import NONE, Drawn, vary
 
 __all__ = [
@@ -104,11 +104,11 @@ def draw_variation(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
     naming the variation that drew it."""
     scene = prepared.scene
     varied = vary(scene, int(run.seed), run.variation, set_by_run(scene, run.overrides))
-    latency = varied.scene.control.latency
-    if latency > 0 and latency != scene.control.latency and not run.simulates_link:
+    control = varied.scene.control
+    delays = control.latency > 0 or control.varies
+    if delays and control != scene.control and not run.simulates_link:
         raise SceneError(
-            f"--variation {run.variation} drew a real link's timing: "
-            f"{_cannot_delay(latency)}"
+            f"--variation {run.variation} drew a real link's timing: {_cannot_delay(control)}"
         )
     return PreparedScene(varied.scene, varied.conditions)
 
@@ -121,17 +121,29 @@ def take_link_timing(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
     if run.drives_robot:
         return prepared
     linked = link_control(prepared.scene)
-    latency = linked.control.latency
-    if linked is not prepared.scene and latency > 0 and not run.simulates_link:
+    control = linked.control
+    delays = control.latency > 0 or control.varies
+    if linked is not prepared.scene and delays and not run.simulates_link:
         names = ", ".join(dict.fromkeys(get_profile(r.profile).name for r in linked.robots))
-        raise SceneError(f"the profile's [link] ({names}) gives {_cannot_delay(latency)}")
+        raise SceneError(f"the profile's [link] ({names}) gives {_cannot_delay(control)}")
     return dataclasses.replace(prepared, scene=linked)
 
 
-def _cannot_delay(latency: float) -> str:
+def _cannot_delay(control: Control) -> str:
+    """What a link's timing asks of the simulator that only the embedded backend does:
+    one latency, or one drawn per cycle with readings repeated."""
+    if control.varies:
+        drawn = control.cycle_latency
+        asked = (
+            f"{CONTROL_LATENCY.name} drawn per cycle"
+            + (f" ({drawn.describe()})" if drawn is not None else "")
+            + f" and {CONTROL_REPEATED.name} = {control.repeated:.2g}"
+        )
+    else:
+        asked = f"{CONTROL_LATENCY.name} = {control.latency:g} s"
     return (
-        f"{CONTROL_LATENCY.name} = {latency:g} s, which the embedded backend alone simulates "
-        "(this backend cannot delay a command); run it with --backend embedded"
+        f"{asked}, which the embedded backend alone simulates (this backend cannot delay "
+        "a command); run it with --backend embedded"
     )
 
 

@@ -110,12 +110,16 @@ def test_a_transfer_design_model_runs_at_the_link_and_says_so(link_file):
         ),
         (
             ["--variation", "reality-gap"],
-            "--variation reality-gap drew a real link's timing: control.latency = 0.05 s, "
-            "which the embedded backend alone simulates",
+            "--variation reality-gap drew a real link's timing: control.latency drawn per "
+            "cycle (median",
         ),
         (
             ["--set", "control.latency=0.05"],
             "control.latency = 0.05 s is simulated by the embedded backend only",
+        ),
+        (
+            ["--set", "control.repeated=0.2"],
+            "control.repeated = 0.2 is simulated by the embedded backend only",
         ),
     ],
 )
