@@ -119,6 +119,17 @@ class VariationName(argparse.Action):
         namespace.variation_given = True
 
 
+def settings_help() -> str:
+    """The settings ``--set`` takes, named and with their units as the one table
+    (:mod:`puckboard.scenario.settings`) has them, so a help text never lists a setting
+    that is not there or misses one that is."""
+    from ..scenario.settings import SETTINGS
+
+    return ", ".join(
+        s.name if s.unit == "1" else f"{s.name} ({s.unit_text()})" for s in SETTINGS.values()
+    )
+
+
 def add_variation_argument(parser: argparse.ArgumentParser, seeded_by: str = "--seed") -> None:
     """``--variation NAME`` (the variations' registry, :mod:`puckboard.scenario.variation`),
     the same for ``run``, ``sweep``, ``tune`` and ``serve``; ``seeded_by`` is the option

@@ -35,7 +35,7 @@ from .errors import (
     first_line,
     missing_extra,
 )
-from .parsing import OneController, add_variation_argument
+from .parsing import OneController, add_variation_argument, settings_help
 from .web_view import add_web_arguments, serve_until_interrupted, start_web_view, web_url
 
 if TYPE_CHECKING:
@@ -103,11 +103,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="override a parameter: noise.wheel_speed, noise.proximity, noise.ground, "
-        "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, "
-        "surface.line_contrast (0..1), surface.line_width (m), obstacle.ir_reflectance (0..1), "
-        "start.offset (m), start.heading (rad), control.period and control.latency (s, whole "
-        "steps of dt: 100ms), layer.<LayerName>.<attribute>, profile.<path> (every robot's, e.g. "
+        help=f"override a parameter: {settings_help()}; layer.<LayerName>.<attribute>; "
+        "profile.<path> (every robot's, e.g. "
         "profile.prox_max_distance=0.045 or profile.prox_radius.side=31mm; paths: "
         "puckboard profiles show) or robot.<name>.profile.<path> (repeatable)",
     )

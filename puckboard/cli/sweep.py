@@ -28,7 +28,7 @@ from .experiment_options import (
     wall_time,
     with_executor,
 )
-from .parsing import add_variation_argument
+from .parsing import add_variation_argument, settings_help
 
 if TYPE_CHECKING:
     from ..scenario.scene import Scene
@@ -49,10 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
             "row per episode to a CSV or Parquet file; re-running skips the rows already there."
         ),
         epilog=(
-            "parameters for --set: noise.wheel_speed, noise.proximity, noise.ground, "
-            "noise.start_jitter, noise.gyro, noise.gyro_bias, dt, duration, variation, "
-            "surface.line_contrast, surface.line_width, obstacle.ir_reflectance, "
-            "start.offset, start.heading, control.period, control.latency, "
+            f"parameters for --set: {settings_help()}, variation, "
             "layer.<LayerName>.<attribute>, profile.<path> (every robot's, SI or with a unit: "
             "profile.prox_radius.side=30mm,33mm; paths: puckboard profiles show), "
             "robot.<name>.profile.<path>. Example: "
