@@ -1234,7 +1234,7 @@ def test_the_robust_bands_cover_every_cell_and_the_readme_shows_them():
 
 @pytest.mark.slow
 def test_robust_and_improved_make_the_same_laps_on_line_follow():
-    """ "on seeds 0–4 both make 2.5 laps, `robust` in 175.4–175.9 s and `improved` in
+    """ "on seeds 0–4 both make 2.5 laps, `robust` in 176.1–176.7 s and `improved` in
     175.8–176.4 s"."""
     m = claim(
         CONTROLLERS,
