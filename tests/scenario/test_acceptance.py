@@ -333,3 +333,27 @@ def test_plausible_stock_robots_still_fail_at_the_meeting(profile):
         passed = [e.time_s for e in result.events if e.kind == "passed_other"]
         assert first in MEETING_FAILURES, (profile, seed, result.failures)
         assert not passed or result_time(result, first) < min(passed), (profile, seed)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "measured with the physical e-puck (epuck) under --variation reality-gap, validation "
+        "seeds 500..699: robust passes 161 of 200 on the straight meeting (80.5 %, 95 % "
+        "interval 74-85 %), 128 in the bend (64 %, 57-70 %), 123 on generated-pass "
+        "(61.5 %, 55-68 %); most failures touch an obstacle of IR reflectance 0.15 or less, "
+        "first seen closer than the robot drives before its wheels act over a real link. "
+        "Near misses too: V-REP's model in the bend 188 of 200 (94 %, 90-97 %), and "
+        "generated-pass on plausible physical robots 189 of 200 (94.5 %, 90-97 %). The 95 % "
+        "aimed for does not hold. See docs/controllers.md, 'A black obstacle, against the "
+        "link'."
+    ),
+)
+def test_robust_passes_plausible_conditions_at_95_percent_with_the_physical_e_puck():
+    """The third round's aim, kept visible: 95 % of ten validation seeds is all ten."""
+    runs = runs_by_seed(
+        "two-robot-pass", "robust", range(500, 510), "epuck", {"variation": "reality-gap"}
+    )
+    failures = {s: r.failure for s, r in runs.items() if not r.success}
+    assert not failures
