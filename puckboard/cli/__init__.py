@@ -67,6 +67,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from ..sweep.signals import spare_native_threads
+
+    # before anything imports numpy (building the parser reads the settings table, whose
+    # modules do): see sweep/signals.py
+    spare_native_threads()
     parser = build_parser()
     try:
         args, extras = parser.parse_known_args(argv)
@@ -85,10 +90,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
-    from ..sweep.signals import spare_native_threads
-
     try:
-        spare_native_threads()  # before the command imports numpy: see sweep/signals.py
         return int(args.func(args) or 0)
     except CliError as exc:
         if exc.details:

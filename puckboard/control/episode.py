@@ -52,7 +52,7 @@ from ..scenario.judge import Judge
 from ..scenario.preparation import RunRequest, prepare_scene
 from ..scenario.result import EpisodeResult
 from ..scenario.scene import RobotSpec, Scene
-from ..scenario.settings import check_scene
+from ..scenario.settings import CONTROL_LATENCY, CONTROL_REPEATED, check_scene
 from ..scenario.variation import NONE
 from .loop import ControlLoop
 
@@ -380,9 +380,9 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
     control = scene.control
     if world is None and (control.latency > 0 or control.varies):
         name, value = (
-            ("control.latency", f"{control.latency:g} s")
+            (CONTROL_LATENCY.name, f"{control.latency:g} s")
             if control.latency > 0 or control.cycle_latency is not None
-            else ("control.repeated", f"{control.repeated:g}")
+            else (CONTROL_REPEATED.name, f"{control.repeated:g}")
         )
         raise SceneError(
             f"{name} = {value} is simulated by the embedded backend only; a real link "
