@@ -104,6 +104,11 @@ class Sensor(str, enum.Enum):
         return self.value
 
 
+#: numpy's float64 dtype: arrays of native float64 share it, so one identity test tells
+#: the world's rows (any other array takes np.array's general path, as correct).
+_FLOAT64 = np.dtype(np.float64)
+
+
 def _frozen_array(values: Any, n: int, what: str) -> tuple[np.ndarray, list[float]]:
     """A read-only copy of ``values`` as ``n`` finite numbers, and the numbers as a list
     (for a record's own checks), or a ValueError naming ``what``.
@@ -113,7 +118,7 @@ def _frozen_array(values: Any, n: int, what: str) -> tuple[np.ndarray, list[floa
     sum of finite numbers is finite unless it overflows, so one sum clears the usual
     case and only a sum that is not finite looks at each number.
     """
-    if type(values) is np.ndarray and values.dtype == np.float64:
+    if type(values) is np.ndarray and values.dtype is _FLOAT64:
         arr = values.copy()  # the world's rows: a copy without np.array's conversions
     else:
         arr = np.array(values, dtype=np.float64, copy=True)

@@ -11,6 +11,7 @@ other backend.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from ..blackboard import Blackboard, Namespace
@@ -63,6 +64,15 @@ class EmbeddedAdapter(RobotAdapter):
         # live read-only views of this robot's rows: reading them costs no copy until a
         # record's constructor makes its own
         self._arrays = world.robot_arrays(index)
+        self._builders: dict[Sensor, Callable[[], Any]] = {
+            Sensor.PROXIMITY: self._proximity,
+            Sensor.GROUND: self._ground,
+            Sensor.POSE: self._pose,
+            Sensor.ENCODERS: self._encoders,
+            Sensor.WHEEL_SPEEDS: self._wheel_speeds,
+            Sensor.ACCELERATION: self._acceleration,
+            Sensor.GYRO: self._angular_velocity,
+        }
         super().__init__(
             name if name is not None else world.robot_names[index],
             profile=world.profiles[index],
@@ -85,36 +95,48 @@ class EmbeddedAdapter(RobotAdapter):
             return self._records(sensors)
 
     def _records(self, sensors: frozenset[Sensor]) -> dict[Sensor, Any]:
-        # Array records are given the live views: their constructors copy the values
-        # into read-only arrays of their own, so a later step cannot change a record
-        # already handed out.
+        builders = self._builders
+        try:
+            return {sensor: builders[sensor]() for sensor in sensors}
+        except KeyError as missing:  # the base class asks only for available sensors
+            raise ValueError(
+                f"the embedded simulator has no {Sensor(missing.args[0]).value} sensor"
+            ) from None
+
+    # One builder per sensor, looked up by the sensor (a dict made once per adapter, see
+    # __init__) rather than found by a chain of comparisons on every record of every
+    # cycle. Array records are given the live views: their constructors copy the values
+    # into read-only arrays of their own, so a later step cannot change a record already
+    # handed out.
+    def _proximity(self) -> Proximity:
         rows = self._arrays
-        out: dict[Sensor, Any] = {}
-        for sensor in sensors:
-            if sensor is Sensor.PROXIMITY:
-                out[sensor] = Proximity(
-                    distance=rows.prox_distance, raw=rows.prox_raw, range=self.profile.prox_range
-                )
-            elif sensor is Sensor.GROUND:
-                out[sensor] = Ground(value=rows.ground, raw=rows.ground_raw)
-            elif sensor is Sensor.POSE:
-                x, y, theta = rows.pose.tolist()
-                out[sensor] = Pose(x=x, y=y, theta=theta, ground_truth=True)
-            elif sensor is Sensor.ENCODERS:
-                left, right = rows.encoders.tolist()
-                out[sensor] = WheelEncoders(left=left, right=right)
-            elif sensor is Sensor.WHEEL_SPEEDS:
-                left, right = rows.wheel_speeds.tolist()
-                out[sensor] = WheelSpeeds(left=left, right=right)
-            elif sensor is Sensor.ACCELERATION:
-                ax, ay, az = rows.acceleration.tolist()
-                out[sensor] = Acceleration(x=ax, y=ay, z=az)
-            elif sensor is Sensor.GYRO:
-                wx, wy, wz = rows.angular_velocity.tolist()
-                out[sensor] = AngularVelocity(x=wx, y=wy, z=wz)
-            else:  # the base class asks only for available sensors, the camera apart
-                raise ValueError(f"the embedded simulator has no {Sensor(sensor).value} sensor")
-        return out
+        return Proximity(
+            distance=rows.prox_distance, raw=rows.prox_raw, range=self.profile.prox_range
+        )
+
+    def _ground(self) -> Ground:
+        rows = self._arrays
+        return Ground(value=rows.ground, raw=rows.ground_raw)
+
+    def _pose(self) -> Pose:
+        x, y, theta = self._arrays.pose.tolist()
+        return Pose(x=x, y=y, theta=theta, ground_truth=True)
+
+    def _encoders(self) -> WheelEncoders:
+        left, right = self._arrays.encoders.tolist()
+        return WheelEncoders(left=left, right=right)
+
+    def _wheel_speeds(self) -> WheelSpeeds:
+        left, right = self._arrays.wheel_speeds.tolist()
+        return WheelSpeeds(left=left, right=right)
+
+    def _acceleration(self) -> Acceleration:
+        ax, ay, az = self._arrays.acceleration.tolist()
+        return Acceleration(x=ax, y=ay, z=az)
+
+    def _angular_velocity(self) -> AngularVelocity:
+        wx, wy, wz = self._arrays.angular_velocity.tolist()
+        return AngularVelocity(x=wx, y=wy, z=wz)
 
     def _write_wheels(self, left: float, right: float) -> None:
         # clamped once already, by the base class (see RobotAdapter.command_wheels)

@@ -118,7 +118,9 @@ class Controller:
         self._timing: LayerTiming | None = None  # attached while the layers are timed
         self.tree.setup(context=self.context)
         #: Each layer with the frame it reads through (made at setup, see LayerNode).
-        self._frames = [(node.layer, node.frame) for node in nodes]
+        #: A layer that keeps Layer's own ``observe``, which does nothing, is not called
+        #: (unless its layers are timed, where every layer's observe is timed).
+        self._frames = [(node.layer, node.frame, _observes(node.layer)) for node in nodes]
 
     @property
     def failed_layer(self) -> str | None:
@@ -181,8 +183,10 @@ class Controller:
         """Every layer observes the snapshot (subsumption: arbitration suppresses outputs,
         not perception); with ``timing``, each adds the seconds its ``observe`` took."""
         context = self.context
-        for layer, frame in self._frames:
+        for layer, frame, observes in self._frames:
             frame.point_at(snapshot)
+            if not observes and timing is None:
+                continue
             start = timing.clock() if timing is not None else 0.0
             try:
                 layer.observe(frame)
@@ -250,6 +254,13 @@ class Controller:
 
     def __repr__(self) -> str:
         return f"<Controller {self.name!r}: {' > '.join(n.name for n in self.layers)}>"
+
+
+def _observes(layer: Layer) -> bool:
+    """Whether ``layer`` has an ``observe`` of its own (its class's, or one set on it):
+    Layer's own does nothing, so calling it on every tick of every layer would only
+    cost time."""
+    return "observe" in vars(layer) or type(layer).observe is not Layer.observe
 
 
 def _check_placed_once(children: list[py_trees.behaviour.Behaviour]) -> None:

@@ -135,6 +135,21 @@ def test_every_layer_observes_every_tick_inside_decorators_and_composites():
     assert [n.name for n in ctl.every_layer] == ["top", "held", "Cruise", "nested"]
 
 
+def test_an_observe_set_on_the_layer_object_is_called_too():
+    """Layers that keep Layer's do-nothing observe are not called; one given its own
+    observe on the object (not its class) still observes every tick."""
+    cruise = Cruise(1.0)
+    seen = []
+    cruise.observe = lambda frame: seen.append(frame.time)  # type: ignore[method-assign]
+    clock = Clock()
+    ctl = Controller([cruise])
+    ns = Blackboard(clock=clock).namespace("r")
+    for t in (0.0, 0.05):
+        clock.t = t
+        ctl.tick(ns)
+    assert seen == [0.0, 0.05]
+
+
 def test_with_requires_no_layer_observes_until_the_required_key_is_fresh():
     """A student who writes ``requires=("proximity",)`` expects a reading in every call
     of the layers, ``observe`` included: before the first reading (and while it is
