@@ -82,15 +82,12 @@ def test_wheel_plot_says_wheel_for_the_lines_and_robot_for_the_panels(rec):
 
 
 @pytest.fixture(scope="module")
-def two_robot_pass(tmp_path_factory):
-    from puckboard.control.episode import Episode
-    from puckboard.recording.recorder import Recorder, load_recording
+def two_robot_pass():
+    from recordings import recorded_run
 
-    path = tmp_path_factory.mktemp("pass") / "pass.npz"
-    episode = Episode("two-robot-pass", seed=0)
-    Recorder.for_episode(episode, path).attach(episode)
-    episode.run()
-    return load_recording(path)
+    from puckboard.recording.recorder import load_recording
+
+    return load_recording(recorded_run("two-robot-pass"))
 
 
 def test_obstacle_names_on_the_trajectories_are_covered_by_nothing(two_robot_pass):

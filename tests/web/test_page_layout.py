@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import pytest
 from browser import Browser, chromium
+from recordings import recorded_run
 
-from puckboard.control.episode import Episode
-from puckboard.recording.recorder import Recorder, load_recording
+from puckboard.recording.recorder import load_recording
 from puckboard.web.export import write_replay_html
 
 BINARY = chromium()
@@ -29,10 +29,7 @@ WINDOWS = [(1400, 900, False), (412, 915, True)]
 @pytest.fixture(scope="module")
 def replay_page(tmp_path_factory):
     folder = tmp_path_factory.mktemp("layout")
-    episode = Episode("two-robot-pass", seed=0)
-    Recorder.for_episode(episode, folder / "pass.npz").attach(episode)
-    episode.run()
-    rec = load_recording(folder / "pass.npz")
+    rec = load_recording(recorded_run("two-robot-pass"))
     return rec, write_replay_html(rec, folder / "pass.html")
 
 

@@ -11,22 +11,19 @@ import types
 
 import numpy as np
 import pytest
+from recordings import recorded_run
 from test_web_stream import get, request
 
 from puckboard.control.episode import Episode
-from puckboard.recording.recorder import Recorder, load_recording
+from puckboard.recording.recorder import load_recording
 from puckboard.web import watch_episode
 from puckboard.web.export import replay_html, write_replay_html
 from puckboard.web.replay import replay_data, serve_replay
 
 
 @pytest.fixture(scope="module")
-def recording(tmp_path_factory):
-    path = tmp_path_factory.mktemp("replay") / "pass.npz"
-    episode = Episode("two-robot-pass", seed=0)
-    Recorder.for_episode(episode, path).attach(episode)
-    episode.run()
-    return load_recording(path)
+def recording():
+    return load_recording(recorded_run("two-robot-pass"))
 
 
 def test_the_document_holds_every_tick_of_every_robot(recording):

@@ -8,9 +8,9 @@ import time
 
 import pytest
 from browser import Browser, chromium
+from recordings import recorded_run
 
-from puckboard.control.episode import Episode
-from puckboard.recording.recorder import Recorder, load_recording
+from puckboard.recording.recorder import load_recording
 from puckboard.web.export import write_replay_html
 from puckboard.web.replay import serve_replay
 
@@ -27,10 +27,7 @@ READY = "window.state && state.player && state.readyAt"
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     folder = tmp_path_factory.mktemp("replay-browser")
-    episode = Episode("two-robot-pass", seed=0)
-    Recorder.for_episode(episode, folder / "pass.npz").attach(episode)
-    episode.run()
-    rec = load_recording(folder / "pass.npz")
+    rec = load_recording(recorded_run("two-robot-pass"))
     return rec, write_replay_html(rec, folder / "pass.html")
 
 

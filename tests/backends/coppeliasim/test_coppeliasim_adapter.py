@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import zmq
 from coppeliasim_support import free_port, start_server, stop_server
+from episodes import episode
 
 from puckboard.backends.coppeliasim.adapter import EPuckVRep
 from puckboard.backends.coppeliasim.factory import open_coppeliasim
@@ -292,7 +293,7 @@ def test_full_two_robot_pass_has_the_embedded_outcome(server):
     from puckboard.control.episode import run_episode
 
     remote = run_episode(SCENE, controller="improved", backend="coppeliasim", port=server.port)
-    local = run_episode(SCENE, controller="improved")
+    local = episode(SCENE, "improved")  # the embedded run the acceptance tests judge too
     r, e = remote.to_dict(), local.to_dict()
     assert (r["success"], r["failure"]) == (e["success"], e["failure"])
     assert [x["passed_other"] for x in r["robots"]] == [x["passed_other"] for x in e["robots"]]
