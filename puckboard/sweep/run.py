@@ -30,7 +30,7 @@ from .options import DEFAULT_RUN, RunOptions
 from .plan import EpisodeSpec, PlanError, SweepPlan, seeds_text
 from .progress import NullProgress
 from .rows import Outcome
-from .signals import Terminated
+from .signals import Terminated, stops_held
 from .summary import GroupSummary, rank_controllers, summarise
 from .worker import run_batch
 
@@ -193,13 +193,16 @@ def run_sweeps(
     progress.start(len(owner), len(done))
 
     def collect(rows: list[dict[str, Any]]) -> None:
-        if store is not None:
-            store.append(rows)
-        for row in rows:
-            result = results[owner[str(row["key"])]]
-            result.rows.append(row)
-            result.outcomes.append(Outcome.from_row(row))
-            result.ran += 1
+        # one step a stop cannot cut in two: the rows stored and the rows counted stay one
+        # number, which the message after Ctrl-C or SIGTERM states as what was kept
+        with stops_held():
+            if store is not None:
+                store.append(rows)
+            for row in rows:
+                result = results[owner[str(row["key"])]]
+                result.rows.append(row)
+                result.outcomes.append(Outcome.from_row(row))
+                result.ran += 1
         progress.advance(len(rows))
 
     todo = [[s for s in plan.episodes() if s.key(plan.scenario) not in done] for plan, _ in parts]
