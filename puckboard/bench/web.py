@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 __all__ = ["run_suite"]
 
 # A stand-in for a classroom of browsers: N threads each reading the event stream,
-# counting frames, until stdin closes.
+# counting frames. Each line on stdin asks for the counts so far; its end, for the last.
 _READERS = r"""
 import sys, threading, urllib.request
 url, n = sys.argv[1], int(sys.argv[2])
@@ -37,9 +37,29 @@ def read(k):
 for k in range(n):
     threading.Thread(target=read, args=(k,), daemon=True).start()
 print("ready", flush=True)
-sys.stdin.read()
+for _ in sys.stdin:
+    print(" ".join(map(str, counts)), flush=True)
 print(" ".join(map(str, counts)), flush=True)
 """
+#: How long the streams may take to deliver what the run sent them, on a loaded machine.
+_DELIVERY_S = 10.0
+
+
+def _delivered(readers: subprocess.Popen[str]) -> list[int]:
+    """The readers' frame counts once every stream has had what the run sent it (each
+    count above zero, or :data:`_DELIVERY_S` gone by): the frames a short run publishes
+    may still be in flight when it returns, more so on a busy machine."""
+    assert readers.stdin is not None and readers.stdout is not None
+    deadline = time.monotonic() + _DELIVERY_S
+    while True:
+        readers.stdin.write("\n")
+        readers.stdin.flush()
+        counts = [int(v) for v in readers.stdout.readline().split()]
+        if all(counts) or time.monotonic() > deadline:
+            break
+        time.sleep(0.02)
+    out, _ = readers.communicate("", timeout=30)
+    return [int(v) for v in out.split()]
 
 
 def _timed_run(episode: Episode, duration: float) -> tuple[float, float]:
@@ -78,8 +98,7 @@ def _one_run(duration: float, clients: int) -> dict[str, Any]:
         wall, cpu = _timed_run(episode, duration)
         frames: list[int] = []
         if readers is not None:
-            out, _ = readers.communicate("", timeout=30)
-            frames = [int(v) for v in out.split()]
+            frames = _delivered(readers)
         return {
             "connected": view.clients if clients else 0,
             "realtime_factor": round(duration / wall, 1),
