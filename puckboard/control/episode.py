@@ -378,7 +378,7 @@ def _loop_period(scene: Scene, world: World | None) -> float | None:
     asking for one there is refused rather than silently run without it (a drawn or a
     measured one already was, naming where it came from: scenario.preparation)."""
     control = scene.control
-    if world is None and (control.latency > 0 or control.varies):
+    if world is None and control.needs_link:
         name, value = (
             (CONTROL_LATENCY.name, f"{control.latency:g} s")
             if control.latency > 0 or control.cycle_latency is not None

@@ -105,8 +105,7 @@ def draw_variation(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
     scene = prepared.scene
     varied = vary(scene, int(run.seed), run.variation, set_by_run(scene, run.overrides))
     control = varied.scene.control
-    delays = control.latency > 0 or control.varies
-    if delays and control != scene.control and not run.simulates_link:
+    if control.needs_link and control != scene.control and not run.simulates_link:
         raise SceneError(
             f"--variation {run.variation} drew a real link's timing: {_cannot_delay(control)}"
         )
@@ -122,8 +121,7 @@ def take_link_timing(prepared: PreparedScene, run: RunRequest) -> PreparedScene:
         return prepared
     linked = link_control(prepared.scene)
     control = linked.control
-    delays = control.latency > 0 or control.varies
-    if linked is not prepared.scene and delays and not run.simulates_link:
+    if linked is not prepared.scene and control.needs_link and not run.simulates_link:
         names = ", ".join(dict.fromkeys(get_profile(r.profile).name for r in linked.robots))
         raise SceneError(f"the profile's [link] ({names}) gives {_cannot_delay(control)}")
     return dataclasses.replace(prepared, scene=linked)

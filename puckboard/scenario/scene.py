@@ -262,6 +262,12 @@ class Control:
         repeated readings)."""
         return self.cycle_latency is not None or self.repeated > 0.0
 
+    @property
+    def needs_link(self) -> bool:
+        """Whether running this loop needs a simulated link: a latency, or a loop that
+        varies from cycle to cycle (only a backend that simulates the link can run it)."""
+        return self.latency > 0 or self.varies
+
     def is_default(self, dt: float) -> bool:
         """True for today's loop: one tick per physics step and no delay."""
         return (
